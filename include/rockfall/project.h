@@ -1,0 +1,115 @@
+/* project.h - a project file (YAML) as plain structs.
+ *
+ * rf_project_load parses, validates and builds in one pass at the boundary: every
+ * value is checked there (unknown keys, types, ranges, references, releases on the
+ * terrain) and everything after it trusts the structs.  Defaults are documented next
+ * to each field and in docs/project-file.md. */
+#ifndef ROCKFALL_PROJECT_H
+#define ROCKFALL_PROJECT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "rockfall/error.h"
+#include "rockfall/terrain.h"
+#include "rockfall/vec3.h"
+
+typedef struct rf_polyline {
+    double *xy; /* 2 * n numbers: x0, y0, x1, y1, ... */
+    size_t n;
+} rf_polyline;
+
+typedef struct rf_forest {
+    char *name;
+    rf_polyline polygon; /* n == 0: the whole terrain */
+    double density;      /* rho0, trees per m^2 (>= 0) */
+    rf_dist height;      /* tree height M_ht, sigma_ht (m) */
+    double diameter;     /* stem diameter phi_t (m, > 0) */
+    rf_dist restitution; /* rock-tree; default {0.2, 0} */
+    rf_dist friction;    /* rock-tree; default {0.3, 0} */
+} rf_forest;
+
+typedef struct rf_rock {
+    char *name;
+    double mass;      /* kg, > 0 (required) */
+    double density;   /* kg/m^3, > 0; default 2650 */
+    int action_level; /* 1..3 (Table 3); default 2 */
+    double radius;    /* derived: (3 m / (4 pi rho))^(1/3) */
+} rf_rock;
+
+typedef struct rf_release {
+    char *name;
+    double x, y;      /* required point */
+    double z;         /* derived: terrain height at (x, y) */
+    int rock;         /* index into rocks (required, by name) */
+    long count;       /* trajectories; >= 1; default 1 */
+    double height;    /* height of the rock's lowest point above the ground; default 0 */
+    rf_vec3 velocity; /* initial velocity (m/s); default 0 */
+    double jitter;    /* radius of the random horizontal offset (m, >= 0); default 0 */
+} rf_release;
+
+typedef enum rf_measure_kind { RF_BARRIER, RF_EMBANKMENT, RF_CONTROL } rf_measure_kind;
+typedef enum rf_importance { RF_MOST_IMPORTANT, RF_IMPORTANT, RF_USUAL } rf_importance;
+typedef enum rf_behaviour { RF_STOP, RF_COLLECT } rf_behaviour;
+/* Limit states in order (Table 3); RF_COLLAPSE is beyond the last. */
+typedef enum rf_limit_state {
+    RF_SERVICEABILITY, RF_RESTORABILITY, RF_ULTIMATE, RF_NEAR_COLLAPSE, RF_COLLAPSE
+} rf_limit_state;
+#define RF_N_LIMIT_STATES 4
+
+typedef struct rf_measure {
+    char *name;
+    rf_measure_kind kind;
+    rf_polyline line;           /* >= 2 points */
+    double height;              /* screen height above ground (m); control: 0 */
+    rf_importance importance;   /* default RF_IMPORTANT */
+    rf_behaviour behaviour;     /* default RF_STOP; control lines are always RF_COLLECT */
+    double mel, sel;            /* barrier: MEL (kJ, required), SEL default MEL/3 */
+    double capacity[RF_N_LIMIT_STATES]; /* kJ per limit state; < 0 when not given.
+                                           Barrier: serviceability = SEL, ultimate = MEL */
+} rf_measure;
+
+typedef enum rf_rock_model { RF_MODEL_SPHERE, RF_MODEL_POINT } rf_rock_model;
+typedef enum rf_engine_kind { RF_ENGINE_EXACT, RF_ENGINE_FIXED_STEP } rf_engine_kind;
+typedef enum rf_contact_kind { RF_CONTACT_FULL, RF_CONTACT_CENTRE } rf_contact_kind;
+
+typedef struct rf_simulation {
+    rf_rock_model model;     /* default sphere */
+    rf_engine_kind engine;   /* default exact */
+    double dt;               /* fixed-step time step (s); default 0.001 */
+    rf_contact_kind contact; /* default full (every face, edge, vertex within r) */
+    double stop_speed;       /* m/s; default 0.1 */
+    double max_time;         /* s; default 300 */
+    long paths;              /* trajectories per release with sampled paths; default 10 */
+} rf_simulation;
+
+typedef struct rf_project {
+    char *path;       /* the project file as given */
+    char *dir;        /* its directory, for relative paths */
+    char *yaml_text;  /* the whole file, stored with each run */
+    char *name;       /* required */
+    uint64_t seed;    /* default 1 */
+
+    rf_terrain_spec terrain_spec;
+    rf_terrain terrain;
+
+    rf_forest *forests; size_t nforests;
+    rf_rock *rocks; size_t nrocks;
+    rf_release *releases; size_t nreleases;
+    rf_measure *measures; size_t nmeasures;
+    rf_simulation sim;
+    double hazard_cell;  /* m, > 0; default 5 */
+    char *rules_path;    /* resolved; NULL when the project names no rules */
+} rf_project;
+
+/* Loads, validates and builds a project (terrain included).  On error fills err with
+ * file:line:column and returns nonzero; nothing is left allocated in p. */
+int rf_project_load(const char *path, rf_project *p, rf_error *err);
+void rf_project_free(rf_project *p);
+
+const char *rf_measure_kind_name(rf_measure_kind k);
+const char *rf_importance_name(rf_importance i);
+const char *rf_behaviour_name(rf_behaviour b);
+const char *rf_limit_state_name(rf_limit_state s);
+
+#endif

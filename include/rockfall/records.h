@@ -1,0 +1,62 @@
+/* records.h - what a simulation produces, row by row, before it reaches the database. */
+#ifndef ROCKFALL_RECORDS_H
+#define ROCKFALL_RECORDS_H
+
+#include "rockfall/vec3.h"
+
+typedef enum rf_stop_reason {
+    RF_END_REST,     /* came to rest on the slope */
+    RF_END_EXITED,   /* left the terrain (edge or nodata hole) */
+    RF_END_STOPPED,  /* stopped by a measure */
+    RF_END_MAX_TIME  /* simulation.max_time reached */
+} rf_stop_reason;
+
+typedef struct rf_trajectory_record {
+    rf_vec3 stop;            /* centre of the rock at the end */
+    rf_stop_reason reason;
+    double duration_s;
+    double path_length_m;    /* length of the centre's path */
+    double max_energy_kj;    /* largest total kinetic energy along the path */
+    long n_impacts;
+    long n_tree_hits;
+} rf_trajectory_record;
+
+typedef enum rf_outcome {
+    RF_OUT_STOPPED, RF_OUT_OVERTOPPED, RF_OUT_BROKE_THROUGH, RF_OUT_PASSED
+} rf_outcome;
+
+typedef struct rf_interception_record {
+    int measure;             /* index into the project's measures */
+    double t_s;
+    rf_vec3 p;               /* centre of the rock at the crossing */
+    double speed_ms;
+    double energy_kj, energy_trans_kj, energy_rot_kj;
+    double passing_height_m; /* centre above the ground at the crossing */
+    rf_outcome outcome;
+} rf_interception_record;
+
+typedef struct rf_tree_hit_record {
+    double t_s;
+    rf_vec3 p;
+    double speed_before_ms, speed_after_ms;
+    double energy_lost_kj;
+} rf_tree_hit_record;
+
+typedef struct rf_path_point {
+    double t_s;
+    rf_vec3 p;
+    double speed_ms, energy_kj;
+} rf_path_point;
+
+typedef struct rf_hazard_cell_record {
+    long ix, iy;
+    double x, y;             /* cell centre */
+    long passes;             /* trajectories that crossed the cell */
+    double reach_probability;
+    double energy_max_kj, energy_p95_kj, height_p95_m;
+} rf_hazard_cell_record;
+
+const char *rf_stop_reason_name(rf_stop_reason r);
+const char *rf_outcome_name(rf_outcome o);
+
+#endif

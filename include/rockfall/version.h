@@ -1,0 +1,4 @@
+#ifndef ROCKFALL_VERSION_H
+#define ROCKFALL_VERSION_H
+#define ROCKFALL_VERSION "0.1.0"
+#endif

@@ -1,0 +1,34 @@
+/* error.c - filling and printing the bad-input error record. */
+#include "rockfall/error.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+int rf_error_set(rf_error *err, const char *file, int line, int column, const char *fmt, ...)
+{
+    if (!err)
+        return -1;
+    snprintf(err->file, sizeof err->file, "%s", file ? file : "");
+    err->line = line;
+    err->column = column;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->message, sizeof err->message, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+void rf_error_print(const rf_error *err, FILE *out)
+{
+    if (err->file[0]) {
+        fputs(err->file, out);
+        if (err->line > 0) {
+            fprintf(out, ":%d", err->line);
+            if (err->column > 0)
+                fprintf(out, ":%d", err->column);
+        }
+        fputs(": ", out);
+    }
+    fprintf(out, "error: %s\n", err->message);
+}

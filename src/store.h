@@ -1,0 +1,56 @@
+/* store.h - the SQLite results database (DESIGN.md section 4).
+ *
+ * One file holds many runs.  A run row is written as 'running' and committed before
+ * any of its rows; its rows follow in batched transactions; the row becomes
+ * 'complete' or 'failed' at the end.  WAL journal: a process killed at any point
+ * leaves the file consistent, earlier runs untouched and its own run not 'complete'. */
+#ifndef ROCKFALL_STORE_H
+#define ROCKFALL_STORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <sqlite3.h>
+
+#include "rockfall/error.h"
+#include "rockfall/project.h"
+#include "rockfall/records.h"
+
+#define RF_STORE_SCHEMA_VERSION 1
+
+typedef struct rf_store rf_store;
+
+/* Opens (creating the schema when new) a results database.  A file of another schema
+ * version or not a database is an error. */
+int rf_store_open(const char *path, rf_store **out, rf_error *err);
+void rf_store_close(rf_store *s);
+sqlite3 *rf_store_db(rf_store *s);
+
+/* Writes the run row ('running'), its releases and measures, and commits. */
+int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
+                       int64_t *run_id, rf_error *err);
+/* Ends the run: status "complete" or "failed". Commits any open batch first. */
+int rf_store_run_finish(rf_store *s, const char *status, long n_trajectories, rf_error *err);
+
+/* Batches: rows between begin and commit land in one transaction. */
+int rf_store_batch_begin(rf_store *s, rf_error *err);
+int rf_store_batch_commit(rf_store *s, rf_error *err);
+
+int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
+                            const rf_trajectory_record *r, int64_t *trajectory_id,
+                            rf_error *err);
+int rf_store_add_path_point(rf_store *s, int64_t trajectory_id, long seq,
+                            const rf_path_point *pt, rf_error *err);
+int rf_store_add_interception(rf_store *s, int64_t trajectory_id,
+                              const rf_interception_record *r, int64_t *interception_id,
+                              rf_error *err);
+int rf_store_add_tree_hit(rf_store *s, int64_t trajectory_id, const rf_tree_hit_record *r,
+                          rf_error *err);
+int rf_store_add_hazard_cell(rf_store *s, const rf_hazard_cell_record *r, rf_error *err);
+
+/* Ids of the current run and of its release and measure rows (by project index). */
+int64_t rf_store_run_id(const rf_store *s);
+int64_t rf_store_release_id(const rf_store *s, size_t release_index);
+int64_t rf_store_measure_id(const rf_store *s, size_t measure_index);
+
+#endif

@@ -1,0 +1,110 @@
+/* test_main.c - runs every registered case in its own process and counts.
+ * Usage: run_tests [SUBSTRING...]  (only cases whose name contains one of them). */
+#define _POSIX_C_SOURCE 200809L
+#include "test.h"
+
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define MAX_TESTS 2048
+#define CASE_TIMEOUT_S 600
+
+typedef struct {
+    const char *name, *file;
+    rf_test_fn fn;
+} test_case;
+
+static test_case g_tests[MAX_TESTS];
+static int g_ntests;
+
+void rf_test_register(const char *name, rf_test_fn fn, const char *file)
+{
+    if (g_ntests < MAX_TESTS)
+        g_tests[g_ntests++] = (test_case){name, file, fn};
+}
+
+void rf_test_fail(const char *file, int line, const char *fmt, ...)
+{
+    fprintf(stderr, "    %s:%d: ", file, line);
+    va_list ap;
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    fflush(stderr);
+    _exit(1);
+}
+
+const char *rf_test_shared(const char *rel)
+{
+    static char buf[4096];
+    const char *root = getenv("ROCKFALL_SHARED");
+    snprintf(buf, sizeof buf, "%s/%s", root ? root : "../shared", rel);
+    return buf;
+}
+
+const char *rf_test_tmpdir(void)
+{
+    static char dir[256];
+    if (!dir[0]) {
+        snprintf(dir, sizeof dir, "/tmp/rockfall-test-XXXXXX");
+        if (!mkdtemp(dir)) {
+            perror("mkdtemp");
+            _exit(1);
+        }
+    }
+    return dir;
+}
+
+static int selected(const char *name, int argc, char **argv)
+{
+    if (argc < 2)
+        return 1;
+    for (int i = 1; i < argc; i++)
+        if (strstr(name, argv[i]))
+            return 1;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    int passed = 0, failed = 0;
+    for (int i = 0; i < g_ntests; i++) {
+        test_case *tc = &g_tests[i];
+        if (!selected(tc->name, argc, argv))
+            continue;
+        fflush(stdout);
+        pid_t pid = fork();
+        if (pid < 0) {
+            perror("fork");
+            return 2;
+        }
+        if (pid == 0) {
+            alarm(CASE_TIMEOUT_S);
+            tc->fn();
+            fflush(stdout);
+            _exit(0);
+        }
+        int status = 0;
+        while (waitpid(pid, &status, 0) < 0)
+            ;
+        if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+            printf("ok   %s\n", tc->name);
+            passed++;
+        } else {
+            if (WIFSIGNALED(status))
+                printf("FAIL %s (%s, signal %d)\n", tc->name, tc->file, WTERMSIG(status));
+            else
+                printf("FAIL %s (%s)\n", tc->name, tc->file);
+            failed++;
+        }
+    }
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed ? 1 : 0;
+}
