@@ -1,0 +1,816 @@
+/* test_store.c - the results database: schema, runs, reopening, rejection of foreign
+ * files, and a writer killed in the middle of a run. */
+#include "test.h"
+
+#include <signal.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "rockfall/records.h"
+#include "rockfall/version.h"
+#include "store.h"
+
+/* ---- a small project, built by hand ------------------------------------------- */
+
+typedef struct test_project {
+    rf_project p;
+    rf_rock rocks[1];
+    rf_release releases[2];
+    rf_measure measures[3];
+    double lines[3][6];
+} test_project;
+
+static void make_project(test_project *t)
+{
+    memset(t, 0, sizeof *t);
+    t->p.name = "store-test-slope";
+    t->p.path = "projects/store-test/slope.yaml";
+    t->p.yaml_text = "name: store-test-slope\nseed: 2009\n";
+    t->p.seed = 2009;
+
+    t->rocks[0] = (rf_rock){.name = "r4500", .mass = 4500.0, .density = 2650.0,
+                            .action_level = 2, .radius = 0.7403};
+    t->p.rocks = t->rocks;
+    t->p.nrocks = 1;
+
+    t->releases[0] = (rf_release){.name = "C", .x = 12.25, .y = 48.5, .z = 131.875,
+                                  .rock = 0, .count = 5};
+    t->releases[1] = (rf_release){.name = "D", .x = 17.75, .y = 52.125, .z = 129.5, .rock = 0,
+                                  .count = 5, .height = 1.5, .velocity = {0.25, -1.5, 0.0},
+                                  .jitter = 2.385};
+    t->p.releases = t->releases;
+    t->p.nreleases = 2;
+
+    static const double xy[3][6] = {
+        {0.0, 10.0, 20.0, 10.5, 40.0, 11.0},
+        {0.0, 30.0, 40.0, 30.25, 0, 0},
+        {0.0, 60.0, 40.0, 60.1, 0, 0},
+    };
+    memcpy(t->lines, xy, sizeof xy);
+    t->measures[0] = (rf_measure){.name = "road", .kind = RF_CONTROL, .height = 0.0,
+                                  .importance = RF_IMPORTANT, .behaviour = RF_COLLECT,
+                                  .capacity = {-1, -1, -1, -1}};
+    t->measures[0].line = (rf_polyline){t->lines[0], 3};
+    t->measures[1] = (rf_measure){.name = "E1", .kind = RF_EMBANKMENT, .height = 6.0,
+                                  .importance = RF_MOST_IMPORTANT, .behaviour = RF_STOP,
+                                  .capacity = {3000, 6000, 9000, -1}};
+    t->measures[1].line = (rf_polyline){t->lines[1], 2};
+    t->measures[2] = (rf_measure){.name = "B1", .kind = RF_BARRIER, .height = 5.0,
+                                  .importance = RF_USUAL, .behaviour = RF_STOP,
+                                  .mel = 3000, .sel = 1000,
+                                  .capacity = {1000, -1, 3000, -1}};
+    t->measures[2].line = (rf_polyline){t->lines[2], 2};
+    t->p.measures = t->measures;
+    t->p.nmeasures = 3;
+}
+
+/* ---- helpers -------------------------------------------------------------------- */
+
+static const char *db_path(const char *name)
+{
+    static char buf[512];
+    snprintf(buf, sizeof buf, "%s/%s", rf_test_tmpdir(), name);
+    return buf;
+}
+
+static rf_store *open_store(const char *path)
+{
+    rf_store *s = NULL;
+    rf_error err = {0};
+    int rc = rf_store_open(path, &s, &err);
+    ENSURE_MSG(rc == 0 && s, "rf_store_open(%s): %s", path, err.message);
+    return s;
+}
+
+static sqlite3 *open_raw(const char *path)
+{
+    sqlite3 *db = NULL;
+    ENSURE(sqlite3_open_v2(path, &db, SQLITE_OPEN_READWRITE, NULL) == SQLITE_OK);
+    sqlite3_busy_timeout(db, 10000);
+    return db;
+}
+
+static void exec_raw(sqlite3 *db, const char *sql)
+{
+    char *msg = NULL;
+    int rc = sqlite3_exec(db, sql, NULL, NULL, &msg);
+    ENSURE_MSG(rc == SQLITE_OK, "%s: %s", sql, msg ? msg : "?");
+}
+
+/* The first column of the first row of a query, as an integer. */
+__attribute__((format(printf, 2, 3))) static int64_t query_int(sqlite3 *db, const char *fmt, ...)
+{
+    char sql[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(sql, sizeof sql, fmt, ap);
+    va_end(ap);
+    sqlite3_stmt *st = NULL;
+    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
+               sqlite3_errmsg(db));
+    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "%s: no row", sql);
+    int64_t v = sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    return v;
+}
+
+__attribute__((format(printf, 2, 3))) static double query_real(sqlite3 *db, const char *fmt, ...)
+{
+    char sql[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(sql, sizeof sql, fmt, ap);
+    va_end(ap);
+    sqlite3_stmt *st = NULL;
+    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
+               sqlite3_errmsg(db));
+    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "%s: no row", sql);
+    double v = sqlite3_column_double(st, 0);
+    sqlite3_finalize(st);
+    return v;
+}
+
+/* Every row of a query as text, columns joined by '|', rows by '\n' (malloc'd). */
+static char *dump(sqlite3 *db, const char *sql)
+{
+    sqlite3_stmt *st = NULL;
+    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
+               sqlite3_errmsg(db));
+    size_t cap = 1024, len = 0;
+    char *out = malloc(cap);
+    ENSURE(out);
+    out[0] = '\0';
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        for (int c = 0; c < sqlite3_column_count(st); c++) {
+            char cell[64];
+            const char *v;
+            if (sqlite3_column_type(st, c) == SQLITE_FLOAT) {
+                snprintf(cell, sizeof cell, "%.17g", sqlite3_column_double(st, c));
+                v = cell;
+            } else {
+                v = (const char *)sqlite3_column_text(st, c);
+                if (!v)
+                    v = "NULL";
+            }
+            size_t need = len + strlen(v) + 3;
+            if (need > cap) {
+                cap = 2 * need;
+                out = realloc(out, cap);
+                ENSURE(out);
+            }
+            len += (size_t)sprintf(out + len, "%s%s", v, c + 1 < sqlite3_column_count(st) ? "|" : "\n");
+        }
+    }
+    ENSURE_MSG(rc == SQLITE_DONE, "%s: %s", sql, sqlite3_errmsg(db));
+    sqlite3_finalize(st);
+    return out;
+}
+
+/* Everything stored for one run, as text. */
+static char *run_dump(sqlite3 *db, int64_t run_id)
+{
+    static const char *const queries[] = {
+        "SELECT * FROM runs WHERE id = %lld",
+        "SELECT * FROM releases WHERE run_id = %lld ORDER BY id",
+        "SELECT * FROM measures WHERE run_id = %lld ORDER BY id",
+        "SELECT * FROM trajectories WHERE run_id = %lld ORDER BY id",
+        ("SELECT p.* FROM path_points p JOIN trajectories t ON t.id = p.trajectory_id"
+         " WHERE t.run_id = %lld ORDER BY p.trajectory_id, p.seq"),
+        "SELECT * FROM interceptions WHERE run_id = %lld ORDER BY id",
+        "SELECT * FROM tree_hits WHERE run_id = %lld ORDER BY id",
+        "SELECT * FROM hazard_cells WHERE run_id = %lld ORDER BY ix, iy",
+    };
+    size_t n = sizeof queries / sizeof queries[0];
+    char *all = calloc(1, 1);
+    ENSURE(all);
+    for (size_t i = 0; i < n; i++) {
+        char sql[512];
+        snprintf(sql, sizeof sql, queries[i], (long long)run_id);
+        char *part = dump(db, sql);
+        size_t la = strlen(all), lp = strlen(part);
+        all = realloc(all, la + lp + 3);
+        ENSURE(all);
+        memcpy(all + la, part, lp);
+        memcpy(all + la + lp, "#\n", 3);
+        free(part);
+    }
+    return all;
+}
+
+/* A value that depends on the run, the release, the trajectory and a field. */
+static double value_of(int64_t run, size_t release, long idx, int field)
+{
+    return 1.125 * (double)run + 10.5 * (double)release + 0.0625 * (double)idx + 100.25 * field;
+}
+
+static void write_trajectory(rf_store *s, int64_t run, size_t release, long idx, int with_rows)
+{
+    rf_error err = {0};
+    rf_trajectory_record tr = {
+        .stop = {value_of(run, release, idx, 0), value_of(run, release, idx, 1),
+                 value_of(run, release, idx, 2)},
+        .reason = (rf_stop_reason)(idx % 4),
+        .duration_s = value_of(run, release, idx, 3),
+        .path_length_m = value_of(run, release, idx, 4),
+        .max_energy_kj = value_of(run, release, idx, 5),
+        .n_impacts = idx + 3,
+        .n_tree_hits = idx % 2,
+    };
+    int64_t tid = 0;
+    ENSURE_MSG(rf_store_add_trajectory(s, release, idx, &tr, &tid, &err) == 0, "%s",
+               err.message);
+    ENSURE(tid > 0);
+    if (!with_rows)
+        return;
+    for (long k = 0; k < 3; k++) {
+        rf_path_point pt = {.t_s = 0.5 * (double)k, .p = {1.0 * (double)k, 2.0, 3.0},
+                            .speed_ms = 4.5, .energy_kj = value_of(run, release, idx, 6)};
+        ENSURE_MSG(rf_store_add_path_point(s, tid, k, &pt, &err) == 0, "%s", err.message);
+    }
+    rf_interception_record ic = {
+        .measure = (int)(idx % 3), .t_s = 2.5, .p = {1, 2, 3}, .speed_ms = 12.5,
+        .energy_kj = value_of(run, release, idx, 7), .energy_trans_kj = 7.25,
+        .energy_rot_kj = 0.5, .passing_height_m = 1.75, .outcome = (rf_outcome)(idx % 4),
+    };
+    int64_t iid = 0;
+    ENSURE_MSG(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0, "%s", err.message);
+    ENSURE(iid > 0);
+    if (idx % 2) {
+        rf_tree_hit_record th = {.t_s = 1.5, .p = {4, 5, 6}, .speed_before_ms = 9.5,
+                                 .speed_after_ms = 6.25,
+                                 .energy_lost_kj = value_of(run, release, idx, 8)};
+        ENSURE_MSG(rf_store_add_tree_hit(s, tid, &th, &err) == 0, "%s", err.message);
+    }
+}
+
+/* Writes a run of n trajectories per release with all their rows; returns its id. */
+static int64_t write_run(rf_store *s, const rf_project *p, long n, const char *status)
+{
+    rf_error err = {0};
+    int64_t run = 0;
+    long total = n * (long)p->nreleases;
+    ENSURE_MSG(rf_store_run_begin(s, p, total, &run, &err) == 0, "%s", err.message);
+    ENSURE(run > 0 && rf_store_run_id(s) == run);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    for (size_t r = 0; r < p->nreleases; r++)
+        for (long i = 0; i < n; i++)
+            write_trajectory(s, run, r, i, 1);
+    for (long c = 0; c < 4; c++) {
+        rf_hazard_cell_record hc = {.ix = c % 2, .iy = c / 2, .x = 2.5 + 5.0 * (double)(c % 2),
+                                    .y = 2.5 + 5.0 * (double)(c / 2), .passes = c + 1,
+                                    .reach_probability = 0.125 * (double)c,
+                                    .energy_max_kj = (double)run, .energy_p95_kj = 0.95,
+                                    .height_p95_m = 1.25};
+        ENSURE_MSG(rf_store_add_hazard_cell(s, &hc, &err) == 0, "%s", err.message);
+    }
+    ENSURE(rf_store_batch_commit(s, &err) == 0);
+    ENSURE_MSG(rf_store_run_finish(s, status, total, &err) == 0, "%s", err.message);
+    return run;
+}
+
+/* ---- schema ----------------------------------------------------------------------- */
+
+static int has_column(sqlite3 *db, const char *table, const char *column)
+{
+    return query_int(db, "SELECT count(*) FROM pragma_table_info('%s') WHERE name = '%s'", table,
+                     column) == 1;
+}
+
+/* An index whose first column is `column` (a primary key's index counts). */
+static int has_index_on(sqlite3 *db, const char *table, const char *column)
+{
+    return query_int(db,
+                     "SELECT count(*) FROM pragma_index_list('%s') AS il,"
+                     " pragma_index_info(il.name) AS ii WHERE ii.seqno = 0 AND ii.name = '%s'",
+                     table, column) > 0;
+}
+
+static int rejected(sqlite3 *db, const char *sql)
+{
+    return sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_CONSTRAINT;
+}
+
+TEST(store_schema_has_every_table_and_column)
+{
+    static const char *const tables[][20] = {
+        {"runs", "id", "project", "seed", "status", "started_at", "finished_at",
+         "n_trajectories", "version", "project_yaml"},
+        {"releases", "id", "run_id", "name", "x", "y", "z", "rock", "mass_kg", "radius_m",
+         "action_level", "count", "velocity_x", "velocity_y", "velocity_z", "height_m",
+         "jitter_m"},
+        {"trajectories", "id", "run_id", "release_id", "idx", "stop_x", "stop_y", "stop_z",
+         "stop_reason", "duration_s", "path_length_m", "max_energy_kj", "n_impacts",
+         "n_tree_hits"},
+        {"measures", "id", "run_id", "name", "kind", "importance", "height_m", "behaviour",
+         "mel_kj", "sel_kj", "cap_serviceability_kj", "cap_restorability_kj",
+         "cap_ultimate_kj", "cap_near_collapse_kj", "line"},
+        {"interceptions", "id", "run_id", "trajectory_id", "measure_id", "t_s", "x", "y", "z",
+         "speed_ms", "energy_kj", "energy_trans_kj", "energy_rot_kj", "passing_height_m",
+         "outcome"},
+        {"classifications", "interception_id", "action_level", "importance", "limit_state",
+         "required_state", "ok"},
+        {"checks", "id", "run_id", "measure_id", "rule", "value", "threshold", "passed"},
+        {"hazard_cells", "run_id", "ix", "iy", "x", "y", "passes", "reach_probability",
+         "energy_max_kj", "energy_p95_kj", "height_p95_m"},
+        {"path_points", "trajectory_id", "seq", "t_s", "x", "y", "z", "speed_ms", "energy_kj"},
+        {"tree_hits", "id", "run_id", "trajectory_id", "t_s", "x", "y", "z", "speed_before_ms",
+         "speed_after_ms", "energy_lost_kj"},
+    };
+    const char *path = db_path("schema.db");
+    rf_store *s = open_store(path);
+    sqlite3 *db = rf_store_db(s);
+    for (size_t t = 0; t < sizeof tables / sizeof tables[0]; t++) {
+        const char *table = tables[t][0];
+        ENSURE_MSG(query_int(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table'"
+                                 " AND name = '%s'", table) == 1,
+                   "no table %s", table);
+        for (size_t c = 1; c < 20 && tables[t][c]; c++)
+            ENSURE_MSG(has_column(db, table, tables[t][c]), "no column %s.%s", table,
+                       tables[t][c]);
+        if (has_column(db, table, "run_id")) {
+            ENSURE_MSG(has_index_on(db, table, "run_id"), "no index on %s(run_id)", table);
+            ENSURE_MSG(query_int(db, "SELECT count(*) FROM pragma_foreign_key_list('%s')"
+                                     " WHERE \"from\" = 'run_id' AND \"table\" = 'runs'",
+                                 table) == 1,
+                       "%s.run_id is no foreign key", table);
+        }
+    }
+    ENSURE(has_index_on(db, "interceptions", "measure_id"));
+    ENSURE(has_index_on(db, "path_points", "trajectory_id"));
+    ENSURE(has_index_on(db, "classifications", "interception_id"));
+    ENSURE(query_int(db, "SELECT count(*) FROM pragma_foreign_key_list('path_points')"
+                         " WHERE \"table\" = 'trajectories'") == 1);
+    ENSURE(query_int(db, "SELECT count(*) FROM pragma_foreign_key_list('interceptions')") == 3);
+
+    ENSURE(query_int(db, "PRAGMA user_version") == RF_STORE_SCHEMA_VERSION);
+    char *mode = dump(db, "PRAGMA journal_mode");
+    ENSURE_MSG(strcmp(mode, "wal\n") == 0, "journal_mode %s", mode);
+    free(mode);
+    ENSURE(query_int(db, "PRAGMA synchronous") == 1); /* NORMAL */
+    ENSURE(query_int(db, "PRAGMA foreign_keys") == 1);
+
+    /* CHECK constraints on the enumerated columns. */
+    exec_raw(db, "INSERT INTO runs (id, project, seed, status, started_at, n_trajectories,"
+                 " version) VALUES (1, 'p', 1, 'running', 'now', 0, 'v')");
+    ENSURE(rejected(db, "UPDATE runs SET status = 'done' WHERE id = 1"));
+    exec_raw(db, "INSERT INTO releases (id, run_id, idx, name, rock, action_level, count)"
+                 " VALUES (1, 1, 0, 'C', 'r', 2, 1)");
+    ENSURE(rejected(db, "INSERT INTO trajectories (run_id, release_id, idx, stop_reason)"
+                        " VALUES (1, 1, 0, 'resting')"));
+    exec_raw(db, "INSERT INTO trajectories (id, run_id, release_id, idx, stop_reason)"
+                 " VALUES (1, 1, 1, 0, 'rest')");
+    ENSURE(rejected(db, "INSERT INTO measures (run_id, idx, name, kind, importance, behaviour,"
+                        " line) VALUES (1, 0, 'm', 'wall', 'usual', 'stop', '[]')"));
+    ENSURE(rejected(db, "INSERT INTO measures (run_id, idx, name, kind, importance, behaviour,"
+                        " line) VALUES (1, 0, 'm', 'barrier', 'usual', 'catch', '[]')"));
+    exec_raw(db, "INSERT INTO measures (id, run_id, idx, name, kind, importance, behaviour,"
+                 " line) VALUES (1, 1, 0, 'm', 'barrier', 'usual', 'stop', '[]')");
+    ENSURE(rejected(db, "INSERT INTO interceptions (run_id, trajectory_id, measure_id, outcome)"
+                        " VALUES (1, 1, 1, 'bounced')"));
+    exec_raw(db, "INSERT INTO interceptions (run_id, trajectory_id, measure_id, outcome)"
+                 " VALUES (1, 1, 1, 'overtopped')");
+    /* Foreign keys are enforced. */
+    ENSURE(rejected(db, "INSERT INTO path_points (trajectory_id, seq) VALUES (99, 0)"));
+    rf_store_close(s);
+}
+
+TEST(store_record_names)
+{
+    ENSURE(strcmp(rf_stop_reason_name(RF_END_REST), "rest") == 0);
+    ENSURE(strcmp(rf_stop_reason_name(RF_END_EXITED), "exited") == 0);
+    ENSURE(strcmp(rf_stop_reason_name(RF_END_STOPPED), "stopped") == 0);
+    ENSURE(strcmp(rf_stop_reason_name(RF_END_MAX_TIME), "max_time") == 0);
+    ENSURE(strcmp(rf_outcome_name(RF_OUT_STOPPED), "stopped") == 0);
+    ENSURE(strcmp(rf_outcome_name(RF_OUT_OVERTOPPED), "overtopped") == 0);
+    ENSURE(strcmp(rf_outcome_name(RF_OUT_BROKE_THROUGH), "broke_through") == 0);
+    ENSURE(strcmp(rf_outcome_name(RF_OUT_PASSED), "passed") == 0);
+}
+
+/* ---- runs ------------------------------------------------------------------------- */
+
+TEST(store_run_row_releases_and_measures)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("rows.db");
+    rf_store *s = open_store(path);
+    rf_error err = {0};
+    int64_t run = 0;
+    ENSURE_MSG(rf_store_run_begin(s, &t.p, 10, &run, &err) == 0, "%s", err.message);
+
+    /* Committed before any row of the run: visible from another connection. */
+    sqlite3 *other = open_raw(path);
+    ENSURE(query_int(other, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'"
+                            " AND finished_at IS NULL AND n_trajectories = 10 AND seed = 2009",
+                     (long long)run) == 1);
+    ENSURE(query_int(other, "SELECT count(*) FROM runs WHERE started_at GLOB"
+                            " '[0-9][0-9][0-9][0-9]-[0-1][0-9]-[0-3][0-9]T[0-2][0-9]:[0-5][0-9]:"
+                            "[0-6][0-9]*Z'") == 1);
+    ENSURE(query_int(other, "SELECT count(*) FROM runs WHERE project = 'store-test-slope'"
+                            " AND version = '" ROCKFALL_VERSION "'"
+                            " AND project_yaml = 'name: store-test-slope' || char(10) ||"
+                            " 'seed: 2009' || char(10)") == 1);
+    ENSURE(query_int(other, "SELECT count(*) FROM releases WHERE run_id = %lld",
+                     (long long)run) == 2);
+    ENSURE(query_int(other, "SELECT count(*) FROM measures WHERE run_id = %lld",
+                     (long long)run) == 3);
+
+    /* Ids in the order of the project's arrays. */
+    ENSURE(rf_store_release_id(s, 0) < rf_store_release_id(s, 1));
+    ENSURE(rf_store_measure_id(s, 0) < rf_store_measure_id(s, 1));
+    ENSURE(rf_store_measure_id(s, 1) < rf_store_measure_id(s, 2));
+    ENSURE(query_int(other, "SELECT idx FROM releases WHERE id = %lld",
+                     (long long)rf_store_release_id(s, 1)) == 1);
+    ENSURE(query_int(other, "SELECT count(*) FROM releases WHERE id = %lld AND name = 'D'"
+                            " AND x = 17.75 AND y = 52.125 AND z = 129.5 AND rock = 'r4500'"
+                            " AND mass_kg = 4500 AND radius_m = 0.7403 AND action_level = 2"
+                            " AND count = 5 AND velocity_x = 0.25 AND velocity_y = -1.5"
+                            " AND velocity_z = 0 AND height_m = 1.5 AND jitter_m = 2.385",
+                     (long long)rf_store_release_id(s, 1)) == 1);
+
+    char sql[256];
+    snprintf(sql, sizeof sql,
+             "SELECT name, kind, importance, height_m, behaviour, mel_kj, sel_kj,"
+             " cap_serviceability_kj, cap_restorability_kj, cap_ultimate_kj,"
+             " cap_near_collapse_kj, line FROM measures WHERE run_id = %lld ORDER BY id",
+             (long long)run);
+    char *rows = dump(other, sql);
+    char expected[512];
+    snprintf(expected, sizeof expected,
+             "road|control|%s|0|collect|NULL|NULL|NULL|NULL|NULL|NULL|[[0,10],[20,10.5],[40,11]]\n"
+             "E1|embankment|%s|6|stop|NULL|NULL|3000|6000|9000|NULL|[[0,30],[40,30.25]]\n"
+             "B1|barrier|%s|5|stop|3000|1000|1000|NULL|3000|NULL|[[0,60],[40,60.1]]\n",
+             rf_importance_name(RF_IMPORTANT), rf_importance_name(RF_MOST_IMPORTANT),
+             rf_importance_name(RF_USUAL));
+    ENSURE_MSG(strcmp(rows, expected) == 0, "measures:\n%s", rows);
+    free(rows);
+    /* The line is JSON. */
+    ENSURE(query_real(other, "SELECT json_extract(line, '$[1][1]') FROM measures"
+                             " WHERE name = 'E1'") == 30.25);
+    sqlite3_close(other);
+
+    ENSURE(rf_store_run_finish(s, "complete", 0, &err) == 0);
+    rf_store_close(s);
+}
+
+TEST(store_two_runs_in_one_file)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("two.db");
+    rf_store *s = open_store(path);
+    int64_t a = write_run(s, &t.p, 5, "complete");
+    t.p.seed = 2010;
+    int64_t b = write_run(s, &t.p, 7, "complete");
+    ENSURE(a > 0 && b > a);
+    rf_store_close(s);
+
+    sqlite3 *db = open_raw(path);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs") == 2);
+    const int64_t runs[2] = {a, b};
+    const long n[2] = {5, 7};
+    for (int k = 0; k < 2; k++) {
+        long long r = (long long)runs[k];
+        ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'"
+                             " AND finished_at >= started_at AND n_trajectories = %ld",
+                         r, 2 * n[k]) == 1);
+        ENSURE(query_int(db, "SELECT seed FROM runs WHERE id = %lld", r) == 2009 + k);
+        ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld", r) ==
+               2 * n[k]);
+        ENSURE(query_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
+                             " ON t.id = p.trajectory_id WHERE t.run_id = %lld", r) == 6 * n[k]);
+        ENSURE(query_int(db, "SELECT count(*) FROM interceptions WHERE run_id = %lld", r) ==
+               2 * n[k]);
+        ENSURE(query_int(db, "SELECT count(*) FROM tree_hits WHERE run_id = %lld", r) ==
+               2 * (n[k] / 2));
+        ENSURE(query_int(db, "SELECT count(*) FROM hazard_cells WHERE run_id = %lld", r) == 4);
+        ENSURE(query_real(db, "SELECT max(energy_max_kj) FROM hazard_cells WHERE run_id = %lld",
+                          r) == (double)runs[k]);
+        /* Every row references rows of its own run. */
+        ENSURE(query_int(db, "SELECT count(*) FROM trajectories t JOIN releases r"
+                             " ON r.id = t.release_id WHERE t.run_id = %lld AND r.run_id <> t.run_id",
+                         r) == 0);
+        ENSURE(query_int(db, "SELECT count(*) FROM interceptions i JOIN measures m"
+                             " ON m.id = i.measure_id JOIN trajectories t ON t.id = i.trajectory_id"
+                             " WHERE i.run_id = %lld AND (m.run_id <> i.run_id"
+                             " OR t.run_id <> i.run_id)", r) == 0);
+        ENSURE(query_int(db, "SELECT count(*) FROM tree_hits h JOIN trajectories t"
+                             " ON t.id = h.trajectory_id WHERE h.run_id = %lld"
+                             " AND t.run_id <> h.run_id", r) == 0);
+        /* A value written is the value read: release D, trajectory 3. */
+        ENSURE(query_real(db, "SELECT t.stop_x FROM trajectories t JOIN releases r"
+                              " ON r.id = t.release_id WHERE t.run_id = %lld AND r.name = 'D'"
+                              " AND t.idx = 3", r) == value_of(runs[k], 1, 3, 0));
+        ENSURE(query_real(db, "SELECT i.energy_kj FROM interceptions i JOIN trajectories t"
+                              " ON t.id = i.trajectory_id JOIN measures m ON m.id = i.measure_id"
+                              " WHERE i.run_id = %lld AND t.idx = 4 AND m.name = 'E1'"
+                              " AND t.release_id = (SELECT id FROM releases WHERE run_id = %lld"
+                              " AND idx = 0)", r, r) == value_of(runs[k], 0, 4, 7));
+        ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld"
+                             " AND stop_reason = 'max_time'", r) == 2 * (n[k] / 4));
+    }
+    sqlite3_close(db);
+}
+
+TEST(store_failed_run_is_failed)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("failed.db");
+    rf_store *s = open_store(path);
+    int64_t ok = write_run(s, &t.p, 3, "complete");
+
+    /* Ended as failed in the middle of a batch: the batch is committed first. */
+    rf_error err = {0};
+    int64_t bad = 0;
+    ENSURE(rf_store_run_begin(s, &t.p, 6, &bad, &err) == 0);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, bad, 0, 0, 1);
+    write_trajectory(s, bad, 1, 0, 1);
+    ENSURE_MSG(rf_store_run_finish(s, "failed", 2, &err) == 0, "%s", err.message);
+
+    /* A status other than complete or failed is refused. */
+    ENSURE(rf_store_run_finish(s, "done", 2, &err) != 0);
+    ENSURE(strstr(err.message, "'done'") != NULL);
+    ENSURE(strcmp(err.file, path) == 0);
+    rf_store_close(s);
+
+    sqlite3 *db = open_raw(path);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
+                     (long long)ok) == 1);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'failed'"
+                         " AND finished_at IS NOT NULL AND n_trajectories = 2",
+                     (long long)bad) == 1);
+    ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld",
+                     (long long)bad) == 2);
+    sqlite3_close(db);
+}
+
+TEST(store_uncommitted_batch_is_lost_on_close)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("uncommitted.db");
+    rf_store *s = open_store(path);
+    rf_error err = {0};
+    int64_t run = 0;
+    ENSURE(rf_store_run_begin(s, &t.p, 4, &run, &err) == 0);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, run, 0, 0, 1);
+    ENSURE(rf_store_batch_commit(s, &err) == 0);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, run, 0, 1, 1);
+    rf_store_close(s); /* without finishing: an interrupted run */
+
+    sqlite3 *db = open_raw(path);
+    ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld",
+                     (long long)run) == 1);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'",
+                     (long long)run) == 1);
+    sqlite3_close(db);
+}
+
+TEST(store_bad_row_is_an_error_naming_the_file)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("duplicate.db");
+    rf_store *s = open_store(path);
+    rf_error err = {0};
+    int64_t run = 0;
+    ENSURE(rf_store_run_begin(s, &t.p, 2, &run, &err) == 0);
+    write_trajectory(s, run, 0, 0, 0);
+    rf_trajectory_record tr = {.reason = RF_END_REST};
+    int64_t tid = 0;
+    /* The same trajectory index of the same release twice. */
+    ENSURE(rf_store_add_trajectory(s, 0, 0, &tr, &tid, &err) != 0);
+    ENSURE(strcmp(err.file, path) == 0);
+    ENSURE_MSG(strstr(err.message, "writing a trajectory") && strstr(err.message, "UNIQUE"),
+               "%s", err.message);
+    rf_path_point pt = {0};
+    ENSURE(rf_store_add_path_point(s, 424242, 0, &pt, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "FOREIGN KEY"), "%s", err.message);
+    ENSURE(rf_store_run_finish(s, "failed", 1, &err) == 0);
+    rf_store_close(s);
+}
+
+TEST(store_reopen_adds_a_third_run)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("reopen.db");
+    rf_store *s = open_store(path);
+    write_run(s, &t.p, 4, "complete");
+    write_run(s, &t.p, 2, "complete");
+    rf_store_close(s);
+
+    sqlite3 *db = open_raw(path);
+    char *first = run_dump(db, 1), *second = run_dump(db, 2);
+    sqlite3_close(db);
+
+    s = open_store(path);
+    int64_t third = write_run(s, &t.p, 3, "complete");
+    ENSURE(third == 3);
+    rf_store_close(s);
+
+    db = open_raw(path);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE status = 'complete'") == 3);
+    ENSURE(query_int(db, "SELECT group_concat(id) = '1,2,3' FROM runs") == 1);
+    ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = 3") == 6);
+    char *first_after = run_dump(db, 1), *second_after = run_dump(db, 2);
+    ENSURE(strcmp(first, first_after) == 0);
+    ENSURE(strcmp(second, second_after) == 0);
+    sqlite3_close(db);
+    free(first);
+    free(second);
+    free(first_after);
+    free(second_after);
+}
+
+/* ---- foreign files ------------------------------------------------------------------- */
+
+TEST(store_rejects_another_schema_version)
+{
+    const char *path = db_path("future.db");
+    rf_store *s = open_store(path);
+    rf_store_close(s);
+    sqlite3 *db = open_raw(path);
+    exec_raw(db, "PRAGMA user_version = 7");
+    sqlite3_close(db);
+
+    rf_error err = {0};
+    s = NULL;
+    ENSURE(rf_store_open(path, &s, &err) != 0);
+    ENSURE(s == NULL);
+    ENSURE(strcmp(err.file, path) == 0);
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "version 1"), "%s",
+               err.message);
+
+    /* Still version 7: nothing was written. */
+    db = open_raw(path);
+    ENSURE(query_int(db, "PRAGMA user_version") == 7);
+    sqlite3_close(db);
+
+    /* Another application's SQLite database (no schema version, some tables). */
+    const char *other = db_path("other.db");
+    sqlite3_open_v2(other, &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, NULL);
+    exec_raw(db, "CREATE TABLE photos (id INTEGER PRIMARY KEY, file TEXT)");
+    sqlite3_close(db);
+    ENSURE(rf_store_open(other, &s, &err) != 0);
+    ENSURE(strcmp(err.file, other) == 0);
+    ENSURE_MSG(strstr(err.message, "not a rockfall results database"), "%s", err.message);
+}
+
+static char *read_all(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    ENSURE(f);
+    char *buf = malloc(1 << 16);
+    ENSURE(buf);
+    *len = fread(buf, 1, 1 << 16, f);
+    fclose(f);
+    return buf;
+}
+
+static int exists(const char *path)
+{
+    return access(path, F_OK) == 0;
+}
+
+TEST(store_rejects_a_file_that_is_no_database)
+{
+    const char *path = db_path("project.yaml");
+    FILE *f = fopen(path, "w");
+    ENSURE(f);
+    for (int i = 0; i < 40; i++)
+        fprintf(f, "- {name: B%d, kind: barrier, line: [[0, %d], [40, %d]], mel: 3000}\n", i, i, i);
+    fclose(f);
+    size_t len_before = 0, len_after = 0;
+    char *before = read_all(path, &len_before);
+
+    rf_store *s = NULL;
+    rf_error err = {0};
+    ENSURE(rf_store_open(path, &s, &err) != 0);
+    ENSURE(s == NULL);
+    ENSURE(strcmp(err.file, path) == 0);
+    ENSURE_MSG(strstr(err.message, "not a database"), "%s", err.message);
+
+    char *after = read_all(path, &len_after);
+    ENSURE(len_before == len_after && memcmp(before, after, len_before) == 0);
+    char side[600];
+    snprintf(side, sizeof side, "%s-wal", path);
+    ENSURE(!exists(side));
+    snprintf(side, sizeof side, "%s-journal", path);
+    ENSURE(!exists(side));
+    free(before);
+    free(after);
+
+    /* A directory that does not exist. */
+    ENSURE(rf_store_open(db_path("no/such/dir/results.db"), &s, &err) != 0);
+    ENSURE(strstr(err.message, "opening the results database") != NULL);
+}
+
+/* ---- a writer killed in the middle of a run ---------------------------------------- */
+
+enum { KILL_BATCH = 200 };
+
+/* The child: a second run, trajectories in batches, forever. */
+static void write_until_killed(const char *path, const rf_project *p)
+{
+    rf_store *s = NULL;
+    rf_error err = {0};
+    if (rf_store_open(path, &s, &err) || rf_store_run_begin(s, p, 1000000, NULL, &err))
+        _exit(3);
+    int64_t run = rf_store_run_id(s);
+    for (long idx = 0;;) {
+        if (rf_store_batch_begin(s, &err))
+            _exit(4);
+        for (int k = 0; k < KILL_BATCH; k++, idx++)
+            write_trajectory(s, run, (size_t)(idx % 2), idx, 1);
+        if (rf_store_batch_commit(s, &err))
+            _exit(5);
+    }
+}
+
+TEST(store_survives_a_writer_killed_mid_run)
+{
+    test_project t;
+    make_project(&t);
+    const char *path = db_path("killed.db");
+    rf_store *s = open_store(path);
+    int64_t first = write_run(s, &t.p, 6, "complete");
+    rf_store_close(s);
+    sqlite3 *db = open_raw(path);
+    char *before = run_dump(db, first);
+    sqlite3_close(db);
+
+    fflush(NULL);
+    pid_t child = fork();
+    ENSURE(child >= 0);
+    if (child == 0)
+        write_until_killed(path, &t.p);
+
+    /* Wait for a few committed batches, watching from a separate connection. */
+    sqlite3 *watch = open_raw(path);
+    int64_t seen = 0;
+    struct timespec pause = {0, 2 * 1000 * 1000};
+    for (int i = 0; i < 30000 && seen < 3 * KILL_BATCH; i++) {
+        int status = 0;
+        ENSURE_MSG(waitpid(child, &status, WNOHANG) == 0, "writer exited early (%d)",
+                   WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+        seen = query_int(watch, "SELECT count(*) FROM trajectories WHERE run_id > %lld",
+                         (long long)first);
+        nanosleep(&pause, NULL);
+    }
+    sqlite3_close(watch);
+    ENSURE_MSG(seen >= 3 * KILL_BATCH, "only %lld trajectories written", (long long)seen);
+    kill(child, SIGKILL);
+    int status = 0;
+    ENSURE(waitpid(child, &status, 0) == child);
+    ENSURE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+
+    db = open_raw(path);
+    char *check = dump(db, "PRAGMA integrity_check");
+    ENSURE_MSG(strcmp(check, "ok\n") == 0, "integrity_check: %s", check);
+    free(check);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs") == 2);
+    char *after = run_dump(db, first);
+    ENSURE_MSG(strcmp(before, after) == 0, "first run changed:\n%s\n---\n%s", before, after);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
+                     (long long)first) == 1);
+    int64_t second = first + 1;
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status <> 'complete'",
+                     (long long)second) == 1);
+    /* Batches are all or nothing. */
+    int64_t n = query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld",
+                          (long long)second);
+    ENSURE_MSG(n >= 3 * KILL_BATCH && n % KILL_BATCH == 0, "%lld trajectories", (long long)n);
+    ENSURE(query_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
+                         " ON t.id = p.trajectory_id WHERE t.run_id = %lld",
+                     (long long)second) == 3 * n);
+    ENSURE(query_int(db, "SELECT count(*) FROM interceptions WHERE run_id = %lld",
+                     (long long)second) == n);
+    sqlite3_close(db);
+
+    /* The file takes further runs. */
+    s = open_store(path);
+    int64_t third = write_run(s, &t.p, 2, "complete");
+    rf_store_close(s);
+    db = open_raw(path);
+    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
+                     (long long)third) == 1);
+    char *still = run_dump(db, first);
+    ENSURE(strcmp(before, still) == 0);
+    sqlite3_close(db);
+    free(before);
+    free(after);
+    free(still);
+}
