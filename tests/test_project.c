@@ -1,0 +1,498 @@
+/* test_project.c - the project-file loader: example projects, the bad-file corpus,
+ * defaults, a fully specified project read back, and the YAML access layer. */
+#include <glob.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "rockfall/project.h"
+#include "test.h"
+#include "yamldoc.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+#define DATA "tests/data/project/"
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    if (s) {
+        size_t got = fread(s, 1, (size_t)n, f);
+        s[got] = '\0';
+    }
+    fclose(f);
+    return s;
+}
+
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    ENSURE_MSG(f, "cannot write %s", path);
+    fputs(text, f);
+    fclose(f);
+}
+
+static int load_ok(const char *path, rf_project *p)
+{
+    rf_error err = {{0}};
+    if (rf_project_load(path, p, &err) == 0)
+        return 1;
+    rf_error_print(&err, stderr);
+    return 0;
+}
+
+static const rf_measure *measure_named(const rf_project *p, const char *name)
+{
+    for (size_t i = 0; i < p->nmeasures; i++)
+        if (!strcmp(p->measures[i].name, name))
+            return &p->measures[i];
+    return NULL;
+}
+
+/* ---- the example projects ------------------------------------------------------ */
+
+TEST(project_examples_load)
+{
+    glob_t g;
+    int rc = glob("projects/*/*.yaml", 0, NULL, &g);
+    ENSURE_MSG(rc == 0 && g.gl_pathc > 0, "no project found under projects/*/*.yaml");
+    for (size_t i = 0; i < g.gl_pathc; i++) {
+        rf_project p;
+        ENSURE_MSG(load_ok(g.gl_pathv[i], &p), "%s does not load", g.gl_pathv[i]);
+        ENSURE(p.nrocks >= 1 && p.nreleases >= 1 && p.terrain.ntri > 0);
+        rf_project_free(&p);
+    }
+    globfree(&g);
+}
+
+/* ---- the bad-file corpus ------------------------------------------------------- */
+
+/* Each tests/bad/NAME.yaml starts with "# expect: LINE:COLUMN SUBSTRING". */
+static int check_bad_file(const char *path)
+{
+    char *text = slurp(path);
+    if (!text) {
+        fprintf(stderr, "    %s: cannot read\n", path);
+        return 0;
+    }
+    int line = 0, column = 0, used = 0;
+    if (sscanf(text, "# expect: %d:%d %n", &line, &column, &used) != 2 || used == 0) {
+        fprintf(stderr, "    %s: no '# expect: LINE:COLUMN SUBSTRING' first line\n", path);
+        free(text);
+        return 0;
+    }
+    char want[512];
+    size_t n = strcspn(text + used, "\n");
+    snprintf(want, sizeof want, "%.*s", (int)n, text + used);
+
+    rf_project p;
+    rf_error err = {{0}};
+    int ok = 1;
+    if (rf_project_load(path, &p, &err) == 0) {
+        fprintf(stderr, "    %s: loaded, expected an error\n", path);
+        rf_project_free(&p);
+        free(text);
+        return 0;
+    }
+    const char *base = strrchr(err.file, '/');
+    base = base ? base + 1 : err.file;
+    int right_file = !strcmp(err.file, path) || (base[0] && strstr(text, base) &&
+                                                 !strstr(base, ".yaml"));
+    if (!right_file || err.line != line || err.column != column || !strstr(err.message, want)) {
+        fprintf(stderr, "    %s: expected %d:%d '%s', got: ", path, line, column, want);
+        rf_error_print(&err, stderr);
+        ok = 0;
+    }
+    /* The project is left empty after a failure. */
+    if (p.name || p.rocks || p.releases || p.terrain.tri || p.yaml_text) {
+        fprintf(stderr, "    %s: project not emptied after an error\n", path);
+        ok = 0;
+    }
+    free(text);
+    return ok;
+}
+
+TEST(project_bad_files)
+{
+    glob_t g;
+    int rc = glob("tests/bad/*.yaml", 0, NULL, &g);
+    ENSURE_MSG(rc == 0, "no file in tests/bad");
+    ENSURE_MSG(g.gl_pathc >= 30, "only %zu bad files", (size_t)g.gl_pathc);
+    int failed = 0;
+    for (size_t i = 0; i < g.gl_pathc; i++)
+        failed += !check_bad_file(g.gl_pathv[i]);
+    ENSURE_MSG(failed == 0, "%d of %zu bad files gave the wrong error", failed,
+               (size_t)g.gl_pathc);
+    globfree(&g);
+}
+
+TEST(project_missing_file)
+{
+    rf_project p;
+    rf_error err = {{0}};
+    ENSURE(rf_project_load(DATA "no_such_project.yaml", &p, &err) != 0);
+    ENSURE(!strcmp(err.file, DATA "no_such_project.yaml"));
+    ENSURE(strstr(err.message, "cannot open"));
+    ENSURE(p.name == NULL && p.path == NULL);
+}
+
+/* ---- defaults ------------------------------------------------------------------ */
+
+TEST(project_defaults)
+{
+    rf_project p;
+    ENSURE(load_ok(DATA "defaults.yaml", &p));
+    ENSURE(!strcmp(p.name, "defaults"));
+    ENSURE(p.seed == 1);
+    ENSURE(!strcmp(p.path, DATA "defaults.yaml"));
+    ENSURE(!strcmp(p.dir, "tests/data/project"));
+    ENSURE(p.yaml_text && strstr(p.yaml_text, "The smallest valid project"));
+    ENSURE(p.terrain_spec.source == RF_TERRAIN_DEM);
+    ENSURE(p.terrain_spec.nfiles == 1 && !strcmp(p.terrain_spec.files[0], DATA "grid5.asc"));
+    ENSURE(p.terrain_spec.up == 'z' && p.terrain_spec.nzones == 0);
+    const rf_surface *s = &p.terrain_spec.surface;
+    ENSURE(s->restitution.mean == 0.3 && s->restitution.sd == 0.0);
+    ENSURE(s->friction.mean == 0.3 && s->friction.sd == 0.0);
+    ENSURE(s->rolling.mean == 0.3 && s->rolling.sd == 0.0);
+    ENSURE(p.nforests == 0 && p.forests == NULL);
+    ENSURE(p.nmeasures == 0 && p.measures == NULL);
+    ENSURE(p.nrocks == 1);
+    ENSURE(p.rocks[0].mass == 100.0 && p.rocks[0].density == 2650.0);
+    ENSURE(p.rocks[0].action_level == 2);
+    ENSURE_REL(p.rocks[0].radius, cbrt(3.0 * 100.0 / (4.0 * M_PI * 2650.0)), 1e-15);
+    ENSURE(p.nreleases == 1);
+    const rf_release *r = &p.releases[0];
+    ENSURE(r->x == 5.0 && r->y == 35.0 && r->rock == 0 && r->count == 1);
+    ENSURE(r->height == 0.0 && r->jitter == 0.0);
+    ENSURE(r->velocity.x == 0.0 && r->velocity.y == 0.0 && r->velocity.z == 0.0);
+    /* Cell (0, 3) of the grid: SW 130, SE 125, NE 135, NW 140; (5, 35) is on the
+     * SW-NE diagonal, z = 130 - 5 * 0.5 + 10 * 0.5. */
+    ENSURE_REL(r->z, 132.5, 1e-12);
+    ENSURE(p.sim.model == RF_MODEL_SPHERE && p.sim.engine == RF_ENGINE_EXACT);
+    ENSURE(p.sim.dt == 0.001 && p.sim.contact == RF_CONTACT_FULL);
+    ENSURE(p.sim.stop_speed == 0.1 && p.sim.max_time == 300.0 && p.sim.paths == 10);
+    ENSURE(p.hazard_cell == 5.0);
+    ENSURE(p.rules_path == NULL);
+    ENSURE(p.terrain.ntri > 0);
+    rf_project_free(&p);
+    ENSURE(p.name == NULL && p.rocks == NULL);
+}
+
+TEST(project_barrier_and_rolling_defaults)
+{
+    char dir[512], path[600], grid[600];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    snprintf(path, sizeof path, "%s/p.yaml", dir);
+    char cwd[256];
+    ENSURE(getcwd(cwd, sizeof cwd));
+    snprintf(grid, sizeof grid, "%s/" DATA "grid5.asc", cwd);
+    char text[2048];
+    snprintf(text, sizeof text,
+             "name: tmp\n"
+             "seed: 18446744073\n"
+             "terrain:\n"
+             "  dem: %s\n"
+             "  surface: {friction: {mean: 0.4, sd: 0.02}}\n"
+             "  zones:\n"
+             "    - {name: talus, polygon: [[0, 0], [10, 0], [10, 10]], class: C}\n"
+             "    - {name: plain, polygon: [[0, 0], [10, 0], [10, 10]]}\n"
+             "rocks: [{name: r, mass: 2.385}]\n"
+             "releases: [{name: A, point: [5, 35], rock: r}]\n"
+             "measures:\n"
+             "  - {name: B, kind: barrier, line: [[0, 5], [40, 5]], height: 3, mel: 2385}\n"
+             "  - {name: road, kind: control, line: [[0, 1], [40, 1]], behaviour: collect}\n",
+             grid);
+    write_file(path, text);
+    rf_project p;
+    ENSURE(load_ok(path, &p));
+    /* An absolute terrain path stays as it is. */
+    ENSURE(!strcmp(p.terrain_spec.files[0], grid));
+    ENSURE(!strcmp(p.dir, dir));
+    ENSURE(p.seed == 18446744073ull);
+    /* rolling follows the friction of each surface when no rolling is given. */
+    const rf_surface *s = &p.terrain_spec.surface;
+    ENSURE(s->rolling.mean == 0.4 && s->rolling.sd == 0.02);
+    rf_dist c = rf_table2_friction_dist('C');
+    const rf_zone_spec *talus = &p.terrain_spec.zones[0], *plain = &p.terrain_spec.zones[1];
+    ENSURE(!strcmp(talus->name, "talus") && talus->npoly == 3 && talus->file == NULL);
+    ENSURE(talus->surface.friction.mean == c.mean && talus->surface.friction.sd == c.sd);
+    ENSURE(talus->surface.rolling.mean == c.mean && talus->surface.rolling.sd == c.sd);
+    ENSURE(talus->surface.restitution.mean == 0.3);
+    ENSURE(plain->surface.friction.mean == 0.4 && plain->surface.rolling.mean == 0.4);
+    const rf_measure *b = measure_named(&p, "B");
+    ENSURE(b && b->kind == RF_BARRIER && b->behaviour == RF_STOP);
+    ENSURE(b->importance == RF_IMPORTANT);
+    ENSURE(b->mel == 2385.0 && b->sel == 2385.0 / 3.0);
+    ENSURE(b->capacity[RF_SERVICEABILITY] == 2385.0 / 3.0);
+    ENSURE(b->capacity[RF_ULTIMATE] == 2385.0);
+    ENSURE(b->capacity[RF_RESTORABILITY] < 0 && b->capacity[RF_NEAR_COLLAPSE] < 0);
+    const rf_measure *road = measure_named(&p, "road");
+    ENSURE(road && road->kind == RF_CONTROL && road->behaviour == RF_COLLECT);
+    ENSURE(road->height == 0.0);
+    for (int k = 0; k < RF_N_LIMIT_STATES; k++)
+        ENSURE(road->capacity[k] < 0);
+    rf_project_free(&p);
+}
+
+/* ---- a fully specified project --------------------------------------------------- */
+
+TEST(project_full_read_back)
+{
+    rf_project p;
+    ENSURE(load_ok(DATA "full.yaml", &p));
+    ENSURE(!strcmp(p.name, "full-project") && p.seed == 2009);
+    ENSURE(!strcmp(p.rules_path, DATA "rules.yaml"));
+
+    const rf_terrain_spec *t = &p.terrain_spec;
+    ENSURE(t->source == RF_TERRAIN_DEM && !strcmp(t->files[0], DATA "grid5.asc"));
+    ENSURE(t->surface.restitution.mean == 0.15 && t->surface.restitution.sd == 0.05);
+    ENSURE(t->surface.friction.mean == 0.32 && t->surface.friction.sd == 0.04);
+    ENSURE(t->surface.rolling.mean == 0.12 && t->surface.rolling.sd == 0.0);
+    ENSURE(t->nzones == 2);
+    const rf_zone_spec *z0 = &t->zones[0], *z1 = &t->zones[1];
+    ENSURE(!strcmp(z0->name, "talus") && z0->npoly == 4);
+    ENSURE(z0->poly_xy[2] == 20.0 && z0->poly_xy[3] == 0.0 && z0->poly_xy[7] == 20.0);
+    rf_dist d = rf_table2_friction_dist('D');
+    ENSURE(z0->surface.friction.mean == d.mean && z0->surface.friction.sd == d.sd);
+    ENSURE(z0->surface.restitution.mean == 0.15 && z0->surface.restitution.sd == 0.05);
+    ENSURE(z0->surface.rolling.mean == 0.12); /* the terrain's explicit rolling */
+    ENSURE(!strcmp(z1->name, "rockface") && z1->npoly == 3);
+    ENSURE(z1->surface.restitution.mean == 0.45 && z1->surface.restitution.sd == 0.0);
+    ENSURE(z1->surface.friction.mean == 0.55 && z1->surface.friction.sd == 0.07);
+    ENSURE(z1->surface.rolling.mean == 0.2 && z1->surface.rolling.sd == 0.0);
+
+    ENSURE(p.nforests == 2);
+    const rf_forest *f = &p.forests[0];
+    ENSURE(!strcmp(f->name, "forest") && f->polygon.n == 3 && f->polygon.xy[5] == 15.0);
+    ENSURE(f->density == 0.012 && f->height.mean == 5.5 && f->height.sd == 1.25);
+    ENSURE(f->diameter == 0.23);
+    ENSURE(f->restitution.mean == 0.22 && f->restitution.sd == 0.03);
+    ENSURE(f->friction.mean == 0.35 && f->friction.sd == 0.06);
+    f = &p.forests[1];
+    ENSURE(!strcmp(f->name, "scrub") && f->polygon.n == 0 && f->polygon.xy == NULL);
+    ENSURE(f->density == 0.5 && f->height.mean == 1.5 && f->height.sd == 0.0);
+    ENSURE(f->restitution.mean == 0.2 && f->restitution.sd == 0.0);
+    ENSURE(f->friction.mean == 0.3 && f->friction.sd == 0.0);
+
+    ENSURE(p.nrocks == 2);
+    ENSURE(!strcmp(p.rocks[0].name, "r4500") && p.rocks[0].mass == 4500.0);
+    ENSURE(p.rocks[0].density == 2700.0 && p.rocks[0].action_level == 3);
+    ENSURE_REL(p.rocks[0].radius, cbrt(3.0 * 4500.0 / (4.0 * M_PI * 2700.0)), 1e-15);
+    ENSURE(!strcmp(p.rocks[1].name, "small") && p.rocks[1].mass == 12.5);
+
+    ENSURE(p.nreleases == 2);
+    const rf_release *r = &p.releases[0];
+    ENSURE(!strcmp(r->name, "C") && r->x == 5.5 && r->y == 35.25 && r->rock == 0);
+    ENSURE(r->count == 100 && r->height == 1.5 && r->jitter == 0.75);
+    ENSURE(r->velocity.x == 1.25 && r->velocity.y == -0.5 && r->velocity.z == 2.0);
+    /* Below the diagonal of cell (0, 3): z = 130 - 5 * 0.55 + 10 * 0.525. */
+    ENSURE_REL(r->z, 132.5, 1e-12);
+    r = &p.releases[1];
+    ENSURE(!strcmp(r->name, "D") && r->rock == 1 && r->count == 1);
+    ENSURE_REL(r->z, 87.5, 1e-12);
+
+    ENSURE(p.nmeasures == 5);
+    const rf_measure *m = measure_named(&p, "road");
+    ENSURE(m && m->kind == RF_CONTROL && m->importance == RF_USUAL);
+    ENSURE(m->behaviour == RF_COLLECT && m->line.n == 2 && m->line.xy[2] == 40.0);
+    m = measure_named(&p, "E1");
+    ENSURE(m && m->kind == RF_EMBANKMENT && m->line.n == 3 && m->line.xy[3] == 12.0);
+    ENSURE(m->height == 6.0 && m->importance == RF_MOST_IMPORTANT);
+    ENSURE(m->behaviour == RF_COLLECT);
+    ENSURE(m->capacity[RF_SERVICEABILITY] == 3000.0 && m->capacity[RF_RESTORABILITY] == 6000.0);
+    ENSURE(m->capacity[RF_ULTIMATE] == 9000.0 && m->capacity[RF_NEAR_COLLAPSE] == 12000.0);
+    m = measure_named(&p, "B1");
+    ENSURE(m && m->kind == RF_BARRIER && m->height == 5.0 && m->mel == 3000.0);
+    ENSURE(m->sel == 1000.0 && m->behaviour == RF_STOP && m->importance == RF_IMPORTANT);
+    m = measure_named(&p, "B2");
+    ENSURE(m && m->mel == 2000.0 && m->sel == 1000.0);
+    ENSURE(m->capacity[RF_SERVICEABILITY] == 1000.0 && m->capacity[RF_RESTORABILITY] == 1500.0);
+    ENSURE(m->capacity[RF_ULTIMATE] == 2000.0 && m->capacity[RF_NEAR_COLLAPSE] < 0);
+    m = measure_named(&p, "E2");
+    ENSURE(m && m->height == 3.5 && m->capacity[RF_ULTIMATE] == 5000.0);
+    ENSURE(m->capacity[RF_SERVICEABILITY] < 0 && m->capacity[RF_RESTORABILITY] < 0);
+    ENSURE(m->capacity[RF_NEAR_COLLAPSE] < 0 && m->mel < 0 && m->sel < 0);
+
+    ENSURE(p.sim.model == RF_MODEL_POINT && p.sim.engine == RF_ENGINE_FIXED_STEP);
+    ENSURE(p.sim.dt == 0.002 && p.sim.contact == RF_CONTACT_CENTRE);
+    ENSURE(p.sim.stop_speed == 0.05 && p.sim.max_time == 120.0 && p.sim.paths == 25);
+    ENSURE(p.hazard_cell == 2.5);
+    rf_project_free(&p);
+}
+
+TEST(project_mesh_and_profile)
+{
+    rf_project p;
+    ENSURE(load_ok(DATA "mesh.yaml", &p));
+    const rf_terrain_spec *t = &p.terrain_spec;
+    ENSURE(t->source == RF_TERRAIN_MESH && t->nfiles == 2 && t->up == 'z');
+    ENSURE(!strcmp(t->files[0], DATA "upper.obj") && !strcmp(t->files[1], DATA "lower.stl"));
+    ENSURE(t->nzones == 1 && !strcmp(t->zones[0].file, DATA "lower.stl"));
+    ENSURE(t->zones[0].poly_xy == NULL);
+    ENSURE(t->zones[0].surface.restitution.mean == 0.5);
+    ENSURE(t->zones[0].surface.friction.mean == 0.4 && t->zones[0].surface.rolling.mean == 0.4);
+    ENSURE_REL(p.releases[0].z, 25.0, 1e-12);  /* z = 30 - x / 2 */
+    ENSURE_REL(p.releases[1].z, 12.5, 1e-12);  /* z = 20 - 0.75 (x - 20) */
+    rf_project_free(&p);
+
+    ENSURE(load_ok(DATA "mesh_yup.yaml", &p));
+    ENSURE(p.terrain_spec.up == 'y' && p.terrain_spec.nfiles == 1);
+    ENSURE_REL(p.releases[0].z, 25.0, 1e-12);
+    rf_project_free(&p);
+
+    ENSURE(load_ok(DATA "profile.yaml", &p));
+    t = &p.terrain_spec;
+    ENSURE(t->source == RF_TERRAIN_PROFILE && t->nprofile == 3 && t->width == 20.0);
+    ENSURE(t->profile[0] == 0.0 && t->profile[1] == 100.0 && t->profile[4] == 80.0);
+    rf_dist b = rf_table2_friction_dist('B');
+    ENSURE(t->surface.friction.mean == b.mean && t->surface.rolling.mean == b.mean);
+    ENSURE_REL(p.releases[0].z, 80.0, 1e-12);
+    rf_project_free(&p);
+}
+
+/* Paths in a project are relative to the project file, not to the working directory. */
+TEST(project_paths_relative_to_file)
+{
+    char dir[512], sub[600], path[700], text[1024];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    snprintf(sub, sizeof sub, "%s/terrain", dir);
+    char mk[700];
+    snprintf(mk, sizeof mk, "mkdir -p '%s'", sub);
+    ENSURE(system(mk) == 0);
+    char *grid = slurp(DATA "grid5.asc");
+    ENSURE(grid);
+    snprintf(path, sizeof path, "%s/g.asc", sub);
+    write_file(path, grid);
+    free(grid);
+    snprintf(path, sizeof path, "%s/rules.yaml", dir);
+    write_file(path, "rules: []\n");
+    snprintf(text, sizeof text,
+             "name: rel\nterrain: {dem: terrain/g.asc}\nrocks: [{name: r, mass: 1}]\n"
+             "releases: [{name: A, point: [35, 5], rock: r}]\nrules: rules.yaml\n");
+    snprintf(path, sizeof path, "%s/project.yaml", dir);
+    write_file(path, text);
+    rf_project p;
+    ENSURE(load_ok(path, &p));
+    char want[700];
+    snprintf(want, sizeof want, "%s/terrain/g.asc", dir);
+    ENSURE(!strcmp(p.terrain_spec.files[0], want));
+    snprintf(want, sizeof want, "%s/rules.yaml", dir);
+    ENSURE(!strcmp(p.rules_path, want));
+    ENSURE(!strcmp(p.yaml_text, text));
+    rf_project_free(&p);
+}
+
+TEST(project_enum_names)
+{
+    ENSURE(!strcmp(rf_measure_kind_name(RF_BARRIER), "barrier"));
+    ENSURE(!strcmp(rf_measure_kind_name(RF_EMBANKMENT), "embankment"));
+    ENSURE(!strcmp(rf_measure_kind_name(RF_CONTROL), "control"));
+    ENSURE(!strcmp(rf_importance_name(RF_MOST_IMPORTANT), "most_important"));
+    ENSURE(!strcmp(rf_importance_name(RF_USUAL), "usual"));
+    ENSURE(!strcmp(rf_behaviour_name(RF_STOP), "stop"));
+    ENSURE(!strcmp(rf_behaviour_name(RF_COLLECT), "collect"));
+    ENSURE(!strcmp(rf_limit_state_name(RF_SERVICEABILITY), "serviceability"));
+    ENSURE(!strcmp(rf_limit_state_name(RF_NEAR_COLLAPSE), "near_collapse"));
+    ENSURE(!strcmp(rf_limit_state_name(RF_COLLAPSE), "collapse"));
+}
+
+/* ---- the YAML access layer --------------------------------------------------------- */
+
+static rf_ydoc load_text(const char *text)
+{
+    rf_ydoc d;
+    rf_error err = {{0}};
+    int rc = rf_ydoc_load_text(&d, "mem.yaml", text, strlen(text), &err);
+    ENSURE_MSG(rc == 0, "%s", err.message);
+    return d;
+}
+
+TEST(yamldoc_scalars)
+{
+    rf_ydoc d = load_text("a: 2.385\nb: 7\nc: 2.5\nd: \"7\"\ne: yes\nf: -1e3\ng: .inf\nh: 0x10\n"
+                          "i:\n");
+    rf_ynode *root = rf_ydoc_root(&d);
+    rf_error err = {{0}};
+    double x = 0;
+    long long i = 0;
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "a"), "a", RF_YR_ANY, &x, &err) == 0);
+    ENSURE(x == 2.385);
+    ENSURE(rf_ydoc_integer(&d, rf_ydoc_get(&d, root, "b"), "b", RF_YR_ANY, &i, &err) == 0);
+    ENSURE(i == 7);
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "b"), "b", RF_YR_ANY, &x, &err) == 0);
+    ENSURE(x == 7.0);
+    ENSURE(rf_ydoc_integer(&d, rf_ydoc_get(&d, root, "c"), "c", RF_YR_AT_LEAST(1), &i,
+                           &err) != 0);
+    ENSURE(!strcmp(err.message, "'c' must be an integer >= 1, got 2.5"));
+    ENSURE(err.line == 3 && err.column == 4 && !strcmp(err.file, "mem.yaml"));
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "d"), "d", RF_YR_ANY, &x, &err) != 0);
+    ENSURE(strstr(err.message, "got \"7\""));
+    int flag = 0;
+    ENSURE(rf_ydoc_bool(&d, rf_ydoc_get(&d, root, "e"), "e", &flag, &err) == 0 && flag == 1);
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "f"), "f", RF_YR_ANY, &x, &err) == 0);
+    ENSURE(x == -1000.0);
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "f"), "f", RF_YR_NONNEG, &x, &err) != 0);
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "g"), "g", RF_YR_ANY, &x, &err) != 0);
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "h"), "h", RF_YR_ANY, &x, &err) != 0);
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "i"), "i", RF_YR_ANY, &x, &err) != 0);
+    ENSURE(!strcmp(err.message, "'i' must be a number, got nothing"));
+    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "a"), "a", RF_YR_UNIT, &x, &err) != 0);
+    ENSURE(!strcmp(err.message, "'a' must be a number in [0, 1], got 2.385"));
+    ENSURE(rf_ydoc_get(&d, root, "zz") == NULL);
+    rf_ydoc_free(&d);
+}
+
+TEST(yamldoc_keys_and_hints)
+{
+    static const char *const allowed[] = {"restitution", "friction", "rolling", NULL};
+    rf_ydoc d = load_text("friction: 1\nrestitusion: 2\n");
+    rf_error err = {{0}};
+    ENSURE(rf_ydoc_check_keys(&d, rf_ydoc_root(&d), allowed, "'surface'", &err) != 0);
+    ENSURE(err.line == 2 && err.column == 1);
+    ENSURE(!strcmp(err.message,
+                   "unknown key 'restitusion' in 'surface' (did you mean 'restitution'?)"));
+    rf_ydoc_free(&d);
+
+    d = load_text("friction: 1\nfriction: 2\n");
+    ENSURE(rf_ydoc_check_keys(&d, rf_ydoc_root(&d), allowed, "'surface'", &err) != 0);
+    ENSURE(strstr(err.message, "duplicate key 'friction'") && err.line == 2);
+    rf_ydoc_free(&d);
+
+    ENSURE(rf_edit_distance("mass", "mass") == 0);
+    ENSURE(rf_edit_distance("mas", "mass") == 1);
+    ENSURE(rf_edit_distance("kitten", "sitting") == 3);
+    char buf[64];
+    ENSURE(!strcmp(rf_yrange_describe(RF_YR_BETWEEN(1, 3), 1, buf, sizeof buf),
+                   "an integer in 1..3"));
+    ENSURE(!strcmp(rf_yrange_describe(RF_YR_POSITIVE, 0, buf, sizeof buf), "a number > 0"));
+}
+
+TEST(yamldoc_syntax_errors)
+{
+    rf_ydoc d;
+    rf_error err = {{0}};
+    const char *text = "a: [1, 2\nb: 3\n";
+    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
+    ENSURE(strstr(err.message, "YAML syntax error") && err.line >= 1 && err.column >= 1);
+    ENSURE(d.text == NULL && d.loaded == 0);
+    text = "a: 1\n---\nb: 2\n";
+    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 3 && err.column == 1 && strstr(err.message, "second YAML document"));
+    text = "# nothing\n";
+    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) == 0);
+    ENSURE(rf_ydoc_root(&d) == NULL);
+    rf_ydoc_free(&d);
+    text = "a: \xff\xfe\n";
+    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && strstr(err.message, "YAML syntax error"));
+}
