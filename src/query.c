@@ -1,0 +1,137 @@
+/* query.c - statistics read back from the results database. */
+#include "query.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hazard.h"
+
+static int db_error(sqlite3 *db, rf_error *err)
+{
+    return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "%s", sqlite3_errmsg(db));
+}
+
+int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err)
+{
+    const char *file = sqlite3_db_filename(db, "main");
+    sqlite3_stmt *st;
+    const char *sql = wanted > 0 ? "SELECT id, status FROM runs WHERE id = ?1"
+                                 : "SELECT id, status FROM runs WHERE status = 'complete' "
+                                   "ORDER BY id DESC LIMIT 1";
+    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK)
+        return db_error(db, err);
+    if (wanted > 0)
+        sqlite3_bind_int64(st, 1, wanted);
+    int rc = sqlite3_step(st), status = 0;
+    if (rc == SQLITE_ROW) {
+        *run = sqlite3_column_int64(st, 0);
+        const char *s = (const char *)sqlite3_column_text(st, 1);
+        if (s && strcmp(s, "complete"))
+            status = rf_error_set(err, file, 0, 0, "run %ld is '%s', not complete", wanted, s);
+    } else if (rc == SQLITE_DONE) {
+        status = wanted > 0 ? rf_error_set(err, file, 0, 0, "no run %ld in this database", wanted)
+                            : rf_error_set(err, file, 0, 0, "no complete run in this database");
+    } else {
+        status = db_error(db, err);
+    }
+    sqlite3_finalize(st);
+    return status;
+}
+
+/* Reads a column of doubles of one measure's interceptions into a malloc'd array. */
+static int read_column(sqlite3 *db, const char *col, int64_t measure_id, float **out, size_t *n,
+                       rf_error *err)
+{
+    char sql[160];
+    snprintf(sql, sizeof sql, "SELECT %s FROM interceptions WHERE measure_id = ?1", col);
+    sqlite3_stmt *st;
+    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK)
+        return db_error(db, err);
+    sqlite3_bind_int64(st, 1, measure_id);
+    size_t cap = 0;
+    *out = NULL;
+    *n = 0;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 256;
+            float *nv = realloc(*out, cap * sizeof *nv);
+            if (!nv) {
+                sqlite3_finalize(st);
+                return rf_error_set(err, "", 0, 0, "out of memory");
+            }
+            *out = nv;
+        }
+        (*out)[(*n)++] = (float)sqlite3_column_double(st, 0);
+    }
+    sqlite3_finalize(st);
+    return rc == SQLITE_DONE ? 0 : db_error(db, err);
+}
+
+int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s, rf_error *err)
+{
+    memset(s, 0, sizeof *s);
+    sqlite3_stmt *st;
+    if (sqlite3_prepare_v2(db,
+                           "SELECT outcome, count(*) FROM interceptions WHERE measure_id = ?1 "
+                           "GROUP BY outcome",
+                           -1, &st, NULL) != SQLITE_OK)
+        return db_error(db, err);
+    sqlite3_bind_int64(st, 1, measure_id);
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        const char *o = (const char *)sqlite3_column_text(st, 0);
+        long c = (long)sqlite3_column_int64(st, 1);
+        s->n += c;
+        if (!strcmp(o, "stopped"))
+            s->n_stopped = c;
+        else if (!strcmp(o, "overtopped"))
+            s->n_overtopped = c;
+        else if (!strcmp(o, "broke_through"))
+            s->n_broke_through = c;
+        else
+            s->n_passed = c;
+    }
+    sqlite3_finalize(st);
+    float *v;
+    size_t n;
+    if (read_column(db, "energy_kj", measure_id, &v, &n, err))
+        return -1;
+    s->energy_p50 = rf_percentile_nearest_rank(v, n, 0.50);
+    s->energy_p90 = rf_percentile_nearest_rank(v, n, 0.90);
+    s->energy_p95 = rf_percentile_nearest_rank(v, n, 0.95);
+    s->energy_p99 = rf_percentile_nearest_rank(v, n, 0.99);
+    s->energy_max = n ? v[n - 1] : NAN;
+    free(v);
+    if (read_column(db, "passing_height_m", measure_id, &v, &n, err))
+        return -1;
+    s->height_p95 = rf_percentile_nearest_rank(v, n, 0.95);
+    free(v);
+    return 0;
+}
+
+void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out)
+{
+    sqlite3_stmt *st;
+    if (sqlite3_prepare_v2(db, "SELECT id, name, kind FROM measures WHERE run_id = ?1 ORDER BY id",
+                           -1, &st, NULL) != SQLITE_OK)
+        return;
+    sqlite3_bind_int64(st, 1, run);
+    fprintf(out, "run %lld: interceptions per measure (energies in kJ, nearest-rank percentiles)\n",
+            (long long)run);
+    fprintf(out, "%-16s %-10s %7s %9s %9s %9s %9s %9s %8s\n", "measure", "kind", "count", "E50",
+            "E90", "E95", "E99", "Emax", "h95 (m)");
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        rf_measure_stats s;
+        rf_error err;
+        if (rf_query_measure_stats(db, sqlite3_column_int64(st, 0), &s, &err)) {
+            rf_error_print(&err, stderr);
+            break;
+        }
+        fprintf(out, "%-16s %-10s %7ld %9.1f %9.1f %9.1f %9.1f %9.1f %8.2f\n",
+                (const char *)sqlite3_column_text(st, 1), (const char *)sqlite3_column_text(st, 2),
+                s.n, s.energy_p50, s.energy_p90, s.energy_p95, s.energy_p99, s.energy_max,
+                s.height_p95);
+    }
+    sqlite3_finalize(st);
+}

@@ -1,0 +1,28 @@
+/* query.h - reading runs back from the results database for check and report. */
+#ifndef ROCKFALL_QUERY_H
+#define ROCKFALL_QUERY_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include <sqlite3.h>
+
+#include "rockfall/error.h"
+
+/* The run to read: `wanted` when > 0 (it must exist), else the newest complete run. */
+int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err);
+
+/* Interception statistics of one measure of a run (energies in kJ). */
+typedef struct rf_measure_stats {
+    long n;
+    long n_stopped, n_overtopped, n_broke_through, n_passed;
+    double energy_p50, energy_p90, energy_p95, energy_p99, energy_max;
+    double height_p95;
+} rf_measure_stats;
+
+int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *st,
+                           rf_error *err);
+/* A table of every measure of the run with its statistics. */
+void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out);
+
+#endif

@@ -1,0 +1,2108 @@
+/* report.c - DIR/index.html and its SVG figures for one run of a results database.
+ *
+ * Figures (the paper's numbers): plan view of the sampled trajectories over the
+ * terrain contours with releases, measures and stop points (Fig. 9, 11); arrival
+ * position along and velocity at each control line (Fig. 10a, 10b); hazard map of the
+ * largest kinetic energy per cell in classes (Fig. 12) and the reach probability; the
+ * energy at each measure against its capacities.  Beside them the empirical
+ * crosscheck: Eq. 1-2 velocity and the attainment width of Fig. 1b. */
+#include "report.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "rockfall/empirical.h"
+#include "rockfall/project.h"
+#include "rockfall/terrain.h"
+#include "query.h"
+#include "svg.h"
+
+const double rf_report_energy_limits[RF_REPORT_N_ENERGY_LIMITS] = {1000.0, 3000.0, 6000.0};
+static const char *const ENERGY_COLOURS[RF_REPORT_N_ENERGY_LIMITS + 1] = {
+    "#fecc5c", "#fd8d3c", "#e31a1c", "#800026"};
+
+#define N_REACH_CLASSES 5
+static const double REACH_LIMITS[N_REACH_CLASSES - 1] = {0.01, 0.05, 0.2, 0.5};
+static const char *const REACH_COLOURS[N_REACH_CLASSES] = {"#deebf7", "#9ecae1", "#4292c6",
+                                                           "#08519c", "#08306b"};
+
+static const char *const RELEASE_COLOURS[] = {"#1f77b4", "#2ca02c", "#9467bd", "#17becf",
+                                              "#e377c2", "#bcbd22", "#ff7f0e", "#7f7f7f"};
+#define N_RELEASE_COLOURS (sizeof RELEASE_COLOURS / sizeof RELEASE_COLOURS[0])
+
+#define N_OUTCOMES 4
+static const char *const OUTCOME_NAMES[N_OUTCOMES] = {"stopped", "passed", "overtopped",
+                                                      "broke_through"};
+static const char *const OUTCOME_LABELS[N_OUTCOMES] = {"stopped", "passed", "overtopped",
+                                                       "broke through"};
+static const char *const OUTCOME_COLOURS[N_OUTCOMES] = {"#4daf4a", "#9ecae1", "#ff7f0e",
+                                                        "#d62728"};
+
+/* Table 2, class D: the equivalent friction the paper uses for its crosscheck. */
+#define CLASS_D_FRICTION 0.35
+/* Fig. 1b: the largest empirical spreading angle. */
+#define ATTAINMENT_BETA_DEG 45.0
+/* The paper's headline check: serviceability kept for over 90 % of the rockfalls. */
+#define SERVICEABILITY_SHARE 0.90
+/* Nodes of the contour grid along the longer side of the plan. */
+#define CONTOUR_NODES 240
+/* Right edge of the plot area of the 820 px charts; their legend goes beside it. */
+#define CHART_RIGHT 670
+/* Most stop points drawn on the plan. */
+#define MAX_STOP_POINTS 20000
+
+/* ---- data of the run ------------------------------------------------------------ */
+
+typedef struct rep_release {
+    int64_t id;
+    char *name, *rock;
+    double x, y, z, mass;
+    int action_level;
+    long count;
+} rep_release;
+
+typedef struct rep_measure {
+    int64_t id;
+    long idx;
+    char *name, *kind, *importance, *behaviour;
+    double height, mel, sel, cap[RF_N_LIMIT_STATES];
+    double *xy;
+    size_t n;
+} rep_measure;
+
+typedef struct rep_arrival {
+    double s, speed, energy, zground;
+    size_t rel;
+} rep_arrival;
+
+typedef struct contour_grid {
+    double *z; /* nx * ny heights, NAN off the terrain; NULL without a terrain */
+    size_t nx, ny;
+    double x0, y0, step;
+    double zmin, zmax, interval;
+} contour_grid;
+
+typedef struct report {
+    sqlite3 *db;
+    int64_t run;
+    const char *dir;
+    rf_error *err;
+    char *project, *project_path, *seed, *status, *started, *finished, *version, *yaml;
+    long n_planned;
+    rep_release *rel;
+    size_t nrel;
+    rep_measure *mea;
+    size_t nmea;
+    long n_traj, n_path_traj;
+    int have_project;
+    rf_project proj;
+    contour_grid grid;
+    double bx0, bx1, by0, by1; /* plan extent (m) */
+    double pw, ph;             /* plan plot size (px) */
+    double hazard_cell;
+    FILE *summary, *notes, *body; /* parts of index.html */
+} report;
+
+static int db_error(report *r)
+{
+    return rf_error_set(r->err, sqlite3_db_filename(r->db, "main"), 0, 0, "%s",
+                        sqlite3_errmsg(r->db));
+}
+
+/* A statement with ?1 bound to `id`; NULL (err filled) on failure. */
+static sqlite3_stmt *prep(report *r, const char *sql, int64_t id)
+{
+    sqlite3_stmt *st = NULL;
+    if (sqlite3_prepare_v2(r->db, sql, -1, &st, NULL) != SQLITE_OK) {
+        db_error(r);
+        return NULL;
+    }
+    if (sqlite3_bind_parameter_count(st) >= 1)
+        sqlite3_bind_int64(st, 1, id);
+    return st;
+}
+
+static double col_real(sqlite3_stmt *st, int i)
+{
+    return sqlite3_column_type(st, i) == SQLITE_NULL ? NAN : sqlite3_column_double(st, i);
+}
+
+static char *col_dup(sqlite3_stmt *st, int i)
+{
+    const char *t = (const char *)sqlite3_column_text(st, i);
+    return strdup(t ? t : "");
+}
+
+static int oom(report *r)
+{
+    return rf_error_set(r->err, r->dir, 0, 0, "out of memory");
+}
+
+/* One value of a query with ?1 = id, as a double (NAN when none). */
+static double query_real(report *r, const char *sql, int64_t id)
+{
+    sqlite3_stmt *st = prep(r, sql, id);
+    double v = NAN;
+    if (st && sqlite3_step(st) == SQLITE_ROW)
+        v = col_real(st, 0);
+    sqlite3_finalize(st);
+    return v;
+}
+
+static size_t release_index(const report *r, int64_t id)
+{
+    for (size_t k = 0; k < r->nrel; k++)
+        if (r->rel[k].id == id)
+            return k;
+    return 0;
+}
+
+static const char *release_colour(size_t k)
+{
+    return RELEASE_COLOURS[k % N_RELEASE_COLOURS];
+}
+
+static const char *measure_colour(const rep_measure *m)
+{
+    if (!strcmp(m->kind, "barrier"))
+        return "#d62728";
+    if (!strcmp(m->kind, "embankment"))
+        return "#8c510a";
+    return "#252525";
+}
+
+static int is_control(const rep_measure *m)
+{
+    return !strcmp(m->kind, "control");
+}
+
+/* ---- geometry --------------------------------------------------------------------- */
+
+double rf_polyline_length(const double *xy, size_t n)
+{
+    double len = 0.0;
+    for (size_t i = 0; i + 1 < n; i++)
+        len += hypot(xy[2 * i + 2] - xy[2 * i], xy[2 * i + 3] - xy[2 * i + 1]);
+    return len;
+}
+
+double rf_polyline_station(const double *xy, size_t n, double x, double y, double *dist,
+                           double *nx, double *ny)
+{
+    double best = INFINITY, station = 0.0, along = 0.0, bx = n ? xy[0] : x, by = n ? xy[1] : y;
+    for (size_t i = 0; i + 1 < n || (n == 1 && i == 0); i++) {
+        double ax = xy[2 * i], ay = xy[2 * i + 1];
+        double ex = n > 1 ? xy[2 * i + 2] : ax, ey = n > 1 ? xy[2 * i + 3] : ay;
+        double ux = ex - ax, uy = ey - ay, len2 = ux * ux + uy * uy;
+        double t = len2 > 0.0 ? ((x - ax) * ux + (y - ay) * uy) / len2 : 0.0;
+        t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+        double px = ax + t * ux, py = ay + t * uy, d = hypot(x - px, y - py);
+        if (d < best) {
+            best = d;
+            station = along + t * sqrt(len2);
+            bx = px;
+            by = py;
+        }
+        along += sqrt(len2);
+        if (n == 1)
+            break;
+    }
+    if (dist)
+        *dist = best;
+    if (nx)
+        *nx = bx;
+    if (ny)
+        *ny = by;
+    return station;
+}
+
+/* ---- loading ---------------------------------------------------------------------- */
+
+static int load_run(report *r)
+{
+    sqlite3_stmt *st = prep(r,
+                            "SELECT project, project_path, seed, status, started_at, finished_at,"
+                            " n_trajectories, version, project_yaml FROM runs WHERE id = ?1",
+                            r->run);
+    if (!st)
+        return -1;
+    int rc = sqlite3_step(st);
+    if (rc == SQLITE_ROW) {
+        r->project = col_dup(st, 0);
+        r->project_path = col_dup(st, 1);
+        r->seed = col_dup(st, 2);
+        r->status = col_dup(st, 3);
+        r->started = col_dup(st, 4);
+        r->finished = col_dup(st, 5);
+        r->n_planned = (long)sqlite3_column_int64(st, 6);
+        r->version = col_dup(st, 7);
+        r->yaml = col_dup(st, 8);
+    }
+    sqlite3_finalize(st);
+    if (rc == SQLITE_DONE)
+        return rf_error_set(r->err, sqlite3_db_filename(r->db, "main"), 0, 0,
+                            "no run %lld in this database", (long long)r->run);
+    if (rc != SQLITE_ROW)
+        return db_error(r);
+    if (!r->project || !r->project_path || !r->seed || !r->status || !r->started ||
+        !r->finished || !r->version || !r->yaml)
+        return oom(r);
+    return 0;
+}
+
+static int load_releases(report *r)
+{
+    sqlite3_stmt *st = prep(r,
+                            "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
+                            " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
+                            r->run);
+    if (!st)
+        return -1;
+    size_t cap = 0;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (r->nrel == cap) {
+            cap = cap ? 2 * cap : 8;
+            rep_release *nv = realloc(r->rel, cap * sizeof *nv);
+            if (!nv) {
+                sqlite3_finalize(st);
+                return oom(r);
+            }
+            r->rel = nv;
+        }
+        rep_release *e = &r->rel[r->nrel++];
+        *e = (rep_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
+                           .rock = col_dup(st, 2), .x = col_real(st, 3), .y = col_real(st, 4),
+                           .z = col_real(st, 5), .mass = col_real(st, 6),
+                           .action_level = sqlite3_column_int(st, 7),
+                           .count = (long)sqlite3_column_int64(st, 8)};
+        if (!e->name || !e->rock) {
+            sqlite3_finalize(st);
+            return oom(r);
+        }
+    }
+    sqlite3_finalize(st);
+    return rc == SQLITE_DONE ? 0 : db_error(r);
+}
+
+/* The measure's polyline from its JSON text. */
+static int load_line(report *r, rep_measure *m)
+{
+    sqlite3_stmt *st = prep(r,
+                            "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
+                            " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
+                            m->id);
+    if (!st)
+        return -1;
+    size_t cap = 0;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (m->n == cap) {
+            cap = cap ? 2 * cap : 8;
+            double *nv = realloc(m->xy, 2 * cap * sizeof *nv);
+            if (!nv) {
+                sqlite3_finalize(st);
+                return oom(r);
+            }
+            m->xy = nv;
+        }
+        m->xy[2 * m->n] = col_real(st, 0);
+        m->xy[2 * m->n + 1] = col_real(st, 1);
+        m->n++;
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE)
+        return db_error(r);
+    return 0;
+}
+
+static int load_measures(report *r)
+{
+    sqlite3_stmt *st = prep(r,
+                            "SELECT id, idx, name, kind, importance, behaviour, height_m, mel_kj,"
+                            " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
+                            " cap_ultimate_kj, cap_near_collapse_kj"
+                            " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
+                            r->run);
+    if (!st)
+        return -1;
+    size_t cap = 0;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (r->nmea == cap) {
+            cap = cap ? 2 * cap : 8;
+            rep_measure *nv = realloc(r->mea, cap * sizeof *nv);
+            if (!nv) {
+                sqlite3_finalize(st);
+                return oom(r);
+            }
+            r->mea = nv;
+        }
+        rep_measure *m = &r->mea[r->nmea++];
+        *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
+                           .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
+                           .kind = col_dup(st, 3), .importance = col_dup(st, 4),
+                           .behaviour = col_dup(st, 5), .height = col_real(st, 6),
+                           .mel = col_real(st, 7), .sel = col_real(st, 8)};
+        for (int k = 0; k < RF_N_LIMIT_STATES; k++)
+            m->cap[k] = col_real(st, 9 + k);
+        if (!m->name || !m->kind || !m->importance || !m->behaviour) {
+            sqlite3_finalize(st);
+            return oom(r);
+        }
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE)
+        return db_error(r);
+    for (size_t k = 0; k < r->nmea; k++)
+        if (load_line(r, &r->mea[k]))
+            return -1;
+    return 0;
+}
+
+/* Reloads the project for its terrain; on failure the report goes on without it. */
+static void load_project(report *r)
+{
+    if (!r->project_path[0]) {
+        fputs("<li>The run does not name its project file: the figures have no terrain "
+              "contours.</li>\n",
+              r->notes);
+        return;
+    }
+    rf_error perr = {0};
+    if (rf_project_load(r->project_path, &r->proj, &perr)) {
+        fputs("<li>The project file could not be reloaded for the terrain, so the figures "
+              "have no contours: ",
+              r->notes);
+        if (perr.file[0]) {
+            rf_svg_escape(r->notes, perr.file);
+            fputs(": ", r->notes);
+        }
+        rf_svg_escape(r->notes, perr.message);
+        fputs("</li>\n", r->notes);
+        return;
+    }
+    r->have_project = 1;
+    if (strcmp(r->proj.yaml_text ? r->proj.yaml_text : "", r->yaml))
+        fputs("<li>The project file has changed since this run: the terrain contours come "
+              "from the file as it is now.</li>\n",
+              r->notes);
+}
+
+/* ---- extent and contours -------------------------------------------------------- */
+
+static void grow(double *lo, double *hi, double v)
+{
+    if (isfinite(v)) {
+        if (v < *lo)
+            *lo = v;
+        if (v > *hi)
+            *hi = v;
+    }
+}
+
+static int compute_extent(report *r)
+{
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    if (r->have_project) {
+        const rf_terrain *t = &r->proj.terrain;
+        x0 = t->xmin;
+        x1 = t->xmax;
+        y0 = t->ymin;
+        y1 = t->ymax;
+    } else {
+        for (size_t k = 0; k < r->nrel; k++) {
+            grow(&x0, &x1, r->rel[k].x);
+            grow(&y0, &y1, r->rel[k].y);
+        }
+        for (size_t k = 0; k < r->nmea; k++)
+            for (size_t i = 0; i < r->mea[k].n; i++) {
+                grow(&x0, &x1, r->mea[k].xy[2 * i]);
+                grow(&y0, &y1, r->mea[k].xy[2 * i + 1]);
+            }
+        static const char *const sql[] = {
+            "SELECT min(p.x), max(p.x), min(p.y), max(p.y) FROM path_points p"
+            " JOIN trajectories t ON t.id = p.trajectory_id WHERE t.run_id = ?1",
+            "SELECT min(stop_x), max(stop_x), min(stop_y), max(stop_y) FROM trajectories"
+            " WHERE run_id = ?1",
+            "SELECT min(x), max(x), min(y), max(y) FROM hazard_cells WHERE run_id = ?1",
+        };
+        for (size_t q = 0; q < sizeof sql / sizeof sql[0]; q++) {
+            sqlite3_stmt *st = prep(r, sql[q], r->run);
+            if (!st)
+                return -1;
+            if (sqlite3_step(st) == SQLITE_ROW) {
+                grow(&x0, &x1, col_real(st, 0));
+                grow(&x0, &x1, col_real(st, 1));
+                grow(&y0, &y1, col_real(st, 2));
+                grow(&y0, &y1, col_real(st, 3));
+            }
+            sqlite3_finalize(st);
+        }
+        if (!(x1 >= x0)) {
+            x0 = y0 = 0.0;
+            x1 = y1 = 100.0;
+        }
+        double pad = 0.04 * fmax(x1 - x0, y1 - y0) + 2.0;
+        x0 -= pad;
+        x1 += pad;
+        y0 -= pad;
+        y1 += pad;
+    }
+    /* The plot keeps 1 m the same in x and y; a very flat or tall extent is widened. */
+    double dx = x1 - x0, dy = y1 - y0;
+    if (dy < 0.25 * dx) {
+        double extra = (0.25 * dx - dy) / 2;
+        y0 -= extra;
+        y1 += extra;
+        dy = y1 - y0;
+    }
+    if (dx < 0.4 * dy) {
+        double extra = (0.4 * dy - dx) / 2;
+        x0 -= extra;
+        x1 += extra;
+        dx = x1 - x0;
+    }
+    r->bx0 = x0;
+    r->bx1 = x1;
+    r->by0 = y0;
+    r->by1 = y1;
+    r->pw = 760.0;
+    r->ph = r->pw * dy / dx;
+    if (r->ph > 900.0) {
+        r->ph = 900.0;
+        r->pw = r->ph * dx / dy;
+    }
+    return 0;
+}
+
+static int build_contour_grid(report *r)
+{
+    if (!r->have_project)
+        return 0;
+    contour_grid *g = &r->grid;
+    double dx = r->bx1 - r->bx0, dy = r->by1 - r->by0;
+    g->step = fmax(dx, dy) / CONTOUR_NODES;
+    g->nx = (size_t)ceil(dx / g->step) + 1;
+    g->ny = (size_t)ceil(dy / g->step) + 1;
+    g->x0 = r->bx0;
+    g->y0 = r->by0;
+    g->z = malloc(g->nx * g->ny * sizeof *g->z);
+    if (!g->z)
+        return oom(r);
+    g->zmin = INFINITY;
+    g->zmax = -INFINITY;
+    for (size_t j = 0; j < g->ny; j++)
+        for (size_t i = 0; i < g->nx; i++) {
+            double z = NAN;
+            double x = fmin(g->x0 + (double)i * g->step, r->bx1);
+            double y = fmin(g->y0 + (double)j * g->step, r->by1);
+            if (rf_terrain_height(&r->proj.terrain, x, y, &z) < 0)
+                z = NAN;
+            g->z[j * g->nx + i] = z;
+            grow(&g->zmin, &g->zmax, z);
+        }
+    if (!(g->zmax > g->zmin)) {
+        free(g->z);
+        g->z = NULL;
+        return 0;
+    }
+    g->interval = rf_svg_nice_step(g->zmax - g->zmin, 14);
+    return 0;
+}
+
+/* Marching squares: segments of the level through one cell (corners counter-
+ * clockwise from the lower left; edges 0 bottom, 1 right, 2 top, 3 left). */
+static int cell_segments(const double c[4], double level, int seg[4])
+{
+    int idx = (c[0] >= level) | (c[1] >= level) << 1 | (c[2] >= level) << 2 | (c[3] >= level) << 3;
+    double centre = 0.25 * (c[0] + c[1] + c[2] + c[3]);
+    switch (idx) {
+    case 1: case 14: seg[0] = 3; seg[1] = 0; return 1;
+    case 2: case 13: seg[0] = 0; seg[1] = 1; return 1;
+    case 3: case 12: seg[0] = 3; seg[1] = 1; return 1;
+    case 4: case 11: seg[0] = 1; seg[1] = 2; return 1;
+    case 6: case 9: seg[0] = 0; seg[1] = 2; return 1;
+    case 7: case 8: seg[0] = 3; seg[1] = 2; return 1;
+    case 5:
+        if (centre >= level) {
+            seg[0] = 0; seg[1] = 1; seg[2] = 2; seg[3] = 3;
+        } else {
+            seg[0] = 3; seg[1] = 0; seg[2] = 1; seg[3] = 2;
+        }
+        return 2;
+    case 10:
+        if (centre >= level) {
+            seg[0] = 3; seg[1] = 0; seg[2] = 1; seg[3] = 2;
+        } else {
+            seg[0] = 0; seg[1] = 1; seg[2] = 2; seg[3] = 3;
+        }
+        return 2;
+    default: return 0;
+    }
+}
+
+static void edge_point(const contour_grid *g, size_t i, size_t j, const double c[4], int edge,
+                       double level, double *x, double *y)
+{
+    static const int a[4] = {0, 1, 2, 3}, b[4] = {1, 2, 3, 0};
+    static const double cx[4] = {0, 1, 1, 0}, cy[4] = {0, 0, 1, 1};
+    double za = c[a[edge]], zb = c[b[edge]];
+    double t = zb != za ? (level - za) / (zb - za) : 0.5;
+    double u = cx[a[edge]] + t * (cx[b[edge]] - cx[a[edge]]);
+    double v = cy[a[edge]] + t * (cy[b[edge]] - cy[a[edge]]);
+    *x = g->x0 + ((double)i + u) * g->step;
+    *y = g->y0 + ((double)j + v) * g->step;
+}
+
+static void draw_contours(report *r, rf_svg *s, int faint)
+{
+    const contour_grid *g = &r->grid;
+    if (!g->z)
+        return;
+    double label_x = r->bx0 + 0.1 * (r->bx1 - r->bx0);
+    rf_svg_raw(s, "<g fill=\"none\" stroke=\"%s\" stroke-linejoin=\"round\">\n",
+               faint ? "#b0a597" : "#8c7b68");
+    for (double level = ceil(g->zmin / g->interval) * g->interval; level <= g->zmax;
+         level += g->interval) {
+        int major = labs(lround(level / g->interval)) % 5 == 0;
+        rf_svg_path_begin(s, major ? "stroke-width=\"1.2\"" : "stroke-width=\"0.5\"");
+        double best = INFINITY, lx = 0, ly = 0;
+        for (size_t j = 0; j + 1 < g->ny; j++)
+            for (size_t i = 0; i + 1 < g->nx; i++) {
+                double c[4] = {g->z[j * g->nx + i], g->z[j * g->nx + i + 1],
+                               g->z[(j + 1) * g->nx + i + 1], g->z[(j + 1) * g->nx + i]};
+                if (!isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2]) || !isfinite(c[3]))
+                    continue;
+                int seg[4];
+                int ns = cell_segments(c, level, seg);
+                for (int k = 0; k < ns; k++) {
+                    double xa, ya, xb, yb;
+                    edge_point(g, i, j, c, seg[2 * k], level, &xa, &ya);
+                    edge_point(g, i, j, c, seg[2 * k + 1], level, &xb, &yb);
+                    rf_svg_path_move(s, xa, ya);
+                    rf_svg_path_line(s, xb, yb);
+                    double d = fabs(0.5 * (xa + xb) - label_x);
+                    if (major && d < best) {
+                        best = d;
+                        lx = 0.5 * (xa + xb);
+                        ly = 0.5 * (ya + yb);
+                    }
+                }
+            }
+        rf_svg_path_end(s);
+        if (major && !faint && isfinite(best))
+            rf_svg_text(s, rf_svg_px(s, lx), rf_svg_py(s, ly) + 4,
+                        "text-anchor=\"middle\" font-size=\"11\" fill=\"#6b5a47\" stroke=\"none\""
+                        " paint-order=\"stroke\"",
+                        "%.0f", level);
+    }
+    rf_svg_raw(s, "</g>\n");
+}
+
+/* ---- plan-view pieces ------------------------------------------------------------- */
+
+static int open_plan(report *r, rf_svg *s, const char *file, const char *title)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", r->dir, file);
+    double left = 80, top = 50;
+    if (rf_svg_open(s, path, left + r->pw + 250, top + r->ph + 70, title, r->err))
+        return -1;
+    rf_svg_frame(s, left, top, left + r->pw, top + r->ph, r->bx0, r->bx1, r->by0, r->by1);
+    rf_svg_raw(s, "<clipPath id=\"plot\"><rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" "
+                  "height=\"%.1f\"/></clipPath>\n",
+               left, top, r->pw, r->ph);
+    return 0;
+}
+
+static void draw_measures(report *r, rf_svg *s)
+{
+    for (size_t k = 0; k < r->nmea; k++) {
+        const rep_measure *m = &r->mea[k];
+        if (m->n < 2)
+            continue;
+        char attrs[200];
+        snprintf(attrs, sizeof attrs,
+                 "fill=\"none\" stroke=\"%s\" stroke-width=\"%s\" stroke-linecap=\"round\"%s",
+                 measure_colour(m), is_control(m) ? "3" : "5",
+                 is_control(m) ? " stroke-dasharray=\"12 6\"" : "");
+        rf_svg_path_begin(s, attrs);
+        rf_svg_path_move(s, m->xy[0], m->xy[1]);
+        for (size_t i = 1; i < m->n; i++)
+            rf_svg_path_line(s, m->xy[2 * i], m->xy[2 * i + 1]);
+        rf_svg_path_end(s);
+        /* label beside the end of the line that lies more to the right */
+        size_t e = m->xy[2 * (m->n - 1)] >= m->xy[0] ? m->n - 1 : 0;
+        double px = rf_svg_px(s, m->xy[2 * e]), py = rf_svg_py(s, m->xy[2 * e + 1]);
+        px = fmin(px, s->right - 4);
+        snprintf(attrs, sizeof attrs,
+                 "text-anchor=\"end\" font-weight=\"bold\" fill=\"%s\" stroke=\"white\" "
+                 "stroke-width=\"3\" paint-order=\"stroke\"",
+                 measure_colour(m));
+        rf_svg_text(s, px - 4, py - 8, attrs, "%s", m->name);
+    }
+}
+
+static void draw_releases(report *r, rf_svg *s)
+{
+    for (size_t k = 0; k < r->nrel; k++) {
+        const rep_release *e = &r->rel[k];
+        if (!isfinite(e->x) || !isfinite(e->y))
+            continue;
+        double px = rf_svg_px(s, e->x), py = rf_svg_py(s, e->y);
+        rf_svg_raw(s,
+                   "<path d=\"M%.1f %.1fL%.1f %.1fL%.1f %.1fZ\" fill=\"%s\" stroke=\"black\" "
+                   "stroke-width=\"1.2\"/>\n",
+                   px, py - 8, px + 7, py + 5, px - 7, py + 5, release_colour(k));
+        rf_svg_text(s, px + 10, py - 4,
+                    "font-weight=\"bold\" stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
+                    "%s", e->name);
+    }
+}
+
+/* North arrow (top right) and scale bar (bottom left) inside the plot. */
+static void draw_north_and_scale(rf_svg *s)
+{
+    double nx = s->right - 28, ny = s->top + 14;
+    rf_svg_raw(s,
+               "<path d=\"M%.1f %.1fL%.1f %.1fL%.1f %.1fL%.1f %.1fZ\" fill=\"black\" "
+               "stroke=\"white\" stroke-width=\"1\"/>\n",
+               nx, ny, nx + 8, ny + 26, nx, ny + 20, nx - 8, ny + 26);
+    rf_svg_text(s, nx, ny + 42,
+                "text-anchor=\"middle\" font-weight=\"bold\" stroke=\"white\" stroke-width=\"3\" "
+                "paint-order=\"stroke\"",
+                "N");
+    double len = rf_svg_nice_step(s->x1 - s->x0, 5);
+    double px0 = s->left + 14, py = s->bottom - 16;
+    double plen = len / (s->x1 - s->x0) * (s->right - s->left);
+    rf_svg_raw(s,
+               "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"26\" fill=\"white\" "
+               "fill-opacity=\"0.85\"/>\n"
+               "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"5\" fill=\"black\"/>\n"
+               "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"5\" fill=\"white\" "
+               "stroke=\"black\" stroke-width=\"0.8\"/>\n",
+               px0 - 6, py - 17, plen + 12, px0, py, plen / 2, px0 + plen / 2, py, plen / 2);
+    rf_svg_text(s, px0 + plen / 2, py - 4, "text-anchor=\"middle\" font-size=\"11\"", "%g m",
+                len);
+}
+
+typedef struct legend {
+    rf_svg *s;
+    double x, y;
+} legend;
+
+static void legend_title(legend *l, const char *title)
+{
+    rf_svg_text(l->s, l->x, l->y, "font-weight=\"bold\"", "%s", title);
+    l->y += 20;
+}
+
+static void legend_swatch(legend *l, const char *swatch_attrs, const char *label)
+{
+    rf_svg_raw(l->s, "<rect x=\"%.1f\" y=\"%.1f\" width=\"22\" height=\"12\" %s/>\n", l->x,
+               l->y - 10, swatch_attrs);
+    rf_svg_text(l->s, l->x + 30, l->y, "", "%s", label);
+    l->y += 19;
+}
+
+static void legend_line(legend *l, const char *stroke_attrs, const char *label)
+{
+    rf_svg_raw(l->s, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" %s/>\n", l->x,
+               l->y - 4, l->x + 22, l->y - 4, stroke_attrs);
+    rf_svg_text(l->s, l->x + 30, l->y, "", "%s", label);
+    l->y += 19;
+}
+
+static void legend_measures(report *r, legend *l)
+{
+    for (size_t k = 0; k < r->nmea; k++) {
+        const rep_measure *m = &r->mea[k];
+        char attrs[160], label[300];
+        snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"%s\"%s", measure_colour(m),
+                 is_control(m) ? "3" : "5", is_control(m) ? " stroke-dasharray=\"8 4\"" : "");
+        snprintf(label, sizeof label, "%s (%s)", m->name, m->kind);
+        legend_line(l, attrs, label);
+    }
+}
+
+static void legend_contours(report *r, legend *l)
+{
+    char label[120];
+    if (r->grid.z) {
+        snprintf(label, sizeof label, "contours every %g m", r->grid.interval);
+        legend_line(l, "stroke=\"#8c7b68\" stroke-width=\"0.5\"", label);
+        snprintf(label, sizeof label, "(bold every %g m)", 5 * r->grid.interval);
+        rf_svg_text(l->s, l->x + 30, l->y, "", "%s", label);
+        l->y += 19;
+    } else {
+        rf_svg_text(l->s, l->x, l->y, "fill=\"#a00\"", "no terrain contours");
+        l->y += 19;
+    }
+}
+
+/* ---- figure: plan view (Fig. 9, 11) -------------------------------------------------- */
+
+static int figure_plan(report *r)
+{
+    rf_svg s;
+    if (open_plan(r, &s, "plan.svg", "Plan view: trajectories, releases and measures"))
+        return -1;
+    draw_contours(r, &s, 0);
+
+    /* sampled paths, one polyline per trajectory, coloured by release */
+    sqlite3_stmt *st = prep(r,
+                            "SELECT p.trajectory_id, t.release_id, p.x, p.y FROM path_points p"
+                            " JOIN trajectories t ON t.id = p.trajectory_id WHERE t.run_id = ?1"
+                            " ORDER BY p.trajectory_id, p.seq",
+                            r->run);
+    if (!st) {
+        rf_svg_close(&s, NULL);
+        return -1;
+    }
+    rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" fill=\"none\" stroke-width=\"1\" "
+                   "stroke-opacity=\"0.6\" stroke-linejoin=\"round\">\n");
+    int64_t cur = -1;
+    long npaths = 0;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        int64_t tid = sqlite3_column_int64(st, 0);
+        double x = col_real(st, 2), y = col_real(st, 3);
+        if (!isfinite(x) || !isfinite(y))
+            continue;
+        if (tid != cur) {
+            if (cur >= 0)
+                rf_svg_path_end(&s);
+            char attrs[64];
+            snprintf(attrs, sizeof attrs, "class=\"path\" stroke=\"%s\"",
+                     release_colour(release_index(r, sqlite3_column_int64(st, 1))));
+            rf_svg_path_begin(&s, attrs);
+            rf_svg_path_move(&s, x, y);
+            cur = tid;
+            npaths++;
+        } else {
+            rf_svg_path_line(&s, x, y);
+        }
+    }
+    if (cur >= 0)
+        rf_svg_path_end(&s);
+    sqlite3_finalize(st);
+    rf_svg_raw(&s, "</g>\n");
+    if (rc != SQLITE_DONE) {
+        rf_svg_close(&s, NULL);
+        return db_error(r);
+    }
+    r->n_path_traj = npaths;
+
+    /* where every trajectory ended */
+    char sql[128];
+    snprintf(sql, sizeof sql,
+             "SELECT stop_x, stop_y FROM trajectories WHERE run_id = ?1 ORDER BY id LIMIT %d",
+             MAX_STOP_POINTS);
+    st = prep(r, sql, r->run);
+    if (!st) {
+        rf_svg_close(&s, NULL);
+        return -1;
+    }
+    rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" fill=\"black\" fill-opacity=\"0.55\">\n");
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        double x = col_real(st, 0), y = col_real(st, 1);
+        if (isfinite(x) && isfinite(y))
+            rf_svg_raw(&s, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.8\"/>\n", rf_svg_px(&s, x),
+                       rf_svg_py(&s, y));
+    }
+    sqlite3_finalize(st);
+    rf_svg_raw(&s, "</g>\n");
+
+    draw_measures(r, &s);
+    draw_releases(r, &s);
+    draw_north_and_scale(&s);
+    rf_svg_axes(&s, "x (m)", "y (m)");
+
+    legend l = {&s, s.right + 20, s.top + 10};
+    legend_title(&l, "Releases and sampled paths");
+    for (size_t k = 0; k < r->nrel; k++) {
+        char attrs[80];
+        snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"2\"", release_colour(k));
+        legend_line(&l, attrs, r->rel[k].name);
+    }
+    legend_swatch(&l, "fill=\"black\" fill-opacity=\"0.55\" rx=\"6\"", "end points");
+    l.y += 8;
+    legend_title(&l, "Measures");
+    legend_measures(r, &l);
+    l.y += 8;
+    legend_contours(r, &l);
+    return rf_svg_close(&s, r->err);
+}
+
+/* ---- figures: arrivals at a control line (Fig. 10) ----------------------------------- */
+
+typedef struct road_stats {
+    rep_arrival *a;
+    size_t n;
+    double length;          /* of the control line */
+    double s_min, s_max, v_mean, v_max, e_max;
+} road_stats;
+
+static int load_arrivals(report *r, const rep_measure *m, road_stats *rs)
+{
+    memset(rs, 0, sizeof *rs);
+    rs->length = rf_polyline_length(m->xy, m->n);
+    /* the first crossing of each trajectory */
+    sqlite3_stmt *st = prep(r,
+                            "SELECT t.release_id, i.x, i.y, i.speed_ms, i.energy_kj,"
+                            " i.z - i.passing_height_m, min(i.t_s)"
+                            " FROM interceptions i JOIN trajectories t ON t.id = i.trajectory_id"
+                            " WHERE i.measure_id = ?1 GROUP BY i.trajectory_id"
+                            " ORDER BY i.trajectory_id",
+                            m->id);
+    if (!st)
+        return -1;
+    size_t cap = 0;
+    int rc;
+    rs->s_min = INFINITY;
+    rs->s_max = -INFINITY;
+    rs->v_max = rs->e_max = -INFINITY;
+    double vsum = 0;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (rs->n == cap) {
+            cap = cap ? 2 * cap : 256;
+            rep_arrival *nv = realloc(rs->a, cap * sizeof *nv);
+            if (!nv) {
+                sqlite3_finalize(st);
+                return oom(r);
+            }
+            rs->a = nv;
+        }
+        rep_arrival *a = &rs->a[rs->n++];
+        a->rel = release_index(r, sqlite3_column_int64(st, 0));
+        a->s = rf_polyline_station(m->xy, m->n, col_real(st, 1), col_real(st, 2), NULL, NULL,
+                                   NULL);
+        a->speed = col_real(st, 3);
+        a->energy = col_real(st, 4);
+        a->zground = col_real(st, 5);
+        grow(&rs->s_min, &rs->s_max, a->s);
+        if (isfinite(a->speed)) {
+            vsum += a->speed;
+            rs->v_max = fmax(rs->v_max, a->speed);
+        }
+        if (isfinite(a->energy))
+            rs->e_max = fmax(rs->e_max, a->energy);
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE)
+        return db_error(r);
+    rs->v_mean = rs->n ? vsum / (double)rs->n : NAN;
+    return 0;
+}
+
+/* The empirical crosscheck of one release at one control line (Eq. 1-2, Fig. 1b). */
+typedef struct crosscheck {
+    double L, H, theta, s_centre;
+    double v_project, v_class_d, width;
+    long n;
+    double v_mean, v_max, s_min, s_max;
+} crosscheck;
+
+static void crosscheck_release(report *r, const rep_measure *m, const road_stats *rs, size_t k,
+                               crosscheck *c)
+{
+    const rep_release *e = &r->rel[k];
+    double px, py;
+    c->s_centre = rf_polyline_station(m->xy, m->n, e->x, e->y, &c->L, &px, &py);
+    double zroad = NAN;
+    if (r->have_project && rf_terrain_height(&r->proj.terrain, px, py, &zroad) < 0)
+        zroad = NAN;
+    double zsum = 0, vsum = 0;
+    long nz = 0;
+    c->n = 0;
+    c->v_max = -INFINITY;
+    c->s_min = INFINITY;
+    c->s_max = -INFINITY;
+    for (size_t i = 0; i < rs->n; i++) {
+        const rep_arrival *a = &rs->a[i];
+        if (a->rel != k)
+            continue;
+        c->n++;
+        if (isfinite(a->zground)) {
+            zsum += a->zground;
+            nz++;
+        }
+        if (isfinite(a->speed)) {
+            vsum += a->speed;
+            c->v_max = fmax(c->v_max, a->speed);
+        }
+        grow(&c->s_min, &c->s_max, a->s);
+    }
+    if (!isfinite(zroad) && nz)
+        zroad = zsum / (double)nz;
+    c->v_mean = c->n ? vsum / (double)c->n : NAN;
+    if (!c->n)
+        c->v_max = NAN;
+    c->H = e->z - zroad;
+    c->theta = c->L > 0 ? atan2(c->H, c->L) : NAN;
+    double mu = r->have_project ? r->proj.terrain_spec.surface.friction.mean : NAN;
+    c->v_project = c->H > 0 && isfinite(mu) ? rf_empirical_velocity(c->H, c->theta, mu) : NAN;
+    c->v_class_d = c->H > 0 ? rf_empirical_velocity(c->H, c->theta, CLASS_D_FRICTION) : NAN;
+    c->width = rf_empirical_attainment_width(c->L, ATTAINMENT_BETA_DEG * M_PI / 180.0);
+}
+
+/* Bins [lo, hi) of width bw covering the values; returns the number of bins. */
+static size_t make_bins(double *lo, double *hi, double bw)
+{
+    *lo = floor(*lo / bw + 1e-9) * bw;
+    double top = ceil(*hi / bw - 1e-9) * bw;
+    if (top <= *hi)
+        top += bw;
+    *hi = top;
+    return (size_t)lround((*hi - *lo) / bw);
+}
+
+static double max_stack(const double *counts, size_t nseries, size_t nbins)
+{
+    double m = 0;
+    for (size_t i = 0; i < nbins; i++) {
+        double t = 0;
+        for (size_t k = 0; k < nseries; k++)
+            t += counts[k * nbins + i];
+        m = fmax(m, t);
+    }
+    return m;
+}
+
+static int open_chart(report *r, rf_svg *s, const char *file, const char *title)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", r->dir, file);
+    if (rf_svg_open(s, path, 820, 420, title, r->err))
+        return -1;
+    s->y_counts = 1;
+    return 0;
+}
+
+static void release_legend_in_chart(report *r, rf_svg *s)
+{
+    if (r->nrel < 2)
+        return;
+    legend l = {s, s->right + 18, s->top + 10};
+    for (size_t k = 0; k < r->nrel && k < 12; k++) {
+        char attrs[80];
+        snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#222\" stroke-width=\"0.5\"",
+                 release_colour(k));
+        legend_swatch(&l, attrs, r->rel[k].name);
+    }
+}
+
+static const char **release_fills(report *r)
+{
+    const char **fills = malloc((r->nrel ? r->nrel : 1) * sizeof *fills);
+    if (fills)
+        for (size_t k = 0; k < r->nrel; k++)
+            fills[k] = release_colour(k);
+    return fills;
+}
+
+static int figure_road_position(report *r, const rep_measure *m, const road_stats *rs,
+                                const crosscheck *cc, const char *file)
+{
+    double lo = rs->s_min, hi = rs->s_max;
+    double spread = hi - lo;
+    for (size_t k = 0; k < r->nrel; k++) {
+        if (!isfinite(cc[k].L))
+            continue;
+        grow(&lo, &hi, fmax(0.0, cc[k].s_centre - cc[k].width / 2));
+        grow(&lo, &hi, fmin(rs->length, cc[k].s_centre + cc[k].width / 2));
+    }
+    double bw = rf_svg_nice_step(fmax(spread, 1.0), 15);
+    while ((hi - lo) / bw > 300)
+        bw = rf_svg_nice_step(bw * 2.1, 1);
+    size_t nb = make_bins(&lo, &hi, bw);
+    size_t ns = r->nrel ? r->nrel : 1;
+    double *counts = calloc(ns * nb, sizeof *counts);
+    const char **fills = release_fills(r);
+    if (!counts || !fills) {
+        free(counts);
+        free(fills);
+        return oom(r);
+    }
+    for (size_t i = 0; i < rs->n; i++) {
+        long b = (long)floor((rs->a[i].s - lo) / bw);
+        if (b >= 0 && (size_t)b < nb)
+            counts[rs->a[i].rel * nb + (size_t)b] += 1;
+    }
+    double cmax = fmax(1.0, max_stack(counts, ns, nb));
+    double band = 0.09 * cmax;
+    double ytop = cmax * 1.08 + band * (double)r->nrel + band * 0.5;
+
+    char title[600];
+    snprintf(title, sizeof title, "Arrival position along %s (Fig. 10a)", m->name);
+    rf_svg s;
+    if (open_chart(r, &s, file, title)) {
+        free(counts);
+        free(fills);
+        return -1;
+    }
+    rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, ytop);
+    rf_svg_stacked_bars(&s, counts, ns, nb, lo, bw, fills);
+    /* Fig. 1b: attainment range of each release at beta = 45 degrees */
+    for (size_t k = 0; k < r->nrel; k++) {
+        if (!isfinite(cc[k].L))
+            continue;
+        double y = cmax * 1.08 + band * ((double)k + 0.5);
+        double a = fmax(lo, cc[k].s_centre - cc[k].width / 2);
+        double b = fmin(hi, cc[k].s_centre + cc[k].width / 2);
+        char attrs[120];
+        snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"3\"", release_colour(k));
+        rf_svg_line(&s, a, y, b, y, attrs);
+        rf_svg_line(&s, a, y - band * 0.3, a, y + band * 0.3, attrs);
+        rf_svg_line(&s, b, y - band * 0.3, b, y + band * 0.3, attrs);
+        rf_svg_text(&s, rf_svg_px(&s, 0.5 * (a + b)), rf_svg_py(&s, y) - 5,
+                    "text-anchor=\"middle\" font-size=\"11\" stroke=\"white\" stroke-width=\"3\" "
+                    "paint-order=\"stroke\"",
+                    "empirical attainment range from %s (Fig. 1b, beta = 45 deg): %.0f m",
+                    r->rel[k].name, cc[k].width);
+    }
+    char xlabel[600];
+    snprintf(xlabel, sizeof xlabel, "position along %s from its first point (m)", m->name);
+    rf_svg_axes(&s, xlabel, "number of rocks");
+    release_legend_in_chart(r, &s);
+    free(counts);
+    free(fills);
+    return rf_svg_close(&s, r->err);
+}
+
+static int figure_road_velocity(report *r, const rep_measure *m, const road_stats *rs,
+                                const crosscheck *cc, const char *file)
+{
+    int lines = r->nrel <= 3;
+    double hi = rs->v_max;
+    for (size_t k = 0; lines && k < r->nrel; k++) {
+        grow(&hi, &hi, cc[k].v_class_d);
+        grow(&hi, &hi, cc[k].v_project);
+    }
+    hi = fmax(hi * 1.05, 1.0);
+    double lo = 0.0;
+    double bw = rf_svg_nice_step(hi, 25);
+    size_t nb = make_bins(&lo, &hi, bw);
+    size_t ns = r->nrel ? r->nrel : 1;
+    double *counts = calloc(ns * nb, sizeof *counts);
+    const char **fills = release_fills(r);
+    if (!counts || !fills) {
+        free(counts);
+        free(fills);
+        return oom(r);
+    }
+    for (size_t i = 0; i < rs->n; i++) {
+        long b = (long)floor(rs->a[i].speed / bw);
+        if (b >= 0 && (size_t)b < nb)
+            counts[rs->a[i].rel * nb + (size_t)b] += 1;
+    }
+    double cmax = fmax(1.0, max_stack(counts, ns, nb));
+    char title[600];
+    snprintf(title, sizeof title, "Velocity at %s (Fig. 10b)", m->name);
+    rf_svg s;
+    if (open_chart(r, &s, file, title)) {
+        free(counts);
+        free(fills);
+        return -1;
+    }
+    rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, cmax * 1.15);
+    rf_svg_stacked_bars(&s, counts, ns, nb, lo, bw, fills);
+    for (size_t k = 0; lines && k < r->nrel; k++) {
+        double v[2] = {cc[k].v_class_d, cc[k].v_project};
+        const char *what[2] = {"mu = 0.35 (Table 2, D)", "mu of the project"};
+        char mu_text[64];
+        if (r->have_project) {
+            snprintf(mu_text, sizeof mu_text, "mu = %.2f (project)",
+                     r->proj.terrain_spec.surface.friction.mean);
+            what[1] = mu_text;
+        }
+        for (int j = 0; j < 2; j++) {
+            if (!isfinite(v[j]))
+                continue;
+            char attrs[120];
+            snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"",
+                     j ? "#555" : "#000", j ? "3 3" : "8 4");
+            rf_svg_line(&s, v[j], 0, v[j], cmax * 1.15, attrs);
+            double px = rf_svg_px(&s, v[j]) - 4, py = s.top + 8;
+            char tattrs[200];
+            snprintf(tattrs, sizeof tattrs,
+                     "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
+                     "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
+                     px, py);
+            rf_svg_text(&s, px, py, tattrs, "Eq. 1 from %s, %s: %.1f m/s", r->rel[k].name,
+                        what[j], v[j]);
+        }
+    }
+    char xlabel[600];
+    snprintf(xlabel, sizeof xlabel, "velocity at %s (m/s)", m->name);
+    rf_svg_axes(&s, xlabel, "number of rocks");
+    release_legend_in_chart(r, &s);
+    free(counts);
+    free(fills);
+    return rf_svg_close(&s, r->err);
+}
+
+/* ---- HTML helpers ------------------------------------------------------------------- */
+
+static void put_num(FILE *f, double v, int decimals)
+{
+    if (isfinite(v))
+        fprintf(f, "%.*f", decimals, v);
+    else
+        fputs("&ndash;", f);
+}
+
+static void td_num(FILE *f, double v, int decimals)
+{
+    fputs("<td>", f);
+    put_num(f, v, decimals);
+    fputs("</td>", f);
+}
+
+static void td_text(FILE *f, const char *text)
+{
+    fputs("<td class=\"t\">", f);
+    rf_svg_escape(f, text);
+    fputs("</td>", f);
+}
+
+static void figure_html(FILE *f, const char *file, const char *caption)
+{
+    fprintf(f, "<figure><img src=\"%s\" alt=\"", file);
+    rf_svg_escape(f, caption);
+    fputs("\"><figcaption>", f);
+    rf_svg_escape(f, caption);
+    fputs("</figcaption></figure>\n", f);
+}
+
+static double pct(double part, double whole)
+{
+    return whole > 0 ? 100.0 * part / whole : NAN;
+}
+
+/* ---- section: the road ---------------------------------------------------------------- */
+
+static int section_road(report *r)
+{
+    FILE *f = r->body;
+    size_t ncontrol = 0;
+    for (size_t k = 0; k < r->nmea; k++)
+        ncontrol += is_control(&r->mea[k]);
+    fputs("<h2 id=\"road\">At the road: arrival position and velocity (Fig. 10)</h2>\n", f);
+    if (!ncontrol) {
+        fputs("<p>The project has no control line (a measure of kind <code>control</code>, such "
+              "as the mountainside edge of the road), so there are no arrival figures and no "
+              "empirical crosscheck.</p>\n",
+              f);
+        fputs("<li>No control line in the project: arrival position and velocity at the road "
+              "and the empirical crosscheck are skipped.</li>\n",
+              r->notes);
+        return 0;
+    }
+    crosscheck *cc = calloc(r->nrel ? r->nrel : 1, sizeof *cc);
+    if (!cc)
+        return oom(r);
+    int status = 0;
+    for (size_t k = 0; k < r->nmea && !status; k++) {
+        const rep_measure *m = &r->mea[k];
+        if (!is_control(m))
+            continue;
+        road_stats rs;
+        if (load_arrivals(r, m, &rs)) {
+            status = -1;
+            break;
+        }
+        for (size_t j = 0; j < r->nrel; j++)
+            crosscheck_release(r, m, &rs, j, &cc[j]);
+        fputs("<h3>", f);
+        rf_svg_escape(f, m->name);
+        fputs("</h3>\n<p>", f);
+        fprintf(f, "%zu of %ld trajectories (", rs.n, r->n_traj);
+        put_num(f, pct((double)rs.n, (double)r->n_traj), 1);
+        fputs(" %) crossed this line", f);
+        if (rs.n) {
+            fputs(", at positions ", f);
+            put_num(f, rs.s_min, 1);
+            fputs(" to ", f);
+            put_num(f, rs.s_max, 1);
+            fputs(" m along it (spread ", f);
+            put_num(f, rs.s_max - rs.s_min, 1);
+            fputs(" m), with a mean velocity of ", f);
+            put_num(f, rs.v_mean, 1);
+            fputs(" m/s, at most ", f);
+            put_num(f, rs.v_max, 1);
+            fputs(" m/s, and at most ", f);
+            put_num(f, rs.e_max, 0);
+            fputs(" kJ", f);
+        }
+        fputs(". Positions are measured along the line from its first point; each trajectory "
+              "counts once, at its first crossing.</p>\n",
+              f);
+
+        fprintf(r->summary, "<li>");
+        rf_svg_escape(r->summary, m->name);
+        fprintf(r->summary, ": %zu of %ld rocks (", rs.n, r->n_traj);
+        put_num(r->summary, pct((double)rs.n, (double)r->n_traj), 1);
+        fputs(" %) arrive", r->summary);
+        if (rs.n) {
+            fputs(", spread over ", r->summary);
+            put_num(r->summary, rs.s_max - rs.s_min, 1);
+            fputs(" m; velocity mean ", r->summary);
+            put_num(r->summary, rs.v_mean, 1);
+            fputs(" m/s, max ", r->summary);
+            put_num(r->summary, rs.v_max, 1);
+            fputs(" m/s", r->summary);
+        }
+        fputs(".</li>\n", r->summary);
+
+        if (rs.n) {
+            char fpos[64], fvel[64];
+            snprintf(fpos, sizeof fpos, "road-%ld-position.svg", m->idx);
+            snprintf(fvel, sizeof fvel, "road-%ld-velocity.svg", m->idx);
+            if (figure_road_position(r, m, &rs, cc, fpos) ||
+                figure_road_velocity(r, m, &rs, cc, fvel)) {
+                status = -1;
+                free(rs.a);
+                break;
+            }
+            char cap[600];
+            snprintf(cap, sizeof cap,
+                     "Fig. 10a: where the rocks cross %s, with the empirical attainment range "
+                     "of each release (Fig. 1b, 2 L tan 45 deg)",
+                     m->name);
+            figure_html(f, fpos, cap);
+            snprintf(cap, sizeof cap,
+                     "Fig. 10b: velocity of the rocks crossing %s, with Eq. 1 velocities", m->name);
+            figure_html(f, fvel, cap);
+        } else {
+            fputs("<p>No rock reached this line: no arrival figures.</p>\n", f);
+        }
+
+        /* the empirical crosscheck, beside the simulated values */
+        fputs("<p>Empirical crosscheck (section 2.1): Eq. 1 velocity V = &radic;(1 &minus; "
+              "&mu;/tan &theta;) &radic;(2 g H) on the equivalent straight slope from the "
+              "release to this line (H the drop, L the horizontal distance, &theta; = atan(H/L)"
+              "), and the attainment width 2 L tan 45&deg; of Fig. 1b.</p>\n",
+              f);
+        fputs("<table><tr><th>release</th><th>L (m)</th><th>H (m)</th><th>&theta; (&deg;)</th>",
+              f);
+        if (r->have_project) {
+            fputs("<th>V Eq. 1, &mu; = ", f);
+            put_num(f, r->proj.terrain_spec.surface.friction.mean, 2);
+            fputs(" (project) (m/s)</th>", f);
+        }
+        fputs("<th>V Eq. 1, &mu; = 0.35 (Table 2, D) (m/s)</th><th>simulated V mean (m/s)</th>"
+              "<th>simulated V max (m/s)</th><th>rocks arriving</th>"
+              "<th>attainment width 2 L tan 45&deg; (m)</th><th>simulated spread (m)</th></tr>\n",
+              f);
+        for (size_t j = 0; j < r->nrel; j++) {
+            const crosscheck *c = &cc[j];
+            fputs("<tr>", f);
+            td_text(f, r->rel[j].name);
+            td_num(f, c->L, 1);
+            td_num(f, c->H, 1);
+            td_num(f, c->theta * 180.0 / M_PI, 1);
+            if (r->have_project)
+                td_num(f, c->v_project, 1);
+            td_num(f, c->v_class_d, 1);
+            td_num(f, c->v_mean, 1);
+            td_num(f, c->v_max, 1);
+            fprintf(f, "<td>%ld</td>", c->n);
+            td_num(f, c->width, 0);
+            td_num(f, c->n ? c->s_max - c->s_min : NAN, 1);
+            fputs("</tr>\n", f);
+            if (j < 4 && isfinite(c->v_class_d)) {
+                fputs("<li>Crosscheck from ", r->summary);
+                rf_svg_escape(r->summary, r->rel[j].name);
+                fputs(" to ", r->summary);
+                rf_svg_escape(r->summary, m->name);
+                fputs(": Eq. 1 with &mu; = 0.35 gives ", r->summary);
+                put_num(r->summary, c->v_class_d, 1);
+                fputs(" m/s and the empirical attainment width is ", r->summary);
+                put_num(r->summary, c->width, 0);
+                if (c->n) {
+                    fputs(" m, against a simulated maximum velocity of ", r->summary);
+                    put_num(r->summary, c->v_max, 1);
+                    fputs(" m/s and a simulated spread of ", r->summary);
+                    put_num(r->summary, c->s_max - c->s_min, 1);
+                    fputs(" m.</li>\n", r->summary);
+                } else {
+                    fputs(" m; no simulated rock from there reached the line.</li>\n",
+                          r->summary);
+                }
+            }
+        }
+        fputs("</table>\n", f);
+        if (!r->have_project)
+            fputs("<p>Without the project file the mean surface friction is unknown, and the "
+                  "road's height comes from the crossings (centre height minus passing "
+                  "height).</p>\n",
+                  f);
+        free(rs.a);
+    }
+    free(cc);
+    return status;
+}
+
+/* ---- section: hazard map (Fig. 12) ------------------------------------------------------ */
+
+static double hazard_cell_size(report *r)
+{
+    if (r->have_project && r->proj.hazard_cell > 0)
+        return r->proj.hazard_cell;
+    double c = query_real(r,
+                          "SELECT (max(x) - min(x)) / (max(ix) - min(ix)) FROM hazard_cells"
+                          " WHERE run_id = ?1 HAVING max(ix) > min(ix)",
+                          r->run);
+    if (!(c > 0))
+        c = query_real(r,
+                       "SELECT (max(y) - min(y)) / (max(iy) - min(iy)) FROM hazard_cells"
+                       " WHERE run_id = ?1 HAVING max(iy) > min(iy)",
+                       r->run);
+    return c > 0 ? c : 5.0;
+}
+
+static int energy_class(double e)
+{
+    int c = 0;
+    while (c < RF_REPORT_N_ENERGY_LIMITS && e >= rf_report_energy_limits[c])
+        c++;
+    return c;
+}
+
+static int reach_class(double p)
+{
+    int c = 0;
+    while (c < N_REACH_CLASSES - 1 && p >= REACH_LIMITS[c])
+        c++;
+    return c;
+}
+
+static int figure_hazard(report *r, int reach, long *class_counts)
+{
+    rf_svg s;
+    char title[200];
+    double cell = r->hazard_cell;
+    if (reach)
+        snprintf(title, sizeof title, "Reach probability per %g m cell", cell);
+    else
+        snprintf(title, sizeof title,
+                 "Hazard map: largest kinetic energy per %g m cell (Fig. 12)", cell);
+    if (open_plan(r, &s, reach ? "hazard-reach.svg" : "hazard-energy.svg", title))
+        return -1;
+    sqlite3_stmt *st = prep(r,
+                            "SELECT x, y, energy_max_kj, reach_probability FROM hazard_cells"
+                            " WHERE run_id = ?1 ORDER BY iy, ix",
+                            r->run);
+    if (!st) {
+        rf_svg_close(&s, NULL);
+        return -1;
+    }
+    rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" shape-rendering=\"crispEdges\">\n");
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        double x = col_real(st, 0), y = col_real(st, 1);
+        double v = col_real(st, reach ? 3 : 2);
+        if (!isfinite(x) || !isfinite(y))
+            continue;
+        const char *fill = "#cccccc";
+        if (isfinite(v)) {
+            int c = reach ? reach_class(v) : energy_class(v);
+            fill = reach ? REACH_COLOURS[c] : ENERGY_COLOURS[c];
+            if (class_counts)
+                class_counts[c]++;
+        }
+        char attrs[80];
+        snprintf(attrs, sizeof attrs, "class=\"cell\" fill=\"%s\"", fill);
+        rf_svg_rect(&s, x - cell / 2, y - cell / 2, x + cell / 2, y + cell / 2, attrs);
+    }
+    sqlite3_finalize(st);
+    rf_svg_raw(&s, "</g>\n");
+    if (rc != SQLITE_DONE) {
+        rf_svg_close(&s, NULL);
+        return db_error(r);
+    }
+    draw_contours(r, &s, 1);
+    draw_measures(r, &s);
+    draw_releases(r, &s);
+    draw_north_and_scale(&s);
+    rf_svg_axes(&s, "x (m)", "y (m)");
+
+    legend l = {&s, s.right + 20, s.top + 10};
+    char label[120];
+    if (reach) {
+        legend_title(&l, "Reach probability");
+        for (int c = N_REACH_CLASSES - 1; c >= 0; c--) {
+            if (c == N_REACH_CLASSES - 1)
+                snprintf(label, sizeof label, ">= %g %%", 100 * REACH_LIMITS[c - 1]);
+            else if (c == 0)
+                snprintf(label, sizeof label, "< %g %%", 100 * REACH_LIMITS[0]);
+            else
+                snprintf(label, sizeof label, "%g - %g %%", 100 * REACH_LIMITS[c - 1],
+                         100 * REACH_LIMITS[c]);
+            char attrs[80];
+            snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#444\" stroke-width=\"0.5\"",
+                     REACH_COLOURS[c]);
+            legend_swatch(&l, attrs, label);
+        }
+    } else {
+        legend_title(&l, "Largest energy (kJ)");
+        for (int c = RF_REPORT_N_ENERGY_LIMITS; c >= 0; c--) {
+            if (c == RF_REPORT_N_ENERGY_LIMITS)
+                snprintf(label, sizeof label, ">= %.0f kJ", rf_report_energy_limits[c - 1]);
+            else if (c == 0)
+                snprintf(label, sizeof label, "< %.0f kJ", rf_report_energy_limits[0]);
+            else
+                snprintf(label, sizeof label, "%.0f - %.0f kJ", rf_report_energy_limits[c - 1],
+                         rf_report_energy_limits[c]);
+            char attrs[80];
+            snprintf(attrs, sizeof attrs, "class=\"class\" fill=\"%s\" stroke=\"#444\" "
+                                          "stroke-width=\"0.5\"",
+                     ENERGY_COLOURS[c]);
+            legend_swatch(&l, attrs, label);
+        }
+    }
+    l.y += 8;
+    legend_title(&l, "Measures");
+    legend_measures(r, &l);
+    l.y += 8;
+    legend_contours(r, &l);
+    return rf_svg_close(&s, r->err);
+}
+
+static int section_hazard(report *r)
+{
+    FILE *f = r->body;
+    fputs("<h2 id=\"hazard\">Hazard map (Fig. 12)</h2>\n", f);
+    long ncells = (long)query_real(r, "SELECT count(*) FROM hazard_cells WHERE run_id = ?1",
+                                   r->run);
+    if (ncells <= 0) {
+        fputs("<p>The run has no hazard cells.</p>\n", f);
+        fputs("<li>No hazard cells in this run: no hazard maps.</li>\n", r->notes);
+        return 0;
+    }
+    long counts[RF_REPORT_N_ENERGY_LIMITS + 1] = {0};
+    if (figure_hazard(r, 0, counts) || figure_hazard(r, 1, NULL))
+        return -1;
+    double emax = query_real(r, "SELECT max(energy_max_kj) FROM hazard_cells WHERE run_id = ?1",
+                             r->run);
+    double p95max = query_real(r, "SELECT max(energy_p95_kj) FROM hazard_cells WHERE run_id = ?1",
+                               r->run);
+    long p95_over[2];
+    for (int k = 0; k < 2; k++) {
+        char sql[160];
+        snprintf(sql, sizeof sql,
+                 "SELECT count(*) FROM hazard_cells WHERE run_id = ?1 AND energy_p95_kj >= %.0f",
+                 rf_report_energy_limits[k + 1]);
+        p95_over[k] = (long)query_real(r, sql, r->run);
+    }
+    long over3000 = counts[2] + counts[3], over6000 = counts[3];
+    fprintf(f,
+            "<p>%ld cells of %g m were crossed. The largest kinetic energy of the rocks per cell "
+            "is shown in classes with limits at %.0f, %.0f and %.0f kJ: %ld cells reach %.0f kJ "
+            "or more, %ld of them %.0f kJ or more (the 95th percentile per cell: %ld and %ld). "
+            "The largest energy anywhere is ",
+            ncells, r->hazard_cell, rf_report_energy_limits[0], rf_report_energy_limits[1],
+            rf_report_energy_limits[2], over3000, rf_report_energy_limits[1], over6000,
+            rf_report_energy_limits[2], p95_over[0], p95_over[1]);
+    put_num(f, emax, 0);
+    fputs(" kJ (95th percentile ", f);
+    put_num(f, p95max, 0);
+    fputs(" kJ).</p>\n", f);
+    figure_html(f, "hazard-energy.svg",
+                "Fig. 12: hazard map, largest kinetic energy per cell (kJ) in classes");
+    figure_html(f, "hazard-reach.svg",
+                "Reach probability: share of all trajectories that crossed each cell");
+    fprintf(r->summary, "<li>Hazard map: %ld cells; %ld reach 3000 kJ or more, %ld reach 6000 kJ "
+                        "or more; largest energy ",
+            ncells, over3000, over6000);
+    put_num(r->summary, emax, 0);
+    fputs(" kJ.</li>\n", r->summary);
+    return 0;
+}
+
+/* ---- section: measures ---------------------------------------------------------------- */
+
+typedef struct capacity_line {
+    double kj;
+    char label[64];
+} capacity_line;
+
+static size_t capacity_lines(const rep_measure *m, capacity_line *out)
+{
+    size_t n = 0;
+    if (isfinite(m->sel)) {
+        out[n].kj = m->sel;
+        snprintf(out[n++].label, sizeof out->label, "SEL %.0f kJ", m->sel);
+    }
+    if (isfinite(m->mel)) {
+        out[n].kj = m->mel;
+        snprintf(out[n++].label, sizeof out->label, "MEL %.0f kJ", m->mel);
+    }
+    for (int k = 0; k < RF_N_LIMIT_STATES; k++) {
+        if (!isfinite(m->cap[k]))
+            continue;
+        int dup = 0;
+        for (size_t j = 0; j < n; j++)
+            dup |= out[j].kj == m->cap[k];
+        if (dup)
+            continue;
+        out[n].kj = m->cap[k];
+        static const char *const names[RF_N_LIMIT_STATES] = {"serviceability", "restorability",
+                                                             "ultimate", "near collapse"};
+        snprintf(out[n++].label, sizeof out->label, "%s %.0f kJ", names[k], m->cap[k]);
+    }
+    return n;
+}
+
+static int figure_measure(report *r, const rep_measure *m, const char *file)
+{
+    sqlite3_stmt *st = prep(r,
+                            "SELECT energy_kj, outcome FROM interceptions WHERE measure_id = ?1"
+                            " ORDER BY id",
+                            m->id);
+    if (!st)
+        return -1;
+    size_t n = 0, cap = 0;
+    double *e = NULL;
+    int *o = NULL;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (n == cap) {
+            cap = cap ? 2 * cap : 256;
+            double *ne = realloc(e, cap * sizeof *ne);
+            int *no = ne ? realloc(o, cap * sizeof *no) : NULL;
+            if (ne)
+                e = ne;
+            if (no)
+                o = no;
+            if (!ne || !no) {
+                free(e);
+                free(o);
+                sqlite3_finalize(st);
+                return oom(r);
+            }
+        }
+        e[n] = col_real(st, 0);
+        const char *out = (const char *)sqlite3_column_text(st, 1);
+        o[n] = 1;
+        for (int k = 0; k < N_OUTCOMES; k++)
+            if (out && !strcmp(out, OUTCOME_NAMES[k]))
+                o[n] = k;
+        n++;
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) {
+        free(e);
+        free(o);
+        return db_error(r);
+    }
+    capacity_line caps[RF_N_LIMIT_STATES + 2];
+    size_t ncaps = capacity_lines(m, caps);
+    double hi = 1.0;
+    for (size_t i = 0; i < n; i++)
+        grow(&hi, &hi, e[i]);
+    for (size_t k = 0; k < ncaps; k++)
+        grow(&hi, &hi, caps[k].kj);
+    hi *= 1.06;
+    double lo = 0.0, bw = rf_svg_nice_step(hi, 30);
+    size_t nb = make_bins(&lo, &hi, bw);
+    double *counts = calloc(N_OUTCOMES * nb, sizeof *counts);
+    if (!counts) {
+        free(e);
+        free(o);
+        return oom(r);
+    }
+    for (size_t i = 0; i < n; i++) {
+        long b = (long)floor(e[i] / bw);
+        if (isfinite(e[i]) && b >= 0 && (size_t)b < nb)
+            counts[(size_t)o[i] * nb + (size_t)b] += 1;
+    }
+    free(e);
+    free(o);
+    double cmax = fmax(1.0, max_stack(counts, N_OUTCOMES, nb));
+    char title[600];
+    snprintf(title, sizeof title, "Energy at %s (%s) against its capacities", m->name, m->kind);
+    rf_svg s;
+    if (open_chart(r, &s, file, title)) {
+        free(counts);
+        return -1;
+    }
+    rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, cmax * 1.12);
+    rf_svg_stacked_bars(&s, counts, N_OUTCOMES, nb, lo, bw, OUTCOME_COLOURS);
+    for (size_t k = 0; k < ncaps; k++) {
+        rf_svg_line(&s, caps[k].kj, 0, caps[k].kj, cmax * 1.12,
+                    "class=\"capacity\" stroke=\"#000\" stroke-width=\"1.5\" "
+                    "stroke-dasharray=\"6 3\"");
+        double px = rf_svg_px(&s, caps[k].kj) - 4, py = s.top + 8;
+        char tattrs[200];
+        snprintf(tattrs, sizeof tattrs,
+                 "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
+                 "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
+                 px, py);
+        rf_svg_text(&s, px, py, tattrs, "%s", caps[k].label);
+    }
+    rf_svg_axes(&s, "kinetic energy at the crossing (kJ)", "number of crossings");
+    legend l = {&s, s.right + 18, s.top + 10};
+    for (int k = 0; k < N_OUTCOMES; k++) {
+        char attrs[80];
+        snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#222\" stroke-width=\"0.5\"",
+                 OUTCOME_COLOURS[k]);
+        legend_swatch(&l, attrs, OUTCOME_LABELS[k]);
+    }
+    free(counts);
+    return rf_svg_close(&s, r->err);
+}
+
+/* Shares of the limit states from `rockfall check` (classifications), when present. */
+static int measure_classifications(report *r, const rep_measure *m)
+{
+    FILE *f = r->body;
+    sqlite3_stmt *st = prep(r,
+                            "SELECT c.limit_state, count(*), sum(c.ok) FROM classifications c"
+                            " JOIN interceptions i ON i.id = c.interception_id"
+                            " WHERE i.measure_id = ?1 GROUP BY c.limit_state"
+                            " ORDER BY CASE c.limit_state WHEN 'serviceability' THEN 0"
+                            " WHEN 'restorability' THEN 1 WHEN 'ultimate' THEN 2"
+                            " WHEN 'near_collapse' THEN 3 WHEN 'collapse' THEN 4"
+                            " WHEN 'overtopped' THEN 5 ELSE 6 END, c.limit_state",
+                            m->id);
+    if (!st)
+        return -1;
+    double total = query_real(r,
+                              "SELECT count(*) FROM classifications c JOIN interceptions i"
+                              " ON i.id = c.interception_id WHERE i.measure_id = ?1",
+                              m->id);
+    int rows = 0, rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (!rows++)
+            fputs("<table><tr><th>limit state reached</th><th>crossings</th><th>share (%)</th>"
+                  "<th>meet the required state</th></tr>\n",
+                  f);
+        fputs("<tr>", f);
+        const char *ls = (const char *)sqlite3_column_text(st, 0);
+        td_text(f, ls ? ls : "(none)");
+        double c = sqlite3_column_double(st, 1);
+        fprintf(f, "<td>%.0f</td>", c);
+        td_num(f, pct(c, total), 1);
+        fprintf(f, "<td>%.0f</td></tr>\n", sqlite3_column_double(st, 2));
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE)
+        return db_error(r);
+    if (rows)
+        fputs("</table>\n", f);
+    else
+        fputs("<p>No classifications stored for this measure (run <code>rockfall check</code> "
+              "to classify each crossing against Table 3).</p>\n",
+              f);
+    return 0;
+}
+
+static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, long *nfail)
+{
+    sqlite3_stmt *st;
+    if (measure_id > 0)
+        st = prep(r,
+                  "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
+                  " ORDER BY id",
+                  measure_id);
+    else
+        st = prep(r,
+                  "SELECT rule, value, threshold, passed FROM checks WHERE run_id = ?1 AND"
+                  " measure_id IS NULL ORDER BY id",
+                  r->run);
+    if (!st)
+        return -1;
+    int rows = 0, rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (!rows++)
+            fputs("<table><tr><th>check</th><th>value</th><th>threshold</th><th>result</th>"
+                  "</tr>\n",
+                  f);
+        int passed = sqlite3_column_int(st, 3);
+        fputs("<tr>", f);
+        td_text(f, (const char *)sqlite3_column_text(st, 0));
+        td_num(f, col_real(st, 1), 3);
+        td_num(f, col_real(st, 2), 3);
+        fprintf(f, "<td class=\"%s\">%s</td></tr>\n", passed ? "pass" : "fail",
+                passed ? "pass" : "FAIL");
+        if (passed)
+            (*npass)++;
+        else
+            (*nfail)++;
+    }
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE)
+        return db_error(r);
+    if (rows)
+        fputs("</table>\n", f);
+    return rows;
+}
+
+static int section_measures(report *r, long *npass, long *nfail)
+{
+    FILE *f = r->body;
+    fputs("<h2 id=\"measures\">Energy at the measures</h2>\n", f);
+    if (!r->nmea) {
+        fputs("<p>The project has no measures.</p>\n", f);
+        return 0;
+    }
+    fputs("<table><tr><th>measure</th><th>kind</th><th>importance</th><th>height (m)</th>"
+          "<th>crossings</th><th>stopped</th><th>overtopped</th><th>broke through</th>"
+          "<th>passed</th><th>E50</th><th>E90</th><th>E95</th><th>E99</th><th>Emax (kJ)</th>"
+          "<th>h95 (m)</th><th>SEL / serviceability (kJ)</th><th>MEL / ultimate (kJ)</th>"
+          "<th>within serviceability, not overtopped (%)</th></tr>\n",
+          f);
+    rf_measure_stats *stats = calloc(r->nmea, sizeof *stats);
+    double *share = calloc(r->nmea, sizeof *share);
+    if (!stats || !share) {
+        free(stats);
+        free(share);
+        return oom(r);
+    }
+    for (size_t k = 0; k < r->nmea; k++) {
+        const rep_measure *m = &r->mea[k];
+        rf_measure_stats *s = &stats[k];
+        if (rf_query_measure_stats(r->db, m->id, s, r->err)) {
+            free(stats);
+            free(share);
+            return -1;
+        }
+        double service = isfinite(m->cap[RF_SERVICEABILITY]) ? m->cap[RF_SERVICEABILITY] : m->sel;
+        share[k] = NAN;
+        if (!is_control(m) && isfinite(service) && s->n) {
+            char sql[200];
+            snprintf(sql, sizeof sql,
+                     "SELECT avg(energy_kj <= %.17g AND outcome <> 'overtopped') FROM"
+                     " interceptions WHERE measure_id = ?1",
+                     service);
+            share[k] = 100.0 * query_real(r, sql, m->id);
+        }
+        fputs("<tr>", f);
+        td_text(f, m->name);
+        td_text(f, m->kind);
+        td_text(f, m->importance);
+        td_num(f, m->height, 1);
+        fprintf(f, "<td>%ld</td><td>%ld</td><td>%ld</td><td>%ld</td><td>%ld</td>", s->n,
+                s->n_stopped, s->n_overtopped, s->n_broke_through, s->n_passed);
+        td_num(f, s->energy_p50, 0);
+        td_num(f, s->energy_p90, 0);
+        td_num(f, s->energy_p95, 0);
+        td_num(f, s->energy_p99, 0);
+        td_num(f, s->energy_max, 0);
+        td_num(f, s->height_p95, 2);
+        td_num(f, service, 0);
+        td_num(f, isfinite(m->cap[RF_ULTIMATE]) ? m->cap[RF_ULTIMATE] : m->mel, 0);
+        td_num(f, share[k], 1);
+        fputs("</tr>\n", f);
+    }
+    fputs("</table>\n<p>Energies in kJ, nearest-rank percentiles over all crossings. The "
+          "paper's check: a layout passes when the serviceability limit state holds for over "
+          "90 % of the expected rockfalls.</p>\n",
+          f);
+    int status = 0;
+    for (size_t k = 0; k < r->nmea && !status; k++) {
+        const rep_measure *m = &r->mea[k];
+        fputs("<h3>", f);
+        rf_svg_escape(f, m->name);
+        fputs(" (", f);
+        rf_svg_escape(f, m->kind);
+        fputs(")</h3>\n", f);
+        if (!is_control(m)) {
+            fputs("<li>", r->summary);
+            rf_svg_escape(r->summary, m->name);
+            fprintf(r->summary,
+                    " (%s): %ld crossings, %ld stopped, %ld overtopped, %ld broke through",
+                    !strcmp(m->kind, "barrier") ? "barrier" : "embankment", stats[k].n,
+                    stats[k].n_stopped, stats[k].n_overtopped, stats[k].n_broke_through);
+            if (isfinite(share[k])) {
+                fputs("; within serviceability: ", r->summary);
+                put_num(r->summary, share[k], 1);
+                fprintf(r->summary, " %% (%s the paper's 90 %% target)",
+                        share[k] > 100.0 * SERVICEABILITY_SHARE ? "meets" : "misses");
+            }
+            fputs(".</li>\n", r->summary);
+        }
+        if (stats[k].n == 0) {
+            fputs("<p>No rock crossed this measure.</p>\n", f);
+            continue;
+        }
+        char file[64], cap[600];
+        snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
+        if (figure_measure(r, m, file)) {
+            status = -1;
+            break;
+        }
+        snprintf(cap, sizeof cap,
+                 "Energy of the rocks crossing %s by outcome, with its capacities (dashed)",
+                 m->name);
+        figure_html(f, file, cap);
+        if (!is_control(m) && measure_classifications(r, m)) {
+            status = -1;
+            break;
+        }
+        if (checks_table(r, f, m->id, npass, nfail) < 0)
+            status = -1;
+    }
+    free(stats);
+    free(share);
+    return status;
+}
+
+/* ---- the other sections -------------------------------------------------------------- */
+
+static void section_head(report *r, FILE *f)
+{
+    fputs("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>rockfall "
+          "report: ",
+          f);
+    rf_svg_escape(f, r->project);
+    fputs("</title>\n<style>\n"
+          "body{font-family:\"DejaVu Sans\",Arial,Helvetica,sans-serif;max-width:72em;"
+          "margin:1.5em auto;padding:0 1em;color:#222;line-height:1.4}\n"
+          "h1{margin-bottom:.2em}h2{border-bottom:2px solid #ccc;padding-bottom:.2em;"
+          "margin-top:1.8em}\n"
+          "table{border-collapse:collapse;margin:.6em 0;font-size:.92em;display:block;"
+          "overflow-x:auto;max-width:100%}\n"
+          "td,th{border:1px solid #aaa;padding:.2em .5em;text-align:right}\n"
+          "td.t{text-align:left}th{background:#eee}\n"
+          "td.pass{color:#1a7f1a;font-weight:bold}td.fail{color:#b00;font-weight:bold}\n"
+          "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}\n"
+          "figcaption{font-size:.9em;color:#444}\n"
+          ".summary{background:#f5f7fa;border:1px solid #d0d7e0;padding:.6em 1.2em}\n"
+          ".notes{background:#fff8e5;border:1px solid #e6c96b;padding:.6em 1.2em}\n"
+          "</style></head><body>\n<h1>",
+          f);
+    rf_svg_escape(f, r->project);
+    fputs("</h1>\n<p>Run ", f);
+    fprintf(f, "%lld (", (long long)r->run);
+    rf_svg_escape(f, r->status);
+    fputs("), seed ", f);
+    rf_svg_escape(f, r->seed);
+    fprintf(f, ", %ld trajectories, started ", r->n_traj);
+    rf_svg_escape(f, r->started);
+    if (r->finished[0]) {
+        fputs(", finished ", f);
+        rf_svg_escape(f, r->finished);
+    }
+    fputs(", rockfall ", f);
+    rf_svg_escape(f, r->version);
+    fputs(". Project file: <code>", f);
+    rf_svg_escape(f, r->project_path[0] ? r->project_path : "(not recorded)");
+    fputs("</code>.</p>\n", f);
+}
+
+static int section_releases(report *r, FILE *f)
+{
+    fputs("<h2>Releases</h2>\n<table><tr><th>release</th><th>x (m)</th><th>y (m)</th>"
+          "<th>z (m)</th><th>rock</th><th>mass (kg)</th><th>action level</th>"
+          "<th>trajectories</th></tr>\n",
+          f);
+    for (size_t k = 0; k < r->nrel; k++) {
+        const rep_release *e = &r->rel[k];
+        fputs("<tr>", f);
+        td_text(f, e->name);
+        td_num(f, e->x, 1);
+        td_num(f, e->y, 1);
+        td_num(f, e->z, 1);
+        td_text(f, e->rock);
+        td_num(f, e->mass, 0);
+        fprintf(f, "<td>%d</td><td>%ld</td></tr>\n", e->action_level, e->count);
+    }
+    fputs("</table>\n", f);
+    return 0;
+}
+
+static int section_ends(report *r, FILE *f)
+{
+    fputs("<h2 id=\"ends\">Where the trajectories ended</h2>\n<table><tr><th>release</th><th>end</th>"
+          "<th>count</th><th>mean duration (s)</th><th>mean path length (m)</th>"
+          "<th>mean largest energy (kJ)</th><th>largest energy (kJ)</th></tr>\n",
+          f);
+    sqlite3_stmt *st = prep(r,
+                            "SELECT r.name, t.stop_reason, count(*), avg(t.duration_s),"
+                            " avg(t.path_length_m), avg(t.max_energy_kj), max(t.max_energy_kj)"
+                            " FROM trajectories t JOIN releases r ON r.id = t.release_id"
+                            " WHERE t.run_id = ?1 GROUP BY r.id, t.stop_reason"
+                            " ORDER BY r.idx, t.stop_reason",
+                            r->run);
+    if (!st)
+        return -1;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        fputs("<tr>", f);
+        td_text(f, (const char *)sqlite3_column_text(st, 0));
+        td_text(f, (const char *)sqlite3_column_text(st, 1));
+        fprintf(f, "<td>%lld</td>", (long long)sqlite3_column_int64(st, 2));
+        td_num(f, col_real(st, 3), 1);
+        td_num(f, col_real(st, 4), 1);
+        td_num(f, col_real(st, 5), 0);
+        td_num(f, col_real(st, 6), 0);
+        fputs("</tr>\n", f);
+    }
+    sqlite3_finalize(st);
+    fputs("</table>\n", f);
+    return rc == SQLITE_DONE ? 0 : db_error(r);
+}
+
+/* ---- the report ------------------------------------------------------------------------ */
+
+static int make_dirs(const char *dir, rf_error *err)
+{
+    char buf[4096];
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) && errno != EEXIST)
+            return rf_error_set(err, buf, 0, 0, "cannot create folder: %s", strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) && errno != EEXIST)
+        return rf_error_set(err, dir, 0, 0, "cannot create folder: %s", strerror(errno));
+    struct stat sb;
+    if (stat(buf, &sb) || !S_ISDIR(sb.st_mode))
+        return rf_error_set(err, dir, 0, 0, "not a folder");
+    return 0;
+}
+
+static void free_report(report *r)
+{
+    free(r->project);
+    free(r->project_path);
+    free(r->seed);
+    free(r->status);
+    free(r->started);
+    free(r->finished);
+    free(r->version);
+    free(r->yaml);
+    for (size_t k = 0; k < r->nrel; k++) {
+        free(r->rel[k].name);
+        free(r->rel[k].rock);
+    }
+    free(r->rel);
+    for (size_t k = 0; k < r->nmea; k++) {
+        free(r->mea[k].name);
+        free(r->mea[k].kind);
+        free(r->mea[k].importance);
+        free(r->mea[k].behaviour);
+        free(r->mea[k].xy);
+    }
+    free(r->mea);
+    free(r->grid.z);
+    if (r->have_project)
+        rf_project_free(&r->proj);
+}
+
+/* A memory stream's text, closed. */
+static int close_stream(FILE *f)
+{
+    return f ? fclose(f) : 0;
+}
+
+static int write_sections(report *r, long *npass, long *nfail)
+{
+    if (figure_plan(r))
+        return -1;
+    fputs("<h2 id=\"plan\">Plan view (Fig. 9, 11)</h2>\n", r->body);
+    fprintf(r->body,
+            "<p>The sampled paths (%ld trajectories with stored path points) over the terrain "
+            "contours, the release points, the measures and the points where every trajectory "
+            "ended. North is up; x and y in metres.</p>\n",
+            r->n_path_traj);
+    figure_html(r->body, "plan.svg",
+                "Fig. 9 and 11: trajectories of the rocks in plan, with releases and measures");
+    if (!r->n_path_traj)
+        fputs("<li>No sampled paths are stored for this run (<code>simulation.paths</code>): the "
+              "plan view shows only where the trajectories ended.</li>\n",
+              r->notes);
+    if (section_road(r) || section_hazard(r) || section_measures(r, npass, nfail))
+        return -1;
+    fputs("<h2 id=\"checks\">Checks of the whole run</h2>\n", r->body);
+    int rows = checks_table(r, r->body, 0, npass, nfail);
+    if (rows < 0)
+        return -1;
+    if (!rows)
+        fputs("<p>No run-wide checks stored.</p>\n", r->body);
+    return section_ends(r, r->body);
+}
+
+int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
+{
+    report r = {.db = db, .run = run, .dir = dir, .err = err};
+    char *sum_text = NULL, *notes_text = NULL, *body_text = NULL;
+    size_t sum_len = 0, notes_len = 0, body_len = 0;
+    long npass = 0, nfail = 0;
+    int status = load_run(&r);
+    if (!status)
+        status = make_dirs(dir, err);
+    if (!status)
+        status = load_releases(&r) || load_measures(&r) ? -1 : 0;
+    if (!status) {
+        r.n_traj = (long)query_real(&r, "SELECT count(*) FROM trajectories WHERE run_id = ?1",
+                                    run);
+        r.summary = open_memstream(&sum_text, &sum_len);
+        r.notes = open_memstream(&notes_text, &notes_len);
+        r.body = open_memstream(&body_text, &body_len);
+        if (!r.summary || !r.notes || !r.body)
+            status = oom(&r);
+    }
+    if (!status) {
+        if (strcmp(r.status, "complete"))
+            fputs("<li>This run is not complete: its results are partial.</li>\n", r.notes);
+        load_project(&r);
+        status = compute_extent(&r) || build_contour_grid(&r) ? -1 : 0;
+    }
+    if (!status) {
+        r.hazard_cell = hazard_cell_size(&r);
+        fprintf(r.summary, "<li>%ld trajectories from %zu release point%s.</li>\n", r.n_traj,
+                r.nrel, r.nrel == 1 ? "" : "s");
+        status = write_sections(&r, &npass, &nfail);
+    }
+    if (!status) {
+        if (npass + nfail)
+            fprintf(r.summary, "<li>Design checks: %ld passed, %ld failed.</li>\n", npass, nfail);
+        else
+            fputs("<li>No design checks stored yet (<code>rockfall check</code> writes "
+                  "them).</li>\n",
+                  r.summary);
+    }
+    int bad_stream = close_stream(r.summary) | close_stream(r.notes) | close_stream(r.body);
+    if (!status && bad_stream)
+        status = oom(&r);
+    if (!status) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/index.html", dir);
+        FILE *f = fopen(path, "w");
+        if (!f) {
+            status = rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
+        } else {
+            section_head(&r, f);
+            fputs("<div class=\"summary\"><h2 style=\"margin-top:.3em\">Summary</h2><ul>\n", f);
+            fwrite(sum_text, 1, sum_len, f);
+            fputs("</ul></div>\n", f);
+            if (notes_len) {
+                fputs("<div class=\"notes\"><ul>\n", f);
+                fwrite(notes_text, 1, notes_len, f);
+                fputs("</ul></div>\n", f);
+            }
+            section_releases(&r, f);
+            fwrite(body_text, 1, body_len, f);
+            fputs("</body></html>\n", f);
+            int bad = ferror(f);
+            if (fclose(f) || bad)
+                status = rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
+        }
+    }
+    free(sum_text);
+    free(notes_text);
+    free(body_text);
+    free_report(&r);
+    return status;
+}

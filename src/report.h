@@ -1,0 +1,35 @@
+/* report.h - `rockfall report`: DIR/index.html with a text summary and SVG figures of
+ * one run (plan view of the trajectories over the terrain contours, arrival position
+ * and velocity at the road, the hazard map, the energy at each measure against its
+ * capacities) and the empirical crosscheck of Eq. 1-2 and Fig. 1b. */
+#ifndef ROCKFALL_REPORT_H
+#define ROCKFALL_REPORT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <sqlite3.h>
+
+#include "rockfall/error.h"
+
+/* Class limits of the hazard map (kJ), as in the paper's Fig. 12 (3 000 and 6 000 kJ)
+ * with a lower class below 1 000 kJ. */
+#define RF_REPORT_N_ENERGY_LIMITS 3
+extern const double rf_report_energy_limits[RF_REPORT_N_ENERGY_LIMITS];
+
+/* Writes DIR/index.html and its figures (DIR is created when missing) for run `run`
+ * of the database.  The run must exist.  The run's project file (runs.project_path)
+ * is reloaded for the terrain contours; when it cannot be, the figures are drawn
+ * without contours and the report says so.  Returns 0, or fills err. */
+int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
+
+/* The station of (x, y) along a polyline of n points (xy: x0, y0, x1, y1, ...): the
+ * distance along the line from its first point to the line's point nearest (x, y).
+ * *dist (may be NULL) gets the horizontal distance to that nearest point, *nx, *ny
+ * (may be NULL) the point itself. */
+double rf_polyline_station(const double *xy, size_t n, double x, double y, double *dist,
+                           double *nx, double *ny);
+/* Length of a polyline. */
+double rf_polyline_length(const double *xy, size_t n);
+
+#endif

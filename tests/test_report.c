@@ -1,0 +1,442 @@
+/* test_report.c - `rockfall report`: index.html and its SVG figures from a small
+ * database written by hand through the store API. */
+#include "test.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "report.h"
+#include "rockfall/empirical.h"
+#include "rockfall/records.h"
+#include "store.h"
+
+/* ---- a small slope, built by hand ------------------------------------------------ */
+
+/* A 100 m high section falling along +x onto a flat strip, 80 m wide along y. */
+static const char PROJECT_YAML[] =
+    "name: report-test\n"
+    "seed: 7\n"
+    "terrain:\n"
+    "  profile: {points: [[0, 100], [100, 0], [130, 0]], width: 80}\n"
+    "  surface: {restitution: {mean: 0.15, sd: 0.05}, friction: {mean: 0.3, sd: 0.05}}\n"
+    "rocks:\n"
+    "  - {name: r4500, mass: 4500}\n"
+    "releases:\n"
+    "  - {name: C, point: [5, 30], rock: r4500, count: 5}\n"
+    "  - {name: D, point: [5, 50], rock: r4500, count: 5}\n"
+    "measures:\n"
+    "  - {name: road, kind: control, line: [[105, 0], [105, 80]]}\n";
+
+typedef struct test_project {
+    rf_project p;
+    rf_rock rocks[1];
+    rf_release releases[2];
+    rf_measure measures[3];
+    double lines[3][4];
+} test_project;
+
+enum { M_ROAD, M_E1, M_B1 };
+
+/* The project as its rows; with_road 0 leaves out the control line. */
+static void make_project(test_project *t, const char *project_path, int with_road)
+{
+    memset(t, 0, sizeof *t);
+    t->p.name = "slope <test> & 'co'";
+    t->p.path = (char *)project_path;
+    t->p.yaml_text = (char *)PROJECT_YAML;
+    t->p.seed = 7;
+    t->rocks[0] = (rf_rock){.name = "r4500", .mass = 4500.0, .density = 2650.0,
+                            .action_level = 2, .radius = 0.7403};
+    t->p.rocks = t->rocks;
+    t->p.nrocks = 1;
+    t->releases[0] = (rf_release){.name = "C", .x = 5.0, .y = 30.0, .z = 95.0, .count = 5};
+    t->releases[1] = (rf_release){.name = "D", .x = 5.0, .y = 50.0, .z = 95.0, .count = 5};
+    t->p.releases = t->releases;
+    t->p.nreleases = 2;
+    static const double xy[3][4] = {
+        {105.0, 0.0, 105.0, 80.0}, {95.0, 0.0, 95.0, 80.0}, {60.0, 10.0, 60.0, 70.0}};
+    memcpy(t->lines, xy, sizeof xy);
+    size_t n = 0;
+    if (with_road) {
+        t->measures[n] = (rf_measure){.name = "road", .kind = RF_CONTROL, .importance = RF_IMPORTANT,
+                                      .behaviour = RF_COLLECT, .capacity = {-1, -1, -1, -1}};
+        t->measures[n++].line = (rf_polyline){t->lines[0], 2};
+    }
+    t->measures[n] = (rf_measure){.name = "E1", .kind = RF_EMBANKMENT, .height = 6.0,
+                                  .importance = RF_IMPORTANT, .behaviour = RF_COLLECT,
+                                  .capacity = {3000, 6000, 9000, -1}};
+    t->measures[n++].line = (rf_polyline){t->lines[1], 2};
+    t->measures[n] = (rf_measure){.name = "B<1>&\"x\"", .kind = RF_BARRIER, .height = 5.0,
+                                  .importance = RF_USUAL, .behaviour = RF_COLLECT, .mel = 3000,
+                                  .sel = 1000, .capacity = {1000, -1, 3000, -1}};
+    t->measures[n++].line = (rf_polyline){t->lines[2], 2};
+    t->p.measures = t->measures;
+    t->p.nmeasures = n;
+}
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[4][600];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(buf[k], sizeof buf[k], "%s/%s", rf_test_tmpdir(), name);
+    return buf[k];
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    ENSURE(f);
+    ENSURE(fputs(text, f) >= 0);
+    ENSURE(fclose(f) == 0);
+}
+
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    ENSURE_MSG(f, "cannot open %s", path);
+    ENSURE(fseek(f, 0, SEEK_END) == 0);
+    long n = ftell(f);
+    ENSURE(n >= 0);
+    rewind(f);
+    char *s = malloc((size_t)n + 1);
+    ENSURE(s);
+    ENSURE(fread(s, 1, (size_t)n, f) == (size_t)n);
+    s[n] = 0;
+    fclose(f);
+    return s;
+}
+
+static int exists(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0;
+}
+
+static size_t count(const char *text, const char *needle)
+{
+    size_t n = 0;
+    for (const char *p = strstr(text, needle); p; p = strstr(p + 1, needle))
+        n++;
+    return n;
+}
+
+/* Writes one complete run: 5 trajectories per release.  Each crosses the control
+ * line (when there is one) at y = release y + 2.5 idx, and the embankment with an
+ * energy from 500 to 8500 kJ; every other one crosses the barrier. */
+static int64_t write_run(rf_store *s, const test_project *t, int with_paths, int with_cells)
+{
+    rf_error err = {0};
+    int64_t run = 0;
+    ENSURE_MSG(rf_store_run_begin(s, &t->p, 10, &run, &err) == 0, "%s", err.message);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    int road = t->p.measures[0].kind == RF_CONTROL;
+    int e1 = road ? M_E1 : M_E1 - 1, b1 = e1 + 1;
+    for (size_t r = 0; r < 2; r++)
+        for (long i = 0; i < 5; i++) {
+            double y = t->releases[r].y + 2.5 * (double)i;
+            rf_trajectory_record tr = {.stop = {118.0, y, 0.74}, .reason = RF_END_REST,
+                                       .duration_s = 9.5, .path_length_m = 150.0,
+                                       .max_energy_kj = 4000.0 + 500.0 * (double)i,
+                                       .n_impacts = 7};
+            int64_t tid = 0;
+            ENSURE_MSG(rf_store_add_trajectory(s, r, i, &tr, &tid, &err) == 0, "%s",
+                       err.message);
+            if (with_paths)
+                for (long k = 0; k <= 12; k++) {
+                    double x = 5.0 + 9.4 * (double)k;
+                    rf_path_point pt = {.t_s = 0.75 * (double)k, .p = {x, y, 100.0 - x},
+                                        .speed_ms = 2.0 * (double)k, .energy_kj = 10.0 * (double)k};
+                    ENSURE(rf_store_add_path_point(s, tid, k, &pt, &err) == 0);
+                }
+            double e = 500.0 + 1000.0 * (double)(i + 5 * (long)r) * 0.8;
+            rf_interception_record ic = {.measure = e1, .t_s = 8.0, .p = {95.0, y, 5.7},
+                                         .speed_ms = 30.0, .energy_kj = e,
+                                         .energy_trans_kj = e, .passing_height_m = 0.74,
+                                         .outcome = i == 4 ? RF_OUT_OVERTOPPED : RF_OUT_PASSED};
+            int64_t iid = 0;
+            ENSURE(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0);
+            if (i % 2 == 0) {
+                ic.measure = b1;
+                ic.p = (rf_vec3){60.0, y, 40.74};
+                ic.t_s = 5.0;
+                ic.energy_kj = 700.0 + 400.0 * (double)i;
+                ENSURE(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0);
+            }
+            if (road) {
+                ic = (rf_interception_record){.measure = M_ROAD, .t_s = 9.0, .p = {105.0, y, 0.74},
+                                              .speed_ms = 12.5 + (double)i + 5.0 * (double)r,
+                                              .energy_kj = 350.0, .passing_height_m = 0.74,
+                                              .outcome = RF_OUT_PASSED};
+                ENSURE(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0);
+                /* a later second crossing does not count as an arrival */
+                ic.t_s = 9.5;
+                ic.p.y = 0.5;
+                ENSURE(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0);
+            }
+        }
+    if (with_cells)
+        for (long c = 0; c < 6; c++) {
+            static const double energy[6] = {250.0, 999.0, 1000.0, 3000.0, 5999.0, 7250.0};
+            rf_hazard_cell_record hc = {.ix = c, .iy = 3, .x = 2.5 + 5.0 * (double)c,
+                                        .y = 17.5, .passes = c + 1,
+                                        .reach_probability = 0.1 * (double)(c + 1),
+                                        .energy_max_kj = energy[c],
+                                        .energy_p95_kj = 0.9 * energy[c], .height_p95_m = 1.25};
+            ENSURE(rf_store_add_hazard_cell(s, &hc, &err) == 0);
+        }
+    ENSURE(rf_store_batch_commit(s, &err) == 0);
+    ENSURE_MSG(rf_store_run_finish(s, "complete", 10, &err) == 0, "%s", err.message);
+    return run;
+}
+
+static rf_store *open_store(const char *path)
+{
+    rf_store *s = NULL;
+    rf_error err = {0};
+    ENSURE_MSG(rf_store_open(path, &s, &err) == 0, "%s", err.message);
+    return s;
+}
+
+static void report_ok(rf_store *s, int64_t run, const char *dir)
+{
+    rf_error err = {0};
+    int rc = rf_report_write(rf_store_db(s), run, dir, &err);
+    ENSURE_MSG(rc == 0, "rf_report_write: %s: %s", err.file, err.message);
+}
+
+/* Every SVG is one <svg> element, and index.html shows it. */
+static char *svg_ok(const char *dir, const char *name, const char *html)
+{
+    char path[700], ref[200];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    ENSURE_MSG(exists(path), "%s missing", path);
+    char *svg = read_text(path);
+    ENSURE_MSG(strncmp(svg, "<svg ", 5) == 0, "%s does not start with <svg", name);
+    size_t n = strlen(svg);
+    ENSURE_MSG(n > 7 && strcmp(svg + n - 7, "</svg>\n") == 0, "%s does not end with </svg>", name);
+    ENSURE_MSG(count(svg, "<svg") == 1 && count(svg, "</svg>") == 1, "%s", name);
+    ENSURE_MSG(count(svg, "<text") == count(svg, "</text>"), "%s: unbalanced <text>", name);
+    ENSURE_MSG(!strstr(svg, "nan") && !strstr(svg, "inf\""), "%s has a NaN or inf", name);
+    snprintf(ref, sizeof ref, "<img src=\"%s\"", name);
+    ENSURE_MSG(strstr(html, ref), "index.html does not show %s", name);
+    return svg;
+}
+
+/* ---- tests ------------------------------------------------------------------------- */
+
+TEST(report_polyline_station)
+{
+    const double xy[] = {0.0, 0.0, 10.0, 0.0, 10.0, 10.0};
+    double d, nx, ny;
+    ENSURE_SMALL(rf_polyline_station(xy, 3, 12.0, 5.0, &d, &nx, &ny) - 15.0, 1e-12);
+    ENSURE_SMALL(d - 2.0, 1e-12);
+    ENSURE(nx == 10.0 && ny == 5.0);
+    ENSURE_SMALL(rf_polyline_station(xy, 3, -3.0, 4.0, &d, NULL, NULL), 1e-12);
+    ENSURE_SMALL(d - 5.0, 1e-12);
+    ENSURE_SMALL(rf_polyline_station(xy, 3, 4.25, -2.385, &d, NULL, NULL) - 4.25, 1e-12);
+    ENSURE_SMALL(rf_polyline_station(xy, 3, 30.0, 30.0, NULL, NULL, NULL) - 20.0, 1e-12);
+    ENSURE_SMALL(rf_polyline_length(xy, 3) - 20.0, 1e-12);
+}
+
+TEST(report_full_run_writes_every_figure)
+{
+    const char *yaml = tmp_path("slope.yaml");
+    write_text(yaml, PROJECT_YAML);
+    test_project t;
+    make_project(&t, yaml, 1);
+    rf_store *s = open_store(tmp_path("full.db"));
+    int64_t run = write_run(s, &t, 1, 1);
+    /* rows of `rockfall check` */
+    char sql[1024];
+    snprintf(sql, sizeof sql,
+             "INSERT INTO classifications SELECT i.id, 2, 'important',"
+             " CASE WHEN i.energy_kj <= 3000 THEN 'serviceability' ELSE 'restorability' END,"
+             " 'restorability', 1 FROM interceptions i JOIN measures m ON m.id = i.measure_id"
+             " WHERE m.name = 'E1';"
+             "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+             " SELECT %lld, id, 'serviceability share', 0.25, 0.9, 0 FROM measures"
+             " WHERE name = 'E1';"
+             "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+             " VALUES (%lld, NULL, 'all measures <pass>', 1, 1, 1);",
+             (long long)run, (long long)run);
+    ENSURE_MSG(sqlite3_exec(rf_store_db(s), sql, NULL, NULL, NULL) == SQLITE_OK, "%s",
+               sqlite3_errmsg(rf_store_db(s)));
+
+    const char *dir = tmp_path("report");
+    report_ok(s, run, dir);
+    char path[700];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    char *html = read_text(path);
+    ENSURE(strncmp(html, "<!doctype html>", 15) == 0);
+    ENSURE(strstr(html, "</body></html>\n"));
+
+    /* plan view: one polyline per sampled path, labels of releases and measures,
+     * contours from the reloaded project */
+    char *plan = svg_ok(dir, "plan.svg", html);
+    ENSURE_MSG(count(plan, "class=\"path\"") == 10, "%zu paths", count(plan, "class=\"path\""));
+    ENSURE(strstr(plan, ">road</text>") && strstr(plan, ">E1</text>"));
+    ENSURE(strstr(plan, ">B&lt;1&gt;&amp;&quot;x&quot;</text>"));
+    ENSURE(strstr(plan, ">C</text>") && strstr(plan, ">D</text>"));
+    ENSURE(strstr(plan, "contours every 5 m"));
+    ENSURE(!strstr(plan, "no terrain contours"));
+    ENSURE(count(plan, "<circle") == 10);
+    ENSURE(strstr(plan, ">N</text>"));
+
+    /* the road: arrival position and velocity */
+    char *pos = svg_ok(dir, "road-0-position.svg", html);
+    ENSURE(strstr(pos, "Fig. 10a") && strstr(pos, "attainment range from C"));
+    char *vel = svg_ok(dir, "road-0-velocity.svg", html);
+    ENSURE(strstr(vel, "Fig. 10b") && strstr(vel, "Eq. 1 from C"));
+
+    /* the empirical crosscheck: H = 95 m, L = 100 m */
+    double theta = atan2(95.0, 100.0);
+    char want[64];
+    snprintf(want, sizeof want, "<td>%.1f</td>", rf_empirical_velocity(95.0, theta, 0.35));
+    ENSURE_MSG(strstr(html, want), "no %s", want);
+    snprintf(want, sizeof want, "<td>%.1f</td>", rf_empirical_velocity(95.0, theta, 0.30));
+    ENSURE_MSG(strstr(html, want), "no %s", want);
+    ENSURE(strstr(html, "<td>200</td>")); /* 2 L tan 45 deg */
+    ENSURE(strstr(html, "<td>10.0</td>")); /* spread of each release's arrivals */
+    ENSURE(strstr(html, "10 of 10 trajectories (100.0 %) crossed this line"));
+    ENSURE(strstr(html, "mean velocity of 17.0 m/s, at most 21.5 m/s"));
+
+    /* hazard map: classes 1000, 3000, 6000 kJ, one rectangle per cell */
+    char *haz = svg_ok(dir, "hazard-energy.svg", html);
+    ENSURE(strstr(haz, "Fig. 12"));
+    ENSURE(strstr(haz, "3000") && strstr(haz, "6000") && strstr(haz, "1000"));
+    ENSURE(count(haz, "class=\"cell\"") == 6);
+    ENSURE(count(haz, "class=\"class\"") == 4);
+    for (int c = 0; c < 4; c++) /* one cell of each class is coloured as the legend */
+        ENSURE(count(haz, (const char *[]){"fill=\"#fecc5c\"", "fill=\"#fd8d3c\"",
+                                           "fill=\"#e31a1c\"", "fill=\"#800026\""}[c]) >= 2);
+    ENSURE(strstr(html, "3 reach 3000 kJ or more, 1 reach 6000 kJ or more"));
+    free(svg_ok(dir, "hazard-reach.svg", html));
+
+    /* energy at the measures against their capacities */
+    char *e1 = svg_ok(dir, "measure-1-energy.svg", html);
+    ENSURE(count(e1, "class=\"capacity\"") == 3);
+    ENSURE(strstr(e1, "serviceability 3000 kJ") && strstr(e1, "restorability 6000 kJ") &&
+           strstr(e1, "ultimate 9000 kJ"));
+    char *b1 = svg_ok(dir, "measure-2-energy.svg", html);
+    ENSURE(count(b1, "class=\"capacity\"") == 2);
+    ENSURE(strstr(b1, "SEL 1000 kJ") && strstr(b1, "MEL 3000 kJ"));
+    ENSURE(strstr(b1, "Energy at B&lt;1&gt;&amp;&quot;x&quot; (barrier)"));
+    free(svg_ok(dir, "measure-0-energy.svg", html));
+
+    /* classifications and checks */
+    ENSURE(strstr(html, "limit state reached"));
+    ENSURE(strstr(html, "<td class=\"t\">serviceability</td><td>4</td><td>40.0</td>"));
+    ENSURE(strstr(html, "<td class=\"fail\">FAIL</td>"));
+    ENSURE(strstr(html, "<td class=\"t\">all measures &lt;pass&gt;</td>"));
+    ENSURE(strstr(html, "Design checks: 1 passed, 1 failed."));
+
+    /* text from the database is escaped */
+    ENSURE(strstr(html, "<h1>slope &lt;test&gt; &amp; &#39;co&#39;</h1>"));
+    ENSURE(!strstr(html, "<test>") && !strstr(html, "B<1>"));
+    ENSURE(!strstr(html, "nan") && !strstr(html, "could not be reloaded"));
+
+    /* deterministic: a second report is the same, byte for byte */
+    const char *dir2 = tmp_path("again");
+    report_ok(s, run, dir2);
+    const char *files[] = {"index.html", "plan.svg", "hazard-energy.svg", "road-0-position.svg",
+                           "measure-1-energy.svg"};
+    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+        char a[700], b[700];
+        snprintf(a, sizeof a, "%s/%s", dir, files[k]);
+        snprintf(b, sizeof b, "%s/%s", dir2, files[k]);
+        char *ta = read_text(a), *tb = read_text(b);
+        ENSURE_MSG(strcmp(ta, tb) == 0, "%s differs", files[k]);
+        free(ta);
+        free(tb);
+    }
+    free(plan);
+    free(pos);
+    free(vel);
+    free(haz);
+    free(e1);
+    free(b1);
+    free(html);
+    rf_store_close(s);
+}
+
+TEST(report_without_road_paths_cells_or_project)
+{
+    test_project t;
+    make_project(&t, "/nonexistent/slope.yaml", 0);
+    rf_store *s = open_store(tmp_path("bare.db"));
+    int64_t run = write_run(s, &t, 0, 0);
+    const char *dir = tmp_path("bare/deeper/report");
+    report_ok(s, run, dir);
+    char path[700];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    char *html = read_text(path);
+    ENSURE(strstr(html, "no control line"));
+    ENSURE(strstr(html, "could not be reloaded"));
+    ENSURE(strstr(html, "/nonexistent/slope.yaml"));
+    ENSURE(strstr(html, "No sampled paths"));
+    ENSURE(strstr(html, "no hazard cells"));
+    ENSURE(!strstr(html, "road-"));
+    snprintf(path, sizeof path, "%s/road-0-position.svg", dir);
+    ENSURE(!exists(path));
+    char *plan = svg_ok(dir, "plan.svg", html);
+    ENSURE(count(plan, "class=\"path\"") == 0);
+    ENSURE(count(plan, "<circle") == 10);
+    ENSURE(strstr(plan, "no terrain contours"));
+    ENSURE(strstr(plan, ">E1</text>"));
+    char *e1 = svg_ok(dir, "measure-0-energy.svg", html);
+    ENSURE(count(e1, "class=\"capacity\"") == 3);
+    ENSURE(strstr(html, "No classifications stored"));
+    ENSURE(strstr(html, "No design checks stored yet"));
+    free(plan);
+    free(e1);
+    free(html);
+    rf_store_close(s);
+}
+
+TEST(report_missing_run_and_bad_folder_are_errors)
+{
+    test_project t;
+    make_project(&t, "/nonexistent/slope.yaml", 1);
+    rf_store *s = open_store(tmp_path("err.db"));
+    int64_t run = write_run(s, &t, 1, 1);
+    rf_error err = {0};
+    const char *dir = tmp_path("missing");
+    ENSURE(rf_report_write(rf_store_db(s), run + 41, dir, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "no run"), "%s", err.message);
+    ENSURE(!exists(dir));
+
+    const char *file = tmp_path("a-file");
+    write_text(file, "not a folder\n");
+    char sub[700];
+    snprintf(sub, sizeof sub, "%s/report", file);
+    memset(&err, 0, sizeof err);
+    ENSURE(rf_report_write(rf_store_db(s), run, sub, &err) != 0);
+    ENSURE_MSG(strstr(err.file, "a-file"), "%s: %s", err.file, err.message);
+    rf_store_close(s);
+}
+
+/* An empty run (no trajectories at all) still gives a report. */
+TEST(report_of_an_empty_run)
+{
+    test_project t;
+    make_project(&t, "/nonexistent/slope.yaml", 1);
+    rf_store *s = open_store(tmp_path("empty.db"));
+    rf_error err = {0};
+    int64_t run = 0;
+    ENSURE(rf_store_run_begin(s, &t.p, 0, &run, &err) == 0);
+    ENSURE(rf_store_run_finish(s, "complete", 0, &err) == 0);
+    const char *dir = tmp_path("empty");
+    report_ok(s, run, dir);
+    char path[700];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    char *html = read_text(path);
+    ENSURE(strstr(html, "0 of 0 trajectories"));
+    ENSURE(strstr(html, "No rock reached this line"));
+    free(svg_ok(dir, "plan.svg", html));
+    free(html);
+    rf_store_close(s);
+}
