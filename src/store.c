@@ -140,6 +140,63 @@ static const char schema_sql[] =
     "CREATE INDEX tree_hits_trajectory ON tree_hits(trajectory_id);\n"
     "PRAGMA user_version = " RF_STR(RF_STORE_SCHEMA_VERSION) ";\n";
 
+/* Views for the questions planners ask (docs/database.md, README).  Part of every
+ * database: created with the schema, and on opening a file made before they existed.
+ * IF NOT EXISTS makes this a no-op on a file that has them. */
+static const char views_sql[] =
+    "CREATE VIEW IF NOT EXISTS classified_interceptions AS\n"
+    "SELECT i.run_id, i.id AS interception_id, m.id AS measure_id, m.name AS measure,\n"
+    "  m.kind, r.name AS release, r.action_level, m.importance, i.energy_kj,\n"
+    "  i.passing_height_m, i.outcome, c.limit_state, c.required_state, c.ok\n"
+    "FROM interceptions i\n"
+    "JOIN measures m ON m.id = i.measure_id\n"
+    "JOIN trajectories t ON t.id = i.trajectory_id\n"
+    "JOIN releases r ON r.id = t.release_id\n"
+    "LEFT JOIN classifications c ON c.interception_id = i.id;\n"
+    "CREATE VIEW IF NOT EXISTS measure_summary AS\n"
+    "SELECT m.run_id, m.id AS measure_id, m.idx, m.name AS measure, m.kind, m.importance,\n"
+    "  m.height_m, m.mel_kj, m.sel_kj,\n"
+    "  count(i.id) AS interceptions,\n"
+    "  max(i.energy_kj) AS energy_max_kj, avg(i.energy_kj) AS energy_mean_kj,\n"
+    "  max(i.passing_height_m) AS height_max_m,\n"
+    "  coalesce(sum(i.outcome = 'stopped'), 0) AS stopped,\n"
+    "  coalesce(sum(i.outcome = 'overtopped'), 0) AS overtopped,\n"
+    "  coalesce(sum(i.outcome = 'broke_through'), 0) AS broke_through,\n"
+    "  coalesce(sum(i.outcome = 'passed'), 0) AS passed,\n"
+    "  count(c.interception_id) AS classified,\n"
+    "  avg(c.limit_state = 'serviceability') AS share_serviceability,\n"
+    "  avg(c.ok) AS share_meeting_required,\n"
+    "  (SELECT count(*) FROM checks k WHERE k.measure_id = m.id) AS checks,\n"
+    "  (SELECT count(*) FROM checks k WHERE k.measure_id = m.id AND k.passed = 0)\n"
+    "    AS checks_failed\n"
+    "FROM measures m\n"
+    "LEFT JOIN interceptions i ON i.measure_id = m.id\n"
+    "LEFT JOIN classifications c ON c.interception_id = i.id\n"
+    "GROUP BY m.id;\n"
+    "CREATE VIEW IF NOT EXISTS limit_state_shares AS\n"
+    "SELECT i.run_id, m.id AS measure_id, m.name AS measure, c.limit_state,\n"
+    "  count(*) AS interceptions,\n"
+    "  count(*) * 1.0 / (SELECT count(*) FROM interceptions j WHERE j.measure_id = m.id)\n"
+    "    AS share\n"
+    "FROM classifications c\n"
+    "JOIN interceptions i ON i.id = c.interception_id\n"
+    "JOIN measures m ON m.id = i.measure_id\n"
+    "GROUP BY m.id, c.limit_state;\n"
+    "CREATE VIEW IF NOT EXISTS check_results AS\n"
+    "SELECT k.run_id, k.id AS check_id, k.measure_id, m.name AS measure, m.kind, k.rule,\n"
+    "  k.value, k.threshold, k.passed,\n"
+    "  CASE k.passed WHEN 1 THEN 'pass' ELSE 'fail' END AS verdict\n"
+    "FROM checks k LEFT JOIN measures m ON m.id = k.measure_id;\n"
+    "CREATE VIEW IF NOT EXISTS run_verdicts AS\n"
+    "SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
+    "  (SELECT count(*) FROM checks k WHERE k.run_id = r.id) AS checks,\n"
+    "  (SELECT count(*) FROM checks k WHERE k.run_id = r.id AND k.passed = 0)\n"
+    "    AS checks_failed,\n"
+    "  CASE WHEN (SELECT count(*) FROM checks k WHERE k.run_id = r.id) = 0 THEN 'unchecked'\n"
+    "       WHEN (SELECT count(*) FROM checks k WHERE k.run_id = r.id AND k.passed = 0) > 0\n"
+    "       THEN 'fail' ELSE 'pass' END AS verdict\n"
+    "FROM runs r;\n";
+
 #define RF_NOW_SQL "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
 
 enum {
@@ -290,7 +347,10 @@ static int prepare_schema(rf_store *s, rf_error *err)
     if (read_schema_state(s, &version, &nobjects, err))
         return -1;
     if (version == RF_STORE_SCHEMA_VERSION)
-        return exec_sql(s, "PRAGMA journal_mode = WAL", "setting the WAL journal", err);
+        return exec_sql(s, "PRAGMA journal_mode = WAL", "setting the WAL journal", err) ||
+                       exec_sql(s, views_sql, "creating the views", err)
+                   ? -1
+                   : 0;
     if (version != 0)
         return version_error(s, version, err);
     if (nobjects != 0)
@@ -305,7 +365,10 @@ static int prepare_schema(rf_store *s, rf_error *err)
         return -1;
     int status = read_schema_state(s, &version, &nobjects, err);
     if (status == 0 && version == 0 && nobjects == 0)
-        status = exec_sql(s, schema_sql, "creating the schema", err);
+        status = exec_sql(s, schema_sql, "creating the schema", err) ||
+                         exec_sql(s, views_sql, "creating the views", err)
+                     ? -1
+                     : 0;
     else if (status == 0 && version != RF_STORE_SCHEMA_VERSION)
         status = version_error(s, version, err);
     if (status == 0)

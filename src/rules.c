@@ -1,0 +1,897 @@
+/* rules.c - the rules engine: load a rule file, classify interceptions against the
+ * limit states of Table 3, write and print the design checks (docs/rules.md). */
+#include "rules.h"
+
+#include <assert.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "query.h"
+#include "yamldoc.h"
+
+static const char *const state_names[] = {"serviceability", "restorability", "ultimate",
+                                          "near_collapse", NULL};
+static const char *const importance_names[] = {"most_important", "important", "usual", NULL};
+static const char *const kind_names[] = {"barrier", "embankment", NULL};
+static const char *const source_names[] = {"none", "mel", "sel", "project", NULL};
+static const char *const comparison_names[] = {">", ">=", NULL};
+static const char *const value_names[] = {"share_within", "share_meeting_required", NULL};
+static const char *const verdict_names[] = {"fail", "pass", NULL};
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *c = malloc(n);
+    if (c)
+        memcpy(c, s, n);
+    return c;
+}
+
+/* ---- loading ------------------------------------------------------------------ */
+
+typedef struct loader {
+    rf_ydoc d;
+    rf_rules *r;
+    rf_error *err;
+} loader;
+
+static int out_of_memory(loader *L)
+{
+    return rf_error_set(L->err, L->d.file, 0, 0, "out of memory reading the rule file");
+}
+
+/* Index in r->states of a state named by a scalar node, or an error at the node. */
+static int read_state(loader *L, const rf_ynode *n, const char *key, int *out)
+{
+    int s;
+    if (rf_ydoc_enum(&L->d, n, key, state_names, &s, L->err))
+        return -1;
+    for (int i = 0; i < L->r->nstates; i++) {
+        if ((int)L->r->states[i] == s) {
+            *out = i;
+            return 0;
+        }
+    }
+    return rf_ydoc_error(&L->d, n, L->err,
+                         "'%s' is not one of the limit states listed in 'limit_states'",
+                         state_names[s]);
+}
+
+static int read_limit_states(loader *L, rf_ynode *root)
+{
+    rf_ynode *seq;
+    if (rf_ydoc_require(&L->d, root, "limit_states", "the rule file", &seq, L->err) ||
+        rf_ydoc_sequence(&L->d, seq, "limit_states", 1, "limit states", L->err))
+        return -1;
+    size_t n = rf_ydoc_seq_size(seq);
+    if (n > RF_N_LIMIT_STATES)
+        return rf_ydoc_error(&L->d, rf_ydoc_seq_item(&L->d, seq, RF_N_LIMIT_STATES), L->err,
+                             "'limit_states' lists at most the %d limit states "
+                             "serviceability, restorability, ultimate, near_collapse",
+                             RF_N_LIMIT_STATES);
+    for (size_t i = 0; i < n; i++) {
+        rf_ynode *item = rf_ydoc_seq_item(&L->d, seq, i);
+        int s;
+        if (rf_ydoc_enum(&L->d, item, "limit_states", state_names, &s, L->err))
+            return -1;
+        for (size_t j = 0; j < i; j++)
+            if ((int)L->r->states[j] == s)
+                return rf_ydoc_error(&L->d, item, L->err,
+                                     "'%s' is listed twice in 'limit_states'", state_names[s]);
+        L->r->states[i] = (rf_limit_state)s;
+    }
+    L->r->nstates = (int)n;
+
+    rf_ynode *beyond;
+    const char *text;
+    if (rf_ydoc_require(&L->d, root, "beyond_last", "the rule file", &beyond, L->err) ||
+        rf_ydoc_string(&L->d, beyond, "beyond_last", &text, L->err))
+        return -1;
+    int taken = !strcmp(text, "overtopped");
+    for (int s = 0; state_names[s]; s++)
+        taken |= !strcmp(text, state_names[s]);
+    if (taken)
+        return rf_ydoc_error(&L->d, beyond, L->err,
+                             "'beyond_last' must name a state other than the limit states "
+                             "and 'overtopped', got %s",
+                             text);
+    if (!(L->r->beyond_last = dup_str(text)))
+        return out_of_memory(L);
+    return 0;
+}
+
+static int read_required(loader *L, rf_ynode *root)
+{
+    static const char *const levels[] = {"1", "2", "3", NULL};
+    rf_ynode *table;
+    if (rf_ydoc_require(&L->d, root, "required_state", "the rule file", &table, L->err) ||
+        rf_ydoc_mapping(&L->d, table, "'required_state'", L->err) ||
+        rf_ydoc_check_keys(&L->d, table, levels, "'required_state' (action levels)", L->err))
+        return -1;
+    for (int level = 0; level < 3; level++) {
+        char what[64];
+        snprintf(what, sizeof what, "'required_state' for action level %s", levels[level]);
+        rf_ynode *row;
+        if (rf_ydoc_require(&L->d, table, levels[level], "'required_state'", &row, L->err) ||
+            rf_ydoc_mapping(&L->d, row, what, L->err) ||
+            rf_ydoc_check_keys(&L->d, row, importance_names, what, L->err))
+            return -1;
+        for (int imp = 0; imp < 3; imp++) {
+            rf_ynode *cell;
+            if (rf_ydoc_require(&L->d, row, importance_names[imp], what, &cell, L->err) ||
+                read_state(L, cell, importance_names[imp], &L->r->required[level][imp]))
+                return -1;
+        }
+    }
+    return 0;
+}
+
+static int read_kind_capacities(loader *L, rf_ynode *caps, int kind)
+{
+    static const char *const barrier_keys[] = {"serviceability", "restorability", "ultimate",
+                                               "near_collapse", "sel_default", NULL};
+    static const char *const divisor_keys[] = {"mel_divided_by", NULL};
+    char what[64];
+    snprintf(what, sizeof what, "'capacities' of %s", kind == 0 ? "a barrier" : "an embankment");
+    rf_ynode *map;
+    if (rf_ydoc_require(&L->d, caps, kind_names[kind], "'capacities'", &map, L->err) ||
+        rf_ydoc_mapping(&L->d, map, what, L->err) ||
+        rf_ydoc_check_keys(&L->d, map, kind == 0 ? barrier_keys : state_names, what, L->err))
+        return -1;
+    int uses_sel = 0, any = 0;
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
+        rf_ynode *v = rf_ydoc_get(&L->d, map, state_names[s]);
+        L->r->capacity[kind][s] = RF_CAP_NONE;
+        if (!v)
+            continue;
+        int source;
+        if (rf_ydoc_enum(&L->d, v, state_names[s], source_names + 1, &source, L->err))
+            return -1;
+        source += 1;
+        if (kind == 1 && (source == RF_CAP_MEL || source == RF_CAP_SEL))
+            return rf_ydoc_error(&L->d, v, L->err,
+                                 "an embankment has no %s: its capacities come from the "
+                                 "project ('project')",
+                                 source == RF_CAP_MEL ? "MEL" : "SEL");
+        L->r->capacity[kind][s] = (rf_capacity_source)source;
+        uses_sel |= source == RF_CAP_SEL;
+        any = 1;
+    }
+    if (!any)
+        return rf_ydoc_error(&L->d, map, L->err,
+                             "%s must give the capacity of at least one limit state", what);
+    rf_ynode *def = kind == 0 ? rf_ydoc_get(&L->d, map, "sel_default") : NULL;
+    if (def) {
+        if (!uses_sel)
+            return rf_ydoc_error(&L->d, def, L->err,
+                                 "'sel_default' is given but no limit state of a barrier "
+                                 "takes its capacity from 'sel'");
+        rf_ynode *divisor;
+        if (rf_ydoc_mapping(&L->d, def, "'sel_default'", L->err) ||
+            rf_ydoc_check_keys(&L->d, def, divisor_keys, "'sel_default'", L->err) ||
+            rf_ydoc_require(&L->d, def, "mel_divided_by", "'sel_default'", &divisor, L->err) ||
+            rf_ydoc_number(&L->d, divisor, "mel_divided_by", RF_YR_AT_LEAST(1.0),
+                           &L->r->sel_divisor, L->err))
+            return -1;
+    }
+    return 0;
+}
+
+static int read_capacities(loader *L, rf_ynode *root)
+{
+    rf_ynode *caps;
+    if (rf_ydoc_require(&L->d, root, "capacities", "the rule file", &caps, L->err) ||
+        rf_ydoc_mapping(&L->d, caps, "'capacities'", L->err) ||
+        rf_ydoc_check_keys(&L->d, caps, kind_names, "'capacities' (structure kinds)", L->err))
+        return -1;
+    for (int kind = 0; kind < RF_N_RULE_KINDS; kind++)
+        if (read_kind_capacities(L, caps, kind))
+            return -1;
+    /* A capacity for a state the file does not list would never be used. */
+    for (int kind = 0; kind < RF_N_RULE_KINDS; kind++) {
+        rf_ynode *map = rf_ydoc_get(&L->d, caps, kind_names[kind]);
+        for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
+            if (L->r->capacity[kind][s] == RF_CAP_NONE)
+                continue;
+            int index;
+            size_t n = rf_ydoc_map_size(map);
+            for (size_t i = 0; i < n; i++) {
+                rf_ynode *k = rf_ydoc_map_key(&L->d, map, i);
+                if (k && k->type == YAML_SCALAR_NODE &&
+                    !strcmp((const char *)k->data.scalar.value, state_names[s]) &&
+                    read_state(L, k, "capacities", &index))
+                    return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+static int read_check(loader *L, rf_ynode *n, size_t i)
+{
+    static const char *const keys[] = {"rule", "value", "state", "comparison", "threshold",
+                                       NULL};
+    rf_rule_check *c = &L->r->checks[i];
+    char what[32];
+    snprintf(what, sizeof what, "check %zu", i + 1);
+    rf_ynode *name, *value, *comparison, *threshold;
+    const char *text;
+    int v, cmp;
+    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
+        rf_ydoc_check_keys(&L->d, n, keys, what, L->err) ||
+        rf_ydoc_require(&L->d, n, "rule", what, &name, L->err) ||
+        rf_ydoc_string(&L->d, name, "rule", &text, L->err))
+        return -1;
+    for (size_t j = 0; j < i; j++)
+        if (!strcmp(L->r->checks[j].name, text))
+            return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
+    if (!(c->name = dup_str(text)))
+        return out_of_memory(L);
+    if (rf_ydoc_require(&L->d, n, "value", what, &value, L->err) ||
+        rf_ydoc_enum(&L->d, value, "value", value_names, &v, L->err) ||
+        rf_ydoc_require(&L->d, n, "comparison", what, &comparison, L->err) ||
+        rf_ydoc_enum(&L->d, comparison, "comparison", comparison_names, &cmp, L->err) ||
+        rf_ydoc_require(&L->d, n, "threshold", what, &threshold, L->err) ||
+        rf_ydoc_number(&L->d, threshold, "threshold", RF_YR_UNIT, &c->threshold, L->err))
+        return -1;
+    c->value = (rf_check_value)v;
+    c->comparison = (rf_comparison)cmp;
+    rf_ynode *state = rf_ydoc_get(&L->d, n, "state");
+    if (c->value == RF_VALUE_SHARE_WITHIN) {
+        if (!state)
+            return rf_ydoc_error(&L->d, n, L->err,
+                                 "missing required key 'state' in %s (share_within counts "
+                                 "the interceptions within a limit state)",
+                                 what);
+        if (read_state(L, state, "state", &c->state))
+            return -1;
+    } else if (state) {
+        return rf_ydoc_error(&L->d, state, L->err,
+                             "'state' belongs to a share_within check; "
+                             "share_meeting_required uses each interception's required "
+                             "state");
+    }
+    return 0;
+}
+
+static int read_checks(loader *L, rf_ynode *root)
+{
+    rf_ynode *seq;
+    if (rf_ydoc_require(&L->d, root, "checks", "the rule file", &seq, L->err) ||
+        rf_ydoc_sequence(&L->d, seq, "checks", 1, "checks", L->err))
+        return -1;
+    size_t n = rf_ydoc_seq_size(seq);
+    if (!(L->r->checks = calloc(n, sizeof *L->r->checks)))
+        return out_of_memory(L);
+    L->r->nchecks = n;
+    for (size_t i = 0; i < n; i++)
+        if (read_check(L, rf_ydoc_seq_item(&L->d, seq, i), i))
+            return -1;
+    return 0;
+}
+
+static int read_rules(loader *L)
+{
+    static const char *const keys[] = {"name", "limit_states", "beyond_last", "required_state",
+                                       "capacities", "checks", "no_interceptions", NULL};
+    rf_ynode *root = rf_ydoc_root(&L->d);
+    if (!root)
+        return rf_ydoc_error(&L->d, NULL, L->err, "the rule file is empty");
+    rf_ynode *name;
+    const char *text;
+    int verdict = 1;
+    if (rf_ydoc_mapping(&L->d, root, "the rule file", L->err) ||
+        rf_ydoc_check_keys(&L->d, root, keys, "the rule file", L->err) ||
+        rf_ydoc_require(&L->d, root, "name", "the rule file", &name, L->err) ||
+        rf_ydoc_string(&L->d, name, "name", &text, L->err))
+        return -1;
+    if (!(L->r->name = dup_str(text)))
+        return out_of_memory(L);
+    if (read_limit_states(L, root) || read_required(L, root) || read_capacities(L, root) ||
+        read_checks(L, root) ||
+        rf_ydoc_opt_enum(&L->d, root, "no_interceptions", verdict_names, &verdict, L->err))
+        return -1;
+    L->r->empty_passes = verdict;
+    return 0;
+}
+
+static int finish_load(loader *L, const char *path)
+{
+    int rc = read_rules(L);
+    if (rc == 0 && !(L->r->path = dup_str(path)))
+        rc = out_of_memory(L);
+    rf_ydoc_free(&L->d);
+    if (rc)
+        rf_rules_free(L->r);
+    return rc;
+}
+
+int rf_rules_load(const char *path, rf_rules *r, rf_error *err)
+{
+    memset(r, 0, sizeof *r);
+    loader L = {.r = r, .err = err};
+    if (rf_ydoc_load_file(&L.d, path, err))
+        return -1;
+    return finish_load(&L, path);
+}
+
+int rf_rules_load_text(const char *file, const char *text, size_t len, rf_rules *r,
+                       rf_error *err)
+{
+    memset(r, 0, sizeof *r);
+    loader L = {.r = r, .err = err};
+    if (rf_ydoc_load_text(&L.d, file, text, len, err))
+        return -1;
+    return finish_load(&L, file);
+}
+
+void rf_rules_free(rf_rules *r)
+{
+    if (!r)
+        return;
+    for (size_t i = 0; i < r->nchecks; i++)
+        free(r->checks[i].name);
+    free(r->checks);
+    free(r->path);
+    free(r->name);
+    free(r->beyond_last);
+    memset(r, 0, sizeof *r);
+}
+
+const char *rf_rules_state_name(const rf_rules *r, int reached)
+{
+    if (reached == RF_REACHED_OVERTOPPED)
+        return "overtopped";
+    if (reached >= 0 && reached < r->nstates)
+        return rf_limit_state_name(r->states[reached]);
+    if (reached == r->nstates)
+        return r->beyond_last;
+    return NULL;
+}
+
+/* ---- classification ------------------------------------------------------------- */
+
+void rf_rules_capacities(const rf_rules *r, rf_measure_kind kind, double mel, double sel,
+                         const double project_capacity[RF_N_LIMIT_STATES],
+                         double capacity[RF_N_LIMIT_STATES])
+{
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
+        capacity[s] = NAN;
+        if (kind != RF_BARRIER && kind != RF_EMBANKMENT)
+            continue;
+        switch (r->capacity[kind == RF_BARRIER ? 0 : 1][s]) {
+        case RF_CAP_NONE: break;
+        case RF_CAP_MEL: capacity[s] = mel; break;
+        case RF_CAP_SEL:
+            /* SEL = MEL / divisor unless the project gives it (ETAG 027). */
+            capacity[s] = !isnan(sel) ? sel : r->sel_divisor > 0 ? mel / r->sel_divisor : NAN;
+            break;
+        case RF_CAP_PROJECT: capacity[s] = project_capacity[s]; break;
+        }
+    }
+}
+
+int rf_rules_reached(const rf_rules *r, const double capacity[RF_N_LIMIT_STATES],
+                     double energy_kj, rf_outcome outcome)
+{
+    if (outcome == RF_OUT_OVERTOPPED)
+        return RF_REACHED_OVERTOPPED;
+    if (outcome == RF_OUT_BROKE_THROUGH)
+        return r->nstates;
+    if (isnan(energy_kj))
+        return RF_REACHED_UNKNOWN;
+    for (int i = 0; i < r->nstates; i++) {
+        double cap = capacity[r->states[i]];
+        if (!isnan(cap) && energy_kj <= cap)
+            return i;
+    }
+    return r->nstates;
+}
+
+int rf_rules_required(const rf_rules *r, int action_level, rf_importance importance)
+{
+    assert(action_level >= 1 && action_level <= 3 && (unsigned)importance < 3);
+    return r->required[action_level - 1][importance];
+}
+
+int rf_rules_meets(const rf_rules *r, int reached, int required)
+{
+    return reached >= 0 && reached < r->nstates && reached <= required;
+}
+
+int rf_rules_check_passes(const rf_rule_check *c, double value)
+{
+    /* value is count / n, correctly rounded, and the threshold the correctly rounded
+     * decimal of the file: exactly 90 % of n compares equal to 0.9. */
+    return c->comparison == RF_CMP_GREATER ? value > c->threshold : value >= c->threshold;
+}
+
+/* ---- the database ---------------------------------------------------------------- */
+
+static int db_error(sqlite3 *db, const char *doing, rf_error *err)
+{
+    return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "%s: %s", doing,
+                        sqlite3_errmsg(db));
+}
+
+static int prepare(sqlite3 *db, const char *sql, sqlite3_stmt **st, rf_error *err)
+{
+    if (sqlite3_prepare_v2(db, sql, -1, st, NULL) != SQLITE_OK)
+        return db_error(db, "reading the run", err);
+    return 0;
+}
+
+static double column_real(sqlite3_stmt *st, int col)
+{
+    return sqlite3_column_type(st, col) == SQLITE_NULL ? NAN : sqlite3_column_double(st, col);
+}
+
+/* Whether the project (its YAML text) gives `sel` for the measure named `name`: 1 yes,
+ * 0 no, -1 unknown (no text, or text that does not parse). */
+static int project_gives_sel(const char *yaml, const char *name)
+{
+    if (!yaml)
+        return -1;
+    rf_ydoc d;
+    if (rf_ydoc_load_text(&d, "project", yaml, strlen(yaml), NULL))
+        return -1;
+    int gives = -1;
+    rf_ynode *root = rf_ydoc_root(&d);
+    rf_ynode *seq = root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(&d, root, "measures")
+                                                             : NULL;
+    size_t n = seq && seq->type == YAML_SEQUENCE_NODE ? rf_ydoc_seq_size(seq) : 0;
+    for (size_t i = 0; i < n && gives < 0; i++) {
+        rf_ynode *m = rf_ydoc_seq_item(&d, seq, i);
+        rf_ynode *mname = m && m->type == YAML_MAPPING_NODE ? rf_ydoc_get(&d, m, "name") : NULL;
+        if (mname && mname->type == YAML_SCALAR_NODE &&
+            !strcmp((const char *)mname->data.scalar.value, name))
+            gives = rf_ydoc_get(&d, m, "sel") != NULL;
+    }
+    rf_ydoc_free(&d);
+    return gives;
+}
+
+int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err)
+{
+    *path = NULL;
+    const char *file = sqlite3_db_filename(db, "main");
+    sqlite3_stmt *st;
+    if (prepare(db, "SELECT project_path, project_yaml FROM runs WHERE id = ?1", &st, err))
+        return -1;
+    sqlite3_bind_int64(st, 1, run);
+    int status = -1;
+    if (sqlite3_step(st) != SQLITE_ROW) {
+        status = rf_error_set(err, file, 0, 0, "no run %lld in this database", (long long)run);
+        goto done;
+    }
+    const char *project = (const char *)sqlite3_column_text(st, 0);
+    const char *yaml = (const char *)sqlite3_column_text(st, 1);
+    const char *rules = NULL;
+    rf_ydoc d = {0};
+    if (yaml && rf_ydoc_load_text(&d, project ? project : "project", yaml, strlen(yaml),
+                                  NULL) == 0) {
+        rf_ynode *root = rf_ydoc_root(&d);
+        rf_ynode *n = root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(&d, root, "rules")
+                                                               : NULL;
+        if (n && n->type == YAML_SCALAR_NODE)
+            rules = (const char *)n->data.scalar.value;
+    }
+    if (!rules) {
+        status = rf_error_set(err, file, 0, 0,
+                              "the project of run %lld names no rule file ('rules:'); pass "
+                              "--rules FILE (e.g. rules/table3.yaml)",
+                              (long long)run);
+    } else {
+        const char *slash = project ? strrchr(project, '/') : NULL;
+        size_t dir = rules[0] == '/' || !slash ? 0 : (size_t)(slash - project) + 1;
+        size_t n = dir + strlen(rules) + 1;
+        if ((*path = malloc(n))) {
+            snprintf(*path, n, "%.*s%s", (int)dir, dir ? project : "", rules);
+            status = 0;
+        } else {
+            status = rf_error_set(err, file, 0, 0, "out of memory");
+        }
+    }
+    rf_ydoc_free(&d);
+done:
+    sqlite3_finalize(st);
+    return status;
+}
+
+static int importance_of(const char *text)
+{
+    for (int i = 0; text && i < 3; i++)
+        if (!strcmp(text, importance_names[i]))
+            return i;
+    return -1;
+}
+
+static int kind_of(const char *text)
+{
+    if (text && !strcmp(text, "barrier"))
+        return RF_BARRIER;
+    if (text && !strcmp(text, "embankment"))
+        return RF_EMBANKMENT;
+    return RF_CONTROL;
+}
+
+static rf_outcome outcome_of(const char *text)
+{
+    static const char *const names[] = {"stopped", "overtopped", "broke_through", "passed"};
+    for (int i = 0; text && i < 4; i++)
+        if (!strcmp(text, names[i]))
+            return (rf_outcome)i;
+    return RF_OUT_PASSED;
+}
+
+/* One measure of the run as the classification needs it. */
+typedef struct measure_row {
+    int64_t id;
+    const char *name;
+    rf_measure_kind kind;
+    int importance;
+    double capacity[RF_N_LIMIT_STATES];
+} measure_row;
+
+static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, const char *yaml,
+                            measure_row *m, rf_error *err)
+{
+    m->id = sqlite3_column_int64(st, 0);
+    m->name = (const char *)sqlite3_column_text(st, 1);
+    m->kind = (rf_measure_kind)kind_of((const char *)sqlite3_column_text(st, 2));
+    const char *importance = (const char *)sqlite3_column_text(st, 3);
+    m->importance = importance_of(importance);
+    if (m->importance < 0)
+        return rf_error_set(err, sqlite3_db_filename(sqlite3_db_handle(st), "main"), 0, 0,
+                            "measure '%s' has importance '%s'; expected most_important, "
+                            "important or usual",
+                            m->name, importance ? importance : "NULL");
+    double mel = column_real(st, 4), sel = column_real(st, 5), project[RF_N_LIMIT_STATES];
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        project[s] = column_real(st, 6 + s);
+    /* The project loader fills sel = MEL / 3 when the project gives none; the rule
+     * file's sel_default decides instead whenever the project text shows no sel. */
+    if (m->kind == RF_BARRIER && r->sel_divisor > 0 && project_gives_sel(yaml, m->name) == 0)
+        sel = NAN;
+    rf_rules_capacities(r, m->kind, mel, sel, project, m->capacity);
+    return 0;
+}
+
+static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m,
+                            sqlite3_stmt *ins, long *n, long *n_within, long *n_meeting,
+                            rf_error *err)
+{
+    sqlite3_stmt *st;
+    if (prepare(db,
+                "SELECT i.id, i.energy_kj, i.outcome, r.action_level FROM interceptions i"
+                " JOIN trajectories t ON t.id = i.trajectory_id"
+                " JOIN releases r ON r.id = t.release_id"
+                " WHERE i.measure_id = ?1 ORDER BY i.id",
+                &st, err))
+        return -1;
+    sqlite3_bind_int64(st, 1, m->id);
+    const char *file = sqlite3_db_filename(db, "main");
+    int rc, status = 0;
+    while (status == 0 && (rc = sqlite3_step(st)) == SQLITE_ROW) {
+        int level = sqlite3_column_int(st, 3);
+        if (level < 1 || level > 3) {
+            status = rf_error_set(err, file, 0, 0, "interception %lld has action level %d",
+                                  (long long)sqlite3_column_int64(st, 0), level);
+            break;
+        }
+        rf_outcome outcome = outcome_of((const char *)sqlite3_column_text(st, 2));
+        int reached = rf_rules_reached(r, m->capacity, column_real(st, 1), outcome);
+        int required = rf_rules_required(r, level, (rf_importance)m->importance);
+        int ok = rf_rules_meets(r, reached, required);
+        (*n)++;
+        *n_meeting += ok;
+        for (size_t c = 0; c < r->nchecks; c++)
+            if (r->checks[c].value == RF_VALUE_SHARE_WITHIN)
+                n_within[c] += reached >= 0 && reached < r->nstates &&
+                               reached <= r->checks[c].state;
+        const char *reached_name = rf_rules_state_name(r, reached);
+        sqlite3_bind_int64(ins, 1, sqlite3_column_int64(st, 0));
+        sqlite3_bind_int(ins, 2, level);
+        sqlite3_bind_text(ins, 3, importance_names[m->importance], -1, SQLITE_STATIC);
+        if (reached_name)
+            sqlite3_bind_text(ins, 4, reached_name, -1, SQLITE_STATIC);
+        else
+            sqlite3_bind_null(ins, 4);
+        sqlite3_bind_text(ins, 5, rf_rules_state_name(r, required), -1, SQLITE_STATIC);
+        sqlite3_bind_int(ins, 6, ok);
+        if (sqlite3_step(ins) != SQLITE_DONE)
+            status = db_error(db, "writing a classification", err);
+        sqlite3_reset(ins);
+    }
+    if (status == 0 && rc != SQLITE_DONE)
+        status = db_error(db, "reading interceptions", err);
+    sqlite3_finalize(st);
+    return status;
+}
+
+static int write_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measure_row *m,
+                        sqlite3_stmt *ins, long n, const long *n_within, long n_meeting,
+                        long *n_failed, rf_error *err)
+{
+    for (size_t c = 0; c < r->nchecks; c++) {
+        const rf_rule_check *check = &r->checks[c];
+        long count = check->value == RF_VALUE_SHARE_WITHIN ? n_within[c] : n_meeting;
+        double value = n > 0 ? (double)count / (double)n : NAN;
+        int passed = n > 0 ? rf_rules_check_passes(check, value) : r->empty_passes;
+        *n_failed += !passed;
+        sqlite3_bind_int64(ins, 1, run);
+        sqlite3_bind_int64(ins, 2, m->id);
+        sqlite3_bind_text(ins, 3, check->name, -1, SQLITE_STATIC);
+        if (n > 0)
+            sqlite3_bind_double(ins, 4, value);
+        else
+            sqlite3_bind_null(ins, 4);
+        sqlite3_bind_double(ins, 5, check->threshold);
+        sqlite3_bind_int(ins, 6, passed);
+        int rc = sqlite3_step(ins);
+        sqlite3_reset(ins);
+        if (rc != SQLITE_DONE)
+            return db_error(db, "writing a check", err);
+    }
+    return 0;
+}
+
+static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
+                    rf_error *err)
+{
+    sqlite3_stmt *runs = NULL, *measures = NULL, *ins_class = NULL, *ins_check = NULL;
+    long *n_within = calloc(r->nchecks + 1, sizeof *n_within);
+    int status = -1;
+    if (!n_within) {
+        rf_error_set(err, "", 0, 0, "out of memory");
+        goto done;
+    }
+    char *del = sqlite3_mprintf("DELETE FROM classifications WHERE interception_id IN"
+                                " (SELECT id FROM interceptions WHERE run_id = %lld);"
+                                " DELETE FROM checks WHERE run_id = %lld;",
+                                (long long)run, (long long)run);
+    int rc = del ? sqlite3_exec(db, del, NULL, NULL, NULL) : SQLITE_NOMEM;
+    sqlite3_free(del);
+    if (rc != SQLITE_OK) {
+        db_error(db, "replacing the run's classifications", err);
+        goto done;
+    }
+    if (prepare(db, "SELECT project_yaml FROM runs WHERE id = ?1", &runs, err) ||
+        prepare(db,
+                "SELECT id, name, kind, importance, mel_kj, sel_kj, cap_serviceability_kj,"
+                " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj"
+                " FROM measures WHERE run_id = ?1 AND kind <> 'control' ORDER BY idx, id",
+                &measures, err) ||
+        prepare(db,
+                "INSERT INTO classifications (interception_id, action_level, importance,"
+                " limit_state, required_state, ok) VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                &ins_class, err) ||
+        prepare(db,
+                "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+                " VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
+                &ins_check, err))
+        goto done;
+    sqlite3_bind_int64(runs, 1, run);
+    const char *yaml = sqlite3_step(runs) == SQLITE_ROW
+                           ? (const char *)sqlite3_column_text(runs, 0)
+                           : NULL;
+    sqlite3_bind_int64(measures, 1, run);
+    while ((rc = sqlite3_step(measures)) == SQLITE_ROW) {
+        measure_row m;
+        long n = 0, n_meeting = 0;
+        memset(n_within, 0, (r->nchecks + 1) * sizeof *n_within);
+        if (read_measure_row(measures, r, yaml, &m, err) ||
+            classify_measure(db, r, &m, ins_class, &n, n_within, &n_meeting, err) ||
+            write_checks(db, run, r, &m, ins_check, n, n_within, n_meeting, n_failed, err))
+            goto done;
+    }
+    if (rc != SQLITE_DONE) {
+        db_error(db, "reading measures", err);
+        goto done;
+    }
+    status = 0;
+done:
+    sqlite3_finalize(runs);
+    sqlite3_finalize(measures);
+    sqlite3_finalize(ins_class);
+    sqlite3_finalize(ins_check);
+    free(n_within);
+    return status;
+}
+
+int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
+                      rf_error *err)
+{
+    long failed = 0;
+    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
+        return db_error(db, "evaluating the rules", err);
+    int status = evaluate(db, run, r, &failed, err);
+    if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
+        status = db_error(db, "committing the checks", err);
+    if (status != 0 && !sqlite3_get_autocommit(db))
+        sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
+    if (n_failed)
+        *n_failed = status == 0 ? failed : 0;
+    return status;
+}
+
+/* ---- printing -------------------------------------------------------------------- */
+
+/* Number of interceptions of a measure. */
+static int64_t query_count(sqlite3 *db, int64_t measure_id)
+{
+    sqlite3_stmt *st;
+    int64_t n = 0;
+    if (sqlite3_prepare_v2(db, "SELECT count(*) FROM interceptions WHERE measure_id = ?1", -1,
+                           &st, NULL) != SQLITE_OK)
+        return 0;
+    sqlite3_bind_int64(st, 1, measure_id);
+    if (sqlite3_step(st) == SQLITE_ROW)
+        n = sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    return n;
+}
+
+static void print_capacities(const rf_rules *r, const measure_row *m, FILE *out)
+{
+    fprintf(out, "  capacities (kJ):");
+    int any = 0;
+    for (int i = 0; i < r->nstates; i++) {
+        double cap = m->capacity[r->states[i]];
+        if (isnan(cap))
+            continue;
+        fprintf(out, "%s %s %.1f", any ? "," : "", rf_limit_state_name(r->states[i]), cap);
+        any = 1;
+    }
+    fprintf(out, "%s\n", any ? "" : " none");
+}
+
+static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, long n,
+                        FILE *out, rf_error *err)
+{
+    sqlite3_stmt *st;
+    if (prepare(db,
+                "SELECT c.limit_state, count(*) FROM classifications c"
+                " JOIN interceptions i ON i.id = c.interception_id"
+                " WHERE i.measure_id = ?1 GROUP BY c.limit_state",
+                &st, err))
+        return -1;
+    sqlite3_bind_int64(st, 1, m->id);
+    long counts[RF_N_LIMIT_STATES + 3] = {0}; /* states, beyond, overtopped, unknown */
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        const char *name = (const char *)sqlite3_column_text(st, 0);
+        long c = (long)sqlite3_column_int64(st, 1);
+        int slot = r->nstates + 2;
+        for (int i = -1; i <= r->nstates; i++) {
+            const char *s = rf_rules_state_name(r, i);
+            if (name && s && !strcmp(name, s))
+                slot = i < 0 ? r->nstates + 1 : i;
+        }
+        counts[slot] += c;
+    }
+    sqlite3_finalize(st);
+    fprintf(out, "  limit states:");
+    int shown = 0;
+    for (int i = 0; i <= r->nstates + 2; i++) {
+        const char *name = i <= r->nstates       ? rf_rules_state_name(r, i)
+                           : i == r->nstates + 1 ? "overtopped"
+                                                 : "no energy";
+        /* a state without a capacity for this measure is shown only when reached */
+        int no_capacity = i < r->nstates && isnan(m->capacity[r->states[i]]);
+        if ((i == r->nstates + 2 || no_capacity) && counts[i] == 0)
+            continue;
+        fprintf(out, "%s %s %.1f %%", shown++ ? "," : "", name,
+                n > 0 ? 100.0 * (double)counts[i] / (double)n : 0.0);
+    }
+    fprintf(out, "\n");
+    return 0;
+}
+
+static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FILE *out,
+                        rf_error *err)
+{
+    sqlite3_stmt *st;
+    if (prepare(db, "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
+                    " ORDER BY id",
+                &st, err))
+        return -1;
+    sqlite3_bind_int64(st, 1, m->id);
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        const char *rule = (const char *)sqlite3_column_text(st, 0);
+        const char *cmp = ">=";
+        for (size_t c = 0; c < r->nchecks; c++)
+            if (rule && !strcmp(rule, r->checks[c].name))
+                cmp = comparison_names[r->checks[c].comparison];
+        int passed = sqlite3_column_int(st, 3);
+        if (sqlite3_column_type(st, 1) == SQLITE_NULL)
+            fprintf(out, "  %s %-24s no interceptions\n", passed ? "PASS" : "FAIL", rule);
+        else
+            fprintf(out, "  %s %-24s %.4f %s %g\n", passed ? "PASS" : "FAIL", rule,
+                    sqlite3_column_double(st, 1), cmp, sqlite3_column_double(st, 2));
+    }
+    sqlite3_finalize(st);
+    return 0;
+}
+
+/* A number of the statistics table, "-" when there is none. */
+static void print_number(FILE *out, int width, int decimals, double v)
+{
+    if (isnan(v))
+        fprintf(out, " %*s", width, "-");
+    else
+        fprintf(out, " %*.*f", width, decimals, v);
+}
+
+int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err)
+{
+    sqlite3_stmt *runs = NULL, *measures = NULL, *checks = NULL;
+    int status = -1;
+    if (prepare(db, "SELECT project, project_yaml FROM runs WHERE id = ?1", &runs, err) ||
+        prepare(db,
+                "SELECT id, name, kind, importance, mel_kj, sel_kj, cap_serviceability_kj,"
+                " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj"
+                " FROM measures WHERE run_id = ?1 AND kind <> 'control' ORDER BY idx, id",
+                &measures, err) ||
+        prepare(db, "SELECT count(*), coalesce(sum(NOT passed), 0) FROM checks"
+                    " WHERE run_id = ?1",
+                &checks, err))
+        goto done;
+    sqlite3_bind_int64(runs, 1, run);
+    if (sqlite3_step(runs) != SQLITE_ROW) {
+        rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
+                     (long long)run);
+        goto done;
+    }
+    const char *yaml = (const char *)sqlite3_column_text(runs, 1);
+    fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run,
+            (const char *)sqlite3_column_text(runs, 0), r->path, r->name);
+    fprintf(out, "%-16s %-10s %-14s %7s %9s %9s %9s %9s %9s %8s\n", "measure", "kind",
+            "importance", "count", "E50", "E90", "E95", "E99", "Emax", "h95 (m)");
+    sqlite3_bind_int64(measures, 1, run);
+    while (sqlite3_step(measures) == SQLITE_ROW) {
+        measure_row m;
+        rf_measure_stats s;
+        if (read_measure_row(measures, r, yaml, &m, err) ||
+            rf_query_measure_stats(db, m.id, &s, err))
+            goto done;
+        fprintf(out, "%-16s %-10s %-14s %7ld", m.name, rf_measure_kind_name(m.kind),
+                importance_names[m.importance], s.n);
+        double e[] = {s.energy_p50, s.energy_p90, s.energy_p95, s.energy_p99, s.energy_max};
+        for (int i = 0; i < 5; i++)
+            print_number(out, 9, 1, e[i]);
+        print_number(out, 8, 2, s.height_p95);
+        fprintf(out, "\n");
+    }
+    fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
+                 "maximum; h95: 95th-percentile passing height\n");
+    sqlite3_reset(measures);
+    while (sqlite3_step(measures) == SQLITE_ROW) {
+        measure_row m;
+        long n;
+        if (read_measure_row(measures, r, yaml, &m, err))
+            goto done;
+        n = (long)query_count(db, m.id);
+        fprintf(out, "\n%s (%s, %s)\n", m.name, rf_measure_kind_name(m.kind),
+                importance_names[m.importance]);
+        print_capacities(r, &m, out);
+        if ((n > 0 && print_states(db, r, &m, n, out, err)) ||
+            print_checks(db, r, &m, out, err))
+            goto done;
+    }
+    sqlite3_bind_int64(checks, 1, run);
+    if (sqlite3_step(checks) == SQLITE_ROW) {
+        long n = (long)sqlite3_column_int64(checks, 0);
+        long failed = (long)sqlite3_column_int64(checks, 1);
+        if (failed)
+            fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, n);
+        else
+            fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", n);
+    }
+    status = 0;
+done:
+    sqlite3_finalize(runs);
+    sqlite3_finalize(measures);
+    sqlite3_finalize(checks);
+    return status;
+}

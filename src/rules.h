@@ -1,0 +1,118 @@
+/* rules.h - the rules engine: Table 3 limit states and the design checks (DESIGN.md
+ * section 3, docs/rules.md).
+ *
+ * Three stages, each usable on its own:
+ *   load      a rule file (YAML) -> rf_rules, validated once with file:line:column
+ *             errors (rf_rules_load);
+ *   classify  pure functions of the rules: the limit state an interception reaches,
+ *             the state Table 3 requires, whether a check passes;
+ *   evaluate  against a results database: every interception of a run classified into
+ *             `classifications`, every measure's checks into `checks`, then a printed
+ *             table (rf_rules_evaluate, rf_rules_print). */
+#ifndef ROCKFALL_RULES_H
+#define ROCKFALL_RULES_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include <sqlite3.h>
+
+#include "rockfall/error.h"
+#include "rockfall/project.h"
+#include "rockfall/records.h"
+
+/* Where a structure kind's capacity for one limit state comes from. */
+typedef enum rf_capacity_source {
+    RF_CAP_NONE,    /* the kind has no capacity for this state: the state is skipped */
+    RF_CAP_MEL,     /* a barrier's MEL (measures.mel_kj) */
+    RF_CAP_SEL,     /* a barrier's SEL: the project's sel, else MEL / sel_divisor */
+    RF_CAP_PROJECT  /* the project's capacity for the state (measures.cap_<state>_kj) */
+} rf_capacity_source;
+
+typedef enum rf_comparison { RF_CMP_GREATER, RF_CMP_AT_LEAST } rf_comparison;
+
+typedef enum rf_check_value {
+    RF_VALUE_SHARE_WITHIN,  /* share of interceptions reaching `state` or an earlier one */
+    RF_VALUE_SHARE_MEETING  /* share of interceptions within their required state */
+} rf_check_value;
+
+typedef struct rf_rule_check {
+    char *name;               /* checks.rule */
+    rf_check_value value;
+    int state;                /* SHARE_WITHIN: index into rf_rules.states */
+    rf_comparison comparison; /* value > threshold or value >= threshold */
+    double threshold;         /* 0..1 */
+} rf_rule_check;
+
+/* Structure kinds with capacity rules: barrier and embankment (control lines are
+ * never classified). */
+#define RF_N_RULE_KINDS 2
+
+/* Reached limit states that are not an index into rf_rules.states. */
+#define RF_REACHED_OVERTOPPED (-1) /* passed over the structure: fails its function */
+#define RF_REACHED_UNKNOWN (-2)    /* no energy recorded */
+
+typedef struct rf_rules {
+    char *path;                  /* the rule file as given */
+    char *name;                  /* its `name` */
+    rf_limit_state states[RF_N_LIMIT_STATES]; /* in order, first = serviceability */
+    int nstates;                 /* index nstates = beyond the last (`beyond_last`) */
+    char *beyond_last;           /* "collapse" */
+    int required[3][3];          /* [action level - 1][rf_importance] -> state index */
+    rf_capacity_source capacity[RF_N_RULE_KINDS][RF_N_LIMIT_STATES]; /* by rf_limit_state */
+    double sel_divisor;          /* barrier SEL = MEL / sel_divisor; 0 when not given */
+    rf_rule_check *checks;
+    size_t nchecks;
+    int empty_passes;            /* a measure without interceptions passes its checks */
+} rf_rules;
+
+/* Loads and validates a rule file.  On error fills err with file:line:column and
+ * returns nonzero; r is then left empty. */
+int rf_rules_load(const char *path, rf_rules *r, rf_error *err);
+/* The same from text in memory; `file` names it in errors. */
+int rf_rules_load_text(const char *file, const char *text, size_t len, rf_rules *r,
+                       rf_error *err);
+void rf_rules_free(rf_rules *r);
+
+/* Name of a reached state: a limit state, beyond_last, "overtopped" or NULL (unknown). */
+const char *rf_rules_state_name(const rf_rules *r, int reached);
+
+/* ---- classification (pure) ---------------------------------------------------- */
+
+/* Capacities of one measure in kJ, by rf_limit_state (NaN: none) from what the
+ * project gave: mel (barrier), sel (barrier; NaN when the project gave none),
+ * project_capacity[] by rf_limit_state (NaN when not given). */
+void rf_rules_capacities(const rf_rules *r, rf_measure_kind kind, double mel, double sel,
+                         const double project_capacity[RF_N_LIMIT_STATES],
+                         double capacity[RF_N_LIMIT_STATES]);
+/* The state an interception reaches: the index of the first state in order whose
+ * capacity holds the energy (energy <= capacity; states without a capacity are
+ * skipped), nstates beyond the last, RF_REACHED_OVERTOPPED for an overtopping and
+ * nstates for a break-through. */
+int rf_rules_reached(const rf_rules *r, const double capacity[RF_N_LIMIT_STATES],
+                     double energy_kj, rf_outcome outcome);
+/* Table 3: the state index required for an action level (1..3) and an importance. */
+int rf_rules_required(const rf_rules *r, int action_level, rf_importance importance);
+/* Whether a reached state meets the required one. */
+int rf_rules_meets(const rf_rules *r, int reached, int required);
+/* Whether a check's value passes its threshold. */
+int rf_rules_check_passes(const rf_rule_check *c, double value);
+
+/* ---- against the database ----------------------------------------------------- */
+
+/* The rule file named by a run's project (`rules:` in runs.project_yaml, resolved
+ * from the directory of runs.project_path).  *path is malloc'd; an error says to
+ * pass --rules when the run names none. */
+int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err);
+
+/* Classifies every interception of the run's barriers and embankments and writes the
+ * checks of each, replacing what an earlier evaluation of the run wrote, in one
+ * transaction.  *n_failed (may be NULL) gets the number of failed checks. */
+int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
+                      rf_error *err);
+/* Prints the evaluated run: per measure the statistics, capacities, share per
+ * limit state and each check's verdict, then the overall verdict. */
+int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err);
+
+#endif

@@ -1,0 +1,786 @@
+/* test_rules.c - the rules engine: Table 3, the rule-file format and its bad-file
+ * corpus, classification of constructed interceptions with known energies, the checks
+ * at and around the 90 % boundary, the views, and `rockfall check` end to end. */
+#include <glob.h>
+#include <sqlite3.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "rockfall/project.h"
+#include "rules.h"
+#include "store.h"
+#include "test.h"
+
+#define TABLE3 "rules/table3.yaml"
+
+static void load_rules(const char *path, rf_rules *r)
+{
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_rules_load(path, r, &err) == 0, "%s:%d:%d: %s", err.file, err.line,
+               err.column, err.message);
+}
+
+/* Table 3 with one line of the file replaced (`from` -> `to`). */
+static void load_variant(const char *from, const char *to, rf_rules *r)
+{
+    FILE *f = fopen(TABLE3, "rb");
+    ENSURE(f);
+    static char text[16384], out[16384];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = 0;
+    char *at = strstr(text, from);
+    ENSURE_MSG(at, "'%s' not in %s", from, TABLE3);
+    snprintf(out, sizeof out, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_rules_load_text("variant.yaml", out, strlen(out), r, &err) == 0,
+               "%d:%d: %s", err.line, err.column, err.message);
+}
+
+/* ---- Table 3 --------------------------------------------------------------------- */
+
+TEST(rules_table3_every_cell)
+{
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    /* Table 3 of the paper, rows action level 1..3, columns most important, important,
+     * usual. */
+    static const char *const want[3][3] = {
+        {"serviceability", "serviceability", "restorability"},
+        {"serviceability", "restorability", "ultimate"},
+        {"restorability", "ultimate", "near_collapse"},
+    };
+    static const rf_importance imp[3] = {RF_MOST_IMPORTANT, RF_IMPORTANT, RF_USUAL};
+    for (int level = 1; level <= 3; level++)
+        for (int i = 0; i < 3; i++) {
+            const char *got = rf_rules_state_name(&r, rf_rules_required(&r, level, imp[i]));
+            ENSURE_MSG(!strcmp(got, want[level - 1][i]), "level %d, %s: %s", level,
+                       rf_importance_name(imp[i]), got);
+        }
+    rf_rules_free(&r);
+}
+
+TEST(rules_table3_layout)
+{
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    ENSURE(r.nstates == 4);
+    ENSURE(r.states[0] == RF_SERVICEABILITY && r.states[1] == RF_RESTORABILITY);
+    ENSURE(r.states[2] == RF_ULTIMATE && r.states[3] == RF_NEAR_COLLAPSE);
+    ENSURE(!strcmp(r.beyond_last, "collapse"));
+    ENSURE(!strcmp(rf_rules_state_name(&r, 4), "collapse"));
+    ENSURE(!strcmp(rf_rules_state_name(&r, RF_REACHED_OVERTOPPED), "overtopped"));
+    /* barrier: serviceability = SEL = MEL / 3, ultimate = MEL; nothing else */
+    ENSURE(r.capacity[0][RF_SERVICEABILITY] == RF_CAP_SEL);
+    ENSURE(r.capacity[0][RF_ULTIMATE] == RF_CAP_MEL);
+    ENSURE(r.capacity[0][RF_RESTORABILITY] == RF_CAP_NONE);
+    ENSURE(r.capacity[0][RF_NEAR_COLLAPSE] == RF_CAP_NONE);
+    ENSURE(r.sel_divisor == 3.0);
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        ENSURE(r.capacity[1][s] == RF_CAP_PROJECT);
+    ENSURE(r.nchecks == 2);
+    ENSURE(!strcmp(r.checks[0].name, "serviceability_share"));
+    ENSURE(r.checks[0].value == RF_VALUE_SHARE_WITHIN && r.checks[0].state == 0);
+    ENSURE(r.checks[0].comparison == RF_CMP_AT_LEAST && r.checks[0].threshold == 0.9);
+    ENSURE(!strcmp(r.checks[1].name, "required_state"));
+    ENSURE(r.checks[1].value == RF_VALUE_SHARE_MEETING && r.checks[1].threshold == 1.0);
+    ENSURE(r.empty_passes == 1);
+    rf_rules_free(&r);
+}
+
+TEST(rules_limit_state_reached)
+{
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    const double none[RF_N_LIMIT_STATES] = {NAN, NAN, NAN, NAN};
+    double cap[RF_N_LIMIT_STATES];
+    /* A barrier of MEL 2385 kJ without a sel: SEL = 795 kJ from the rule file. */
+    rf_rules_capacities(&r, RF_BARRIER, 2385.0, NAN, none, cap);
+    ENSURE(cap[RF_SERVICEABILITY] == 795.0 && cap[RF_ULTIMATE] == 2385.0);
+    ENSURE(isnan(cap[RF_RESTORABILITY]) && isnan(cap[RF_NEAR_COLLAPSE]));
+    ENSURE(rf_rules_reached(&r, cap, 12.5, RF_OUT_STOPPED) == 0);
+    ENSURE(rf_rules_reached(&r, cap, 795.0, RF_OUT_STOPPED) == 0); /* capacity holds it */
+    ENSURE(rf_rules_reached(&r, cap, 795.125, RF_OUT_STOPPED) == 2); /* restorability skipped */
+    ENSURE(rf_rules_reached(&r, cap, 2385.0, RF_OUT_STOPPED) == 2);
+    ENSURE(rf_rules_reached(&r, cap, 2385.5, RF_OUT_PASSED) == 4);  /* collapse */
+    ENSURE(rf_rules_reached(&r, cap, 12.5, RF_OUT_BROKE_THROUGH) == 4);
+    /* An overtopping fails the structure's function: never serviceable. */
+    ENSURE(rf_rules_reached(&r, cap, 0.5, RF_OUT_OVERTOPPED) == RF_REACHED_OVERTOPPED);
+    ENSURE(rf_rules_reached(&r, cap, NAN, RF_OUT_STOPPED) == RF_REACHED_UNKNOWN);
+    /* The project's sel wins over the default. */
+    rf_rules_capacities(&r, RF_BARRIER, 2385.0, 1000.0, none, cap);
+    ENSURE(cap[RF_SERVICEABILITY] == 1000.0);
+    /* An embankment takes the project's capacities; a missing one is skipped. */
+    const double given[RF_N_LIMIT_STATES] = {3000.0, NAN, 9000.0, 12000.0};
+    rf_rules_capacities(&r, RF_EMBANKMENT, NAN, NAN, given, cap);
+    ENSURE(rf_rules_reached(&r, cap, 2999.5, RF_OUT_STOPPED) == 0);
+    ENSURE(rf_rules_reached(&r, cap, 4500.0, RF_OUT_STOPPED) == 2);
+    ENSURE(rf_rules_reached(&r, cap, 10500.0, RF_OUT_STOPPED) == 3);
+    ENSURE(rf_rules_reached(&r, cap, 12000.25, RF_OUT_STOPPED) == 4);
+    /* meets: at or before the required state; overtopped, collapse, unknown never */
+    ENSURE(rf_rules_meets(&r, 0, 1) && rf_rules_meets(&r, 1, 1) && !rf_rules_meets(&r, 2, 1));
+    ENSURE(rf_rules_meets(&r, 3, 3) && !rf_rules_meets(&r, 4, 3));
+    ENSURE(!rf_rules_meets(&r, RF_REACHED_OVERTOPPED, 3));
+    ENSURE(!rf_rules_meets(&r, RF_REACHED_UNKNOWN, 3));
+    rf_rules_free(&r);
+}
+
+TEST(rules_check_comparison_at_the_boundary)
+{
+    rf_rules at_least, over;
+    load_rules(TABLE3, &at_least);
+    load_variant("comparison: \">=\"\n    threshold: 0.9", "comparison: \">\"\n    threshold: 0.9",
+                 &over);
+    ENSURE(over.checks[0].comparison == RF_CMP_GREATER);
+    /* exactly 90 % of several counts: count / n is the double nearest 0.9 */
+    for (long n = 10; n <= 100000; n *= 10) {
+        double v = (double)(9 * n / 10) / (double)n;
+        ENSURE_MSG(rf_rules_check_passes(&at_least.checks[0], v), "n = %ld", n);
+        ENSURE_MSG(!rf_rules_check_passes(&over.checks[0], v), "n = %ld", n);
+    }
+    ENSURE(rf_rules_check_passes(&over.checks[0], 0.92));
+    ENSURE(!rf_rules_check_passes(&at_least.checks[0], 0.88));
+    ENSURE(!rf_rules_check_passes(&at_least.checks[0], 899.0 / 1000.0));
+    rf_rules_free(&at_least);
+    rf_rules_free(&over);
+}
+
+/* ---- the bad-file corpus ------------------------------------------------------- */
+
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    static char buf[16384];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = 0;
+    fclose(f);
+    return buf;
+}
+
+/* Each tests/bad_rules/NAME.yaml starts with "# expect: LINE:COLUMN SUBSTRING". */
+static int check_bad_rules(const char *path)
+{
+    const char *text = slurp(path);
+    int line = 0, column = 0, used = 0;
+    if (!text || sscanf(text, "# expect: %d:%d %n", &line, &column, &used) != 2 || !used) {
+        fprintf(stderr, "    %s: no '# expect: LINE:COLUMN SUBSTRING' first line\n", path);
+        return 0;
+    }
+    char want[512];
+    snprintf(want, sizeof want, "%.*s", (int)strcspn(text + used, "\n"), text + used);
+    rf_rules r;
+    rf_error err = {{0}};
+    if (rf_rules_load(path, &r, &err) == 0) {
+        fprintf(stderr, "    %s: loaded, expected an error\n", path);
+        rf_rules_free(&r);
+        return 0;
+    }
+    int ok = 1;
+    if (strcmp(err.file, path) || err.line != line || err.column != column ||
+        !strstr(err.message, want)) {
+        fprintf(stderr, "    %s: expected %d:%d '%s', got: ", path, line, column, want);
+        rf_error_print(&err, stderr);
+        ok = 0;
+    }
+    if (r.name || r.checks || r.path || r.beyond_last) {
+        fprintf(stderr, "    %s: rules not emptied after an error\n", path);
+        ok = 0;
+    }
+    return ok;
+}
+
+TEST(rules_bad_files)
+{
+    glob_t g;
+    ENSURE_MSG(glob("tests/bad_rules/*.yaml", 0, NULL, &g) == 0, "no file in tests/bad_rules");
+    ENSURE_MSG(g.gl_pathc >= 30, "only %zu bad rule files", (size_t)g.gl_pathc);
+    int failed = 0;
+    for (size_t i = 0; i < g.gl_pathc; i++)
+        failed += !check_bad_rules(g.gl_pathv[i]);
+    ENSURE_MSG(failed == 0, "%d of %zu bad rule files gave the wrong error", failed,
+               (size_t)g.gl_pathc);
+    globfree(&g);
+}
+
+TEST(rules_missing_file)
+{
+    rf_rules r;
+    rf_error err = {{0}};
+    ENSURE(rf_rules_load("rules/no_such_rules.yaml", &r, &err) != 0);
+    ENSURE(!strcmp(err.file, "rules/no_such_rules.yaml"));
+    ENSURE(strstr(err.message, "cannot open"));
+    ENSURE(r.name == NULL && r.checks == NULL);
+}
+
+/* ---- constructed runs -------------------------------------------------------------- */
+
+enum { M_ROAD, M_B1, M_B2, M_E1, M_B3, N_MEASURES };
+
+/* A project with three releases (action levels 1, 2, 3) and five measures: a control
+ * line, barriers B1 and B2 (MEL 3000 kJ, SEL 1000 kJ), embankment E1 (3000, 6000,
+ * 9000, 12000 kJ) and barrier B3, which no rock reaches. */
+typedef struct scene {
+    rf_project p;
+    rf_rock rocks[3];
+    rf_release releases[3];
+    rf_measure measures[N_MEASURES];
+    double line[4];
+    rf_store *s;
+    int64_t run;
+    long next_idx[3];
+} scene;
+
+static void scene_init(scene *t, rf_importance importance, const char *yaml)
+{
+    memset(t, 0, sizeof *t);
+    t->p.name = "constructed";
+    t->p.path = "constructed.yaml";
+    t->p.yaml_text = (char *)yaml;
+    t->p.seed = 2009;
+    for (int i = 0; i < 3; i++) {
+        static const char *const names[] = {"r1", "r2", "r3"};
+        static const char *const releases[] = {"L1", "L2", "L3"};
+        t->rocks[i] = (rf_rock){.name = (char *)names[i], .mass = 2385.0, .density = 2650.0,
+                                .action_level = i + 1, .radius = 0.6};
+        t->releases[i] = (rf_release){.name = (char *)releases[i], .x = 10.0 * i, .y = 50.0,
+                                      .z = 100.0, .rock = i, .count = 1};
+    }
+    t->p.rocks = t->rocks;
+    t->p.nrocks = 3;
+    t->p.releases = t->releases;
+    t->p.nreleases = 3;
+    static const double xy[4] = {0.0, 10.0, 40.0, 10.5};
+    memcpy(t->line, xy, sizeof xy);
+    rf_polyline line = {t->line, 2};
+    t->measures[M_ROAD] = (rf_measure){.name = "road", .kind = RF_CONTROL, .line = line,
+                                       .importance = importance, .behaviour = RF_COLLECT,
+                                       .mel = -1, .sel = -1, .capacity = {-1, -1, -1, -1}};
+    static const char *const barriers[] = {"B1", "B2", "B3"};
+    static const int at[] = {M_B1, M_B2, M_B3};
+    for (int i = 0; i < 3; i++)
+        t->measures[at[i]] = (rf_measure){.name = (char *)barriers[i], .kind = RF_BARRIER,
+                                          .line = line, .height = 5.0,
+                                          .importance = importance, .behaviour = RF_STOP,
+                                          .mel = 3000.0, .sel = 1000.0,
+                                          .capacity = {1000.0, -1, 3000.0, -1}};
+    t->measures[M_E1] = (rf_measure){.name = "E1", .kind = RF_EMBANKMENT, .line = line,
+                                     .height = 6.0, .importance = importance,
+                                     .behaviour = RF_STOP, .mel = -1, .sel = -1,
+                                     .capacity = {3000.0, 6000.0, 9000.0, 12000.0}};
+    t->p.measures = t->measures;
+    t->p.nmeasures = N_MEASURES;
+}
+
+static void scene_begin(scene *t, const char *db)
+{
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_store_open(db, &t->s, &err) == 0, "%s", err.message);
+    ENSURE_MSG(rf_store_run_begin(t->s, &t->p, 0, &t->run, &err) == 0, "%s", err.message);
+    ENSURE(rf_store_batch_begin(t->s, &err) == 0);
+}
+
+/* One trajectory of the release of `level` that meets `measure` with this energy. */
+static void hit(scene *t, int level, int measure, double energy_kj, rf_outcome outcome)
+{
+    rf_error err = {{0}};
+    rf_trajectory_record tr = {.stop = {5.0, 5.0, 80.0}, .reason = RF_END_STOPPED,
+                               .duration_s = 12.5, .path_length_m = 90.0,
+                               .max_energy_kj = energy_kj, .n_impacts = 7};
+    int64_t id;
+    ENSURE(rf_store_add_trajectory(t->s, (size_t)(level - 1), t->next_idx[level - 1]++, &tr,
+                                   &id, &err) == 0);
+    rf_interception_record in = {.measure = measure, .t_s = 10.25, .p = {20.0, 10.25, 82.0},
+                                 .speed_ms = 20.0, .energy_kj = energy_kj,
+                                 .energy_trans_kj = energy_kj, .passing_height_m = 1.25,
+                                 .outcome = outcome};
+    ENSURE_MSG(rf_store_add_interception(t->s, id, &in, NULL, &err) == 0, "%s", err.message);
+}
+
+/* n hits at a measure, `within` of them at 0.5 SEL and the rest between SEL and MEL. */
+static void hits(scene *t, int level, int measure, int n, int within)
+{
+    for (int i = 0; i < n; i++)
+        hit(t, level, measure, i < within ? 500.0 + i : 1500.0 + i, RF_OUT_STOPPED);
+}
+
+static void scene_finish(scene *t)
+{
+    rf_error err = {{0}};
+    ENSURE(rf_store_run_finish(t->s, "complete", -1, &err) == 0);
+}
+
+static long evaluate(scene *t, const rf_rules *r)
+{
+    rf_error err = {{0}};
+    long failed = -1;
+    ENSURE_MSG(rf_rules_evaluate(rf_store_db(t->s), t->run, r, &failed, &err) == 0, "%s",
+               err.message);
+    return failed;
+}
+
+__attribute__((format(printf, 2, 3))) static double query_real(sqlite3 *db, const char *fmt,
+                                                               ...)
+{
+    char sql[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(sql, sizeof sql, fmt, ap);
+    va_end(ap);
+    sqlite3_stmt *st;
+    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
+               sqlite3_errmsg(db));
+    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "no row: %s", sql);
+    double v = sqlite3_column_type(st, 0) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 0);
+    sqlite3_finalize(st);
+    return v;
+}
+
+/* value and passed of a measure's check */
+static double check_value(scene *t, const char *measure, const char *rule, int *passed)
+{
+    sqlite3 *db = rf_store_db(t->s);
+    const char *q = "FROM checks k JOIN measures m ON m.id = k.measure_id WHERE k.run_id = %lld"
+                    " AND m.name = '%s' AND k.rule = '%s'";
+    char fmt[512];
+    snprintf(fmt, sizeof fmt, "SELECT count(*) %s", q);
+    ENSURE_MSG(query_real(db, fmt, (long long)t->run, measure, rule) == 1.0,
+               "not one check %s of %s", rule, measure);
+    snprintf(fmt, sizeof fmt, "SELECT passed %s", q);
+    *passed = (int)query_real(db, fmt, (long long)t->run, measure, rule);
+    snprintf(fmt, sizeof fmt, "SELECT value %s", q);
+    return query_real(db, fmt, (long long)t->run, measure, rule);
+}
+
+static const char *tmp_db(const char *name)
+{
+    static char buf[600];
+    snprintf(buf, sizeof buf, "%s/%s", rf_test_tmpdir(), name);
+    return buf;
+}
+
+/* 92 % within serviceability passes, 88 % fails. */
+TEST(rules_serviceability_92_passes_88_fails)
+{
+    scene t;
+    scene_init(&t, RF_USUAL, NULL);
+    scene_begin(&t, tmp_db("share.db"));
+    hits(&t, 2, M_B1, 50, 46);
+    hits(&t, 2, M_B2, 50, 44);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    ENSURE(evaluate(&t, &r) == 1);
+    int passed;
+    ENSURE(check_value(&t, "B1", "serviceability_share", &passed) == 46.0 / 50.0 && passed);
+    ENSURE(check_value(&t, "B2", "serviceability_share", &passed) == 44.0 / 50.0 && !passed);
+    /* level 2, usual: ultimate required; every energy is within MEL */
+    ENSURE(check_value(&t, "B1", "required_state", &passed) == 1.0 && passed);
+    ENSURE(check_value(&t, "B2", "required_state", &passed) == 1.0 && passed);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* Exactly 90 %: passes with ">=" (table3.yaml), fails with ">". */
+TEST(rules_exactly_90_percent)
+{
+    scene t;
+    scene_init(&t, RF_USUAL, NULL);
+    scene_begin(&t, tmp_db("ninety.db"));
+    hits(&t, 2, M_B1, 50, 45);
+    hits(&t, 1, M_B2, 200, 180);
+    scene_finish(&t);
+    rf_rules at_least, over;
+    load_rules(TABLE3, &at_least);
+    load_variant("comparison: \">=\"\n    threshold: 0.9", "comparison: \">\"\n    threshold: 0.9",
+                 &over);
+    int passed;
+    evaluate(&t, &at_least);
+    ENSURE(check_value(&t, "B1", "serviceability_share", &passed) == 0.9 && passed);
+    ENSURE(check_value(&t, "B2", "serviceability_share", &passed) == 0.9 && passed);
+    evaluate(&t, &over);
+    ENSURE(check_value(&t, "B1", "serviceability_share", &passed) == 0.9 && !passed);
+    ENSURE(check_value(&t, "B2", "serviceability_share", &passed) == 0.9 && !passed);
+    rf_rules_free(&at_least);
+    rf_rules_free(&over);
+    rf_store_close(t.s);
+}
+
+TEST(rules_overtopping_is_never_serviceable)
+{
+    scene t;
+    scene_init(&t, RF_USUAL, NULL);
+    scene_begin(&t, tmp_db("over.db"));
+    hits(&t, 2, M_B1, 9, 9);
+    hit(&t, 2, M_B1, 0.5, RF_OUT_OVERTOPPED); /* a tiny energy, over the top */
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    ENSURE(evaluate(&t, &r) == 1);
+    sqlite3 *db = rf_store_db(t.s);
+    ENSURE(query_real(db, "SELECT count(*) FROM classifications c JOIN interceptions i"
+                          " ON i.id = c.interception_id WHERE i.outcome = 'overtopped'"
+                          " AND c.limit_state = 'overtopped' AND c.ok = 0") == 1.0);
+    int passed;
+    /* 9 of 10: below 90 % only because the overtopping is not serviceable */
+    ENSURE(check_value(&t, "B1", "serviceability_share", &passed) == 0.9 && passed);
+    ENSURE(check_value(&t, "B1", "required_state", &passed) == 0.9 && !passed);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* Required states by level and importance, written per interception. */
+TEST(rules_required_state_per_interception)
+{
+    scene t;
+    scene_init(&t, RF_IMPORTANT, NULL);
+    scene_begin(&t, tmp_db("required.db"));
+    /* E1 (3000/6000/9000/12000 kJ), important: level 1 serviceability, 2 restorability,
+     * 3 ultimate */
+    hit(&t, 1, M_E1, 2500.0, RF_OUT_STOPPED);       /* serviceability, ok */
+    hit(&t, 1, M_E1, 3500.0, RF_OUT_STOPPED);       /* restorability, not ok */
+    hit(&t, 2, M_E1, 5500.0, RF_OUT_STOPPED);       /* restorability, ok */
+    hit(&t, 3, M_E1, 8500.0, RF_OUT_STOPPED);       /* ultimate, ok */
+    hit(&t, 3, M_E1, 11000.0, RF_OUT_STOPPED);      /* near collapse, not ok */
+    hit(&t, 3, M_E1, 15000.0, RF_OUT_BROKE_THROUGH); /* collapse, not ok */
+    hit(&t, 1, M_ROAD, 15000.0, RF_OUT_PASSED);     /* control lines are not classified */
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    evaluate(&t, &r);
+    sqlite3 *db = rf_store_db(t.s);
+    sqlite3_stmt *st;
+    ENSURE(sqlite3_prepare_v2(db,
+                              "SELECT c.action_level, c.importance, c.limit_state,"
+                              " c.required_state, c.ok FROM classifications c"
+                              " JOIN interceptions i ON i.id = c.interception_id"
+                              " ORDER BY i.id",
+                              -1, &st, NULL) == SQLITE_OK);
+    static const struct {
+        int level;
+        const char *state, *required;
+        int ok;
+    } want[] = {
+        {1, "serviceability", "serviceability", 1}, {1, "restorability", "serviceability", 0},
+        {2, "restorability", "restorability", 1},   {3, "ultimate", "ultimate", 1},
+        {3, "near_collapse", "ultimate", 0},        {3, "collapse", "ultimate", 0},
+    };
+    for (size_t i = 0; i < sizeof want / sizeof *want; i++) {
+        ENSURE(sqlite3_step(st) == SQLITE_ROW);
+        ENSURE(sqlite3_column_int(st, 0) == want[i].level);
+        ENSURE(!strcmp((const char *)sqlite3_column_text(st, 1), "important"));
+        ENSURE_MSG(!strcmp((const char *)sqlite3_column_text(st, 2), want[i].state), "%zu: %s",
+                   i, (const char *)sqlite3_column_text(st, 2));
+        ENSURE(!strcmp((const char *)sqlite3_column_text(st, 3), want[i].required));
+        ENSURE(sqlite3_column_int(st, 4) == want[i].ok);
+    }
+    ENSURE(sqlite3_step(st) == SQLITE_DONE); /* nothing for the road */
+    sqlite3_finalize(st);
+    int passed;
+    ENSURE(check_value(&t, "E1", "required_state", &passed) == 3.0 / 6.0 && !passed);
+    ENSURE(check_value(&t, "E1", "serviceability_share", &passed) == 1.0 / 6.0 && !passed);
+    ENSURE(query_real(db, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id"
+                          " WHERE m.kind = 'control'") == 0.0);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* The stored fraction is a plain count over classifications; re-evaluating replaces. */
+TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
+{
+    scene t;
+    scene_init(&t, RF_MOST_IMPORTANT, NULL);
+    scene_begin(&t, tmp_db("count.db"));
+    hits(&t, 1, M_B1, 37, 31);
+    hits(&t, 3, M_B1, 11, 10);
+    hit(&t, 2, M_B1, 25.0, RF_OUT_OVERTOPPED);
+    hits(&t, 2, M_E1, 23, 23);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    sqlite3 *db = rf_store_db(t.s);
+    for (int round = 0; round < 3; round++) {
+        evaluate(&t, &r);
+        ENSURE(query_real(db, "SELECT count(*) FROM classifications") == 37 + 11 + 1 + 23);
+        ENSURE(query_real(db, "SELECT count(*) FROM checks") == 2.0 * 4); /* B1 B2 E1 B3 */
+    }
+    int passed;
+    double stored = check_value(&t, "B1", "serviceability_share", &passed);
+    double counted = query_real(db,
+                                "SELECT (SELECT count(*) FROM classifications c JOIN interceptions"
+                                " i ON i.id = c.interception_id JOIN measures m ON m.id ="
+                                " i.measure_id WHERE m.name = 'B1' AND c.limit_state ="
+                                " 'serviceability') * 1.0 / (SELECT count(*) FROM"
+                                " interceptions i JOIN measures m ON m.id = i.measure_id"
+                                " WHERE m.name = 'B1')");
+    ENSURE(stored == counted && stored == 41.0 / 49.0 && !passed);
+    double meeting = check_value(&t, "B1", "required_state", &passed);
+    ENSURE(meeting == query_real(db, "SELECT avg(c.ok) FROM classifications c JOIN"
+                                     " interceptions i ON i.id = c.interception_id JOIN measures"
+                                     " m ON m.id = i.measure_id WHERE m.name = 'B1'"));
+    /* the views agree */
+    ENSURE(query_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
+                          " 'B1'") == stored);
+    ENSURE(query_real(db, "SELECT interceptions FROM measure_summary WHERE measure = 'B1'") ==
+           49.0);
+    ENSURE(query_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
+                          " limit_state = 'serviceability'") == stored);
+    ENSURE(query_real(db, "SELECT checks_failed FROM run_verdicts") == 2.0);
+    ENSURE(query_real(db, "SELECT verdict = 'fail' FROM run_verdicts") == 1.0);
+    ENSURE(query_real(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 2.0);
+    ENSURE(query_real(db, "SELECT count(*) FROM classified_interceptions WHERE measure = 'B1'"
+                          " AND ok = 0") == 8.0);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* A measure no rock reaches: its checks are recorded with value NULL and pass (the
+ * rule file's no_interceptions); with `no_interceptions: fail` they fail. */
+TEST(rules_measure_without_interceptions)
+{
+    scene t;
+    scene_init(&t, RF_IMPORTANT, NULL);
+    scene_begin(&t, tmp_db("empty.db"));
+    hits(&t, 1, M_B1, 10, 10);
+    scene_finish(&t);
+    rf_rules r, strict;
+    load_rules(TABLE3, &r);
+    load_variant("no_interceptions: pass", "no_interceptions: fail", &strict);
+    ENSURE(evaluate(&t, &r) == 0);
+    int passed;
+    ENSURE(isnan(check_value(&t, "B3", "serviceability_share", &passed)) && passed);
+    ENSURE(isnan(check_value(&t, "B3", "required_state", &passed)) && passed);
+    ENSURE(evaluate(&t, &strict) == 3 * 2); /* B2, E1, B3 */
+    ENSURE(isnan(check_value(&t, "B3", "required_state", &passed)) && !passed);
+    rf_rules_free(&r);
+    rf_rules_free(&strict);
+    rf_store_close(t.s);
+}
+
+/* SEL from the rule file when the project gives none; the project's sel otherwise. */
+TEST(rules_sel_default_lives_in_the_rule_file)
+{
+    static const char yaml[] = "name: constructed\n"
+                               "measures:\n"
+                               "  - {name: B1, kind: barrier, mel: 3000, height: 5}\n"
+                               "  - {name: B2, kind: barrier, mel: 3000, sel: 1000, height: 5}\n";
+    scene t;
+    scene_init(&t, RF_USUAL, yaml);
+    scene_begin(&t, tmp_db("sel.db"));
+    hit(&t, 2, M_B1, 1250.0, RF_OUT_STOPPED);
+    hit(&t, 2, M_B2, 1250.0, RF_OUT_STOPPED);
+    scene_finish(&t);
+    rf_rules half;
+    load_variant("{mel_divided_by: 3}", "{mel_divided_by: 2}", &half);
+    evaluate(&t, &half);
+    sqlite3 *db = rf_store_db(t.s);
+    const char *q = "SELECT c.limit_state = 'serviceability' FROM classifications c JOIN"
+                    " interceptions i ON i.id = c.interception_id JOIN measures m ON m.id ="
+                    " i.measure_id WHERE m.name = '%s'";
+    ENSURE(query_real(db, q, "B1") == 1.0); /* SEL = 3000 / 2 */
+    ENSURE(query_real(db, q, "B2") == 0.0); /* the project's sel = 1000 */
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    evaluate(&t, &r);
+    ENSURE(query_real(db, q, "B1") == 0.0); /* SEL = 3000 / 3 */
+    rf_rules_free(&half);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+TEST(rules_views_added_to_an_older_database)
+{
+    const char *path = tmp_db("old.db");
+    rf_store *s;
+    rf_error err = {{0}};
+    ENSURE(rf_store_open(path, &s, &err) == 0);
+    static const char *const views[] = {"classified_interceptions", "measure_summary",
+                                        "limit_state_shares", "check_results", "run_verdicts"};
+    for (int i = 0; i < 5; i++) {
+        char sql[128];
+        snprintf(sql, sizeof sql, "DROP VIEW %s", views[i]);
+        ENSURE_MSG(sqlite3_exec(rf_store_db(s), sql, NULL, NULL, NULL) == SQLITE_OK, "%s",
+                   views[i]);
+    }
+    ENSURE(query_real(rf_store_db(s), "SELECT count(*) FROM sqlite_master WHERE type = 'view'")
+           == 0.0);
+    rf_store_close(s);
+    ENSURE(rf_store_open(path, &s, &err) == 0);
+    ENSURE(query_real(rf_store_db(s), "SELECT count(*) FROM sqlite_master WHERE type = 'view'")
+           == 5.0);
+    rf_store_close(s);
+}
+
+TEST(rules_path_of_run)
+{
+    scene t;
+    scene_init(&t, RF_USUAL, "name: x\nrules: ../../rules/table3.yaml\n");
+    t.p.path = "projects/site/site.yaml";
+    scene_begin(&t, tmp_db("path.db"));
+    scene_finish(&t);
+    char *path = NULL;
+    rf_error err = {{0}};
+    ENSURE(rf_rules_path_of_run(rf_store_db(t.s), t.run, &path, &err) == 0);
+    ENSURE_MSG(!strcmp(path, "projects/site/../../rules/table3.yaml"), "%s", path);
+    free(path);
+    rf_store_close(t.s);
+
+    scene_init(&t, RF_USUAL, "name: x\n");
+    scene_begin(&t, tmp_db("path2.db"));
+    scene_finish(&t);
+    ENSURE(rf_rules_path_of_run(rf_store_db(t.s), t.run, &path, &err) != 0);
+    ENSURE(path == NULL && strstr(err.message, "--rules"));
+    rf_store_close(t.s);
+}
+
+/* ---- the command line -------------------------------------------------------------- */
+
+static int rockfall(const char *args, char *out, size_t cap)
+{
+    const char *bin = getenv("ROCKFALL_BIN");
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s %s 2>&1", bin ? bin : "build/rockfall", args);
+    FILE *f = popen(cmd, "r");
+    ENSURE(f != NULL);
+    size_t n = fread(out, 1, cap - 1, f);
+    out[n] = 0;
+    int st = pclose(f);
+    ENSURE_MSG(WIFEXITED(st), "'%s' did not exit normally", cmd);
+    return WEXITSTATUS(st);
+}
+
+/* The exit status of `rockfall check` agrees with the stored checks. */
+TEST(rules_cli_check_exit_status)
+{
+    scene t;
+    scene_init(&t, RF_USUAL, NULL);
+    char pass_db[600], fail_db[600], args[2048];
+    static char out[65536];
+    snprintf(pass_db, sizeof pass_db, "%s", tmp_db("pass.db"));
+    snprintf(fail_db, sizeof fail_db, "%s", tmp_db("fail.db"));
+    scene_begin(&t, pass_db);
+    hits(&t, 2, M_B1, 50, 48);
+    hits(&t, 2, M_E1, 20, 20);
+    scene_finish(&t);
+    rf_store_close(t.s);
+    scene_init(&t, RF_USUAL, NULL);
+    scene_begin(&t, fail_db);
+    hits(&t, 2, M_B1, 50, 48);
+    hits(&t, 2, M_B2, 50, 40);
+    scene_finish(&t);
+    rf_store_close(t.s);
+
+    snprintf(args, sizeof args, "check %s --rules " TABLE3, pass_db);
+    ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(strstr(out, "verdict: PASS"), "%s", out);
+    ENSURE(strstr(out, "E50") && strstr(out, "h95") && strstr(out, "serviceability 96.0 %"));
+    snprintf(args, sizeof args, "check %s --rules " TABLE3, fail_db);
+    ENSURE_MSG(rockfall(args, out, sizeof out) == 1, "%s", out);
+    ENSURE_MSG(strstr(out, "FAIL serviceability_share") && strstr(out, "0.8000 >= 0.9"), "%s",
+               out);
+    ENSURE(strstr(out, "verdict: FAIL (1 of 8 checks failed)"));
+    /* again: same verdict, same rows */
+    ENSURE(rockfall(args, out, sizeof out) == 1);
+    sqlite3 *db;
+    ENSURE(sqlite3_open(fail_db, &db) == SQLITE_OK);
+    ENSURE(query_real(db, "SELECT count(*) FROM checks") == 8.0);
+    ENSURE(query_real(db, "SELECT count(*) FROM checks WHERE passed = 0") == 1.0);
+    sqlite3_close(db);
+    /* no --rules and no rules in the project; a bad rule file: bad input */
+    snprintf(args, sizeof args, "check %s", pass_db);
+    ENSURE(rockfall(args, out, sizeof out) == 2);
+    ENSURE_MSG(strstr(out, "--rules"), "%s", out);
+    snprintf(args, sizeof args, "check %s --rules tests/bad_rules/threshold_above_one.yaml",
+             pass_db);
+    ENSURE(rockfall(args, out, sizeof out) == 2);
+    ENSURE_MSG(strstr(out, "threshold_above_one.yaml:24:16"), "%s", out);
+}
+
+/* A simulated scene: `rockfall run` of a project naming the rules, with one barrier
+ * whose MEL gives a serviceable share clearly above 0.9 and one clearly below. */
+TEST(rules_end_to_end_simulated_scene)
+{
+    char cwd[512], project[700], db[700], args[2048];
+    static char out[65536];
+    ENSURE(getcwd(cwd, sizeof cwd));
+    snprintf(project, sizeof project, "%s/scene.yaml", rf_test_tmpdir());
+    snprintf(db, sizeof db, "%s/scene.db", rf_test_tmpdir());
+    /* Both barriers are evaluation lines (collect) on the same line, tall enough that
+     * nothing overtops: their interceptions are the same, only the MELs differ. */
+    const char *fmt =
+        "name: scene\n"
+        "seed: 2385\n"
+        "terrain:\n"
+        "  profile: {points: [[0, 120], [60, 60], [100, 40], [160, 35]], width: 40}\n"
+        "  surface: {restitution: {mean: 0.3, sd: 0.1}, friction: {mean: 0.4, sd: 0.1}}\n"
+        "rocks:\n"
+        "  - {name: r, mass: 1500, action_level: 2}\n"
+        "releases:\n"
+        "  - {name: top, point: [5, 20], rock: r, count: 200, jitter: 5}\n"
+        "measures:\n"
+        "  - {name: high, kind: barrier, line: [[80, 0.5], [80, 39.5]], height: 50,"
+        " importance: usual, behaviour: collect, mel: %.6f}\n"
+        "  - {name: low, kind: barrier, line: [[80, 0.5], [80, 39.5]], height: 50,"
+        " importance: usual, behaviour: collect, mel: %.6f}\n"
+        "simulation: {paths: 0}\n"
+        "rules: %s/" TABLE3 "\n";
+    FILE *f = fopen(project, "w");
+    ENSURE(f);
+    fprintf(f, fmt, 1e7, 1e7, cwd);
+    fclose(f);
+    snprintf(args, sizeof args, "run %s -o %s -q", project, db);
+    ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s", out);
+
+    /* The energies at the line, to place the MELs. */
+    sqlite3 *h;
+    ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
+    double n = query_real(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id ="
+                             " i.measure_id WHERE m.name = 'high'");
+    ENSURE_MSG(n >= 100, "only %g rocks reached the line", n);
+    const char *pct = "SELECT energy_kj FROM interceptions i JOIN measures m ON m.id ="
+                      " i.measure_id WHERE m.name = 'high' ORDER BY energy_kj LIMIT 1"
+                      " OFFSET %d";
+    double e97 = query_real(h, pct, (int)(0.97 * n));
+    double e75 = query_real(h, pct, (int)(0.75 * n));
+    double emax = query_real(h, "SELECT max(energy_kj) FROM interceptions");
+    sqlite3_close(h);
+    ENSURE(e75 > 0 && e97 > e75);
+    double mel_high = 3.0 * e97 > 1.01 * emax ? 3.0 * e97 : 1.01 * emax;
+    double mel_low = 3.0 * e75;
+
+    f = fopen(project, "w");
+    ENSURE(f);
+    fprintf(f, fmt, mel_high, mel_low, cwd);
+    fclose(f);
+    snprintf(args, sizeof args, "run %s -o %s", project, db);
+    ENSURE_MSG(rockfall(args, out, sizeof out) == 1, "%s", out);
+    ENSURE_MSG(strstr(out, "verdict: FAIL"), "%s", out);
+
+    ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
+    const char *share = "SELECT k.value FROM checks k JOIN measures m ON m.id = k.measure_id"
+                        " WHERE k.run_id = 2 AND m.name = '%s' AND k.rule ="
+                        " 'serviceability_share'";
+    const char *count = "SELECT avg(c.limit_state = 'serviceability') FROM classifications c"
+                        " JOIN interceptions i ON i.id = c.interception_id JOIN measures m"
+                        " ON m.id = i.measure_id WHERE i.run_id = 2 AND m.name = '%s'";
+    double high = query_real(h, share, "high"), low = query_real(h, share, "low");
+    ENSURE_MSG(high > 0.95 && low < 0.8, "high %g, low %g", high, low);
+    ENSURE(high == query_real(h, count, "high") && low == query_real(h, count, "low"));
+    const char *verdict = "SELECT k.passed FROM checks k JOIN measures m ON m.id = k.measure_id"
+                          " WHERE k.run_id = 2 AND m.name = '%s' AND k.rule = '%s'";
+    ENSURE(query_real(h, verdict, "high", "serviceability_share") == 1.0);
+    ENSURE(query_real(h, verdict, "high", "required_state") == 1.0);
+    ENSURE(query_real(h, verdict, "low", "serviceability_share") == 0.0);
+    sqlite3_close(h);
+
+    /* check agrees: by default with the project's rules, and for the first run */
+    snprintf(args, sizeof args, "check %s", db);
+    ENSURE_MSG(rockfall(args, out, sizeof out) == 1, "%s", out);
+    snprintf(args, sizeof args, "check %s --run 1", db);
+    ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s", out);
+}
