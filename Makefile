@@ -1,10 +1,11 @@
 # rockfall - design checks for rockfall protection measures.
 #
 #   make            build build/rockfall
-#   make demo       build and run the example project, then check it
+#   make demo       build and run the example project (projects/noto)
 #   make test       build and run the tests (ends with "N passed, N failed")
 #   make test SANITIZE=1   the same under AddressSanitizer and UBSan
 #   make bench      speed against error of the motion engines
+#   make report-check   the demo report rendered by headless chromium (a PNG to look at)
 #   make install    PREFIX=/usr/local
 
 # ---- settings ---------------------------------------------------------------
@@ -14,10 +15,10 @@ PKGS     := sqlite3 gsl yaml-0.1
 OPT      ?= -O2
 WARN     := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
             -Wno-missing-field-initializers -Werror
-CFLAGS   += -std=c11 -D_POSIX_C_SOURCE=200809L -g $(OPT) $(WARN) -ffp-contract=off \
+CFLAGS   += -std=c11 -D_DEFAULT_SOURCE -D_POSIX_C_SOURCE=200809L -g $(OPT) $(WARN) -ffp-contract=off \
             -Iinclude -Isrc $(shell pkg-config --cflags $(PKGS))
 LDLIBS   += $(shell pkg-config --libs $(PKGS)) -lm -lpthread
-BUILD    := build
+BUILD    ?= build
 ifeq ($(SANITIZE),1)
 BUILD    := build/san
 CFLAGS   += -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
@@ -32,7 +33,7 @@ TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.o)
 TOOL_SRC := $(wildcard tools/*.c)
 TOOLS    := $(TOOL_SRC:tools/%.c=$(BUILD)/tools/%)
 
-.PHONY: all demo test bench install clean deps
+.PHONY: all demo test bench install clean deps report-check
 all: $(BUILD)/rockfall $(TOOLS)
 
 $(BUILD)/src/%.o: src/%.c
@@ -52,21 +53,50 @@ $(BUILD)/rockfall: $(BUILD)/src/main.o $(BUILD)/librockfall.a
 $(BUILD)/run_tests: $(TEST_OBJ) $(BUILD)/librockfall.a
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
-# Dependencies the quick start installs on Debian when they are missing.
+# Debian packages the build needs, installed when they are missing.
+DEBS := libsqlite3-dev libgsl-dev libyaml-dev pkg-config
+SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 deps:
 	@pkg-config --exists $(PKGS) 2>/dev/null || { \
-	  echo "installing libsqlite3-dev libgsl-dev libyaml-dev pkg-config"; \
-	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
-	  apt-get install -y -qq libsqlite3-dev libgsl-dev libyaml-dev pkg-config; }
+	  echo "installing $(DEBS)"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+	  $(SUDO) apt-get install -y -qq $(DEBS); }
 
-demo: all
-	$(BUILD)/rockfall run projects/demo/demo.yaml -o demo.db
+# demo and test install the dependencies first, then build in a fresh make (so that
+# pkg-config is asked again once the packages are there).
+demo:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory all
+	rm -f noto.db noto.db-wal noto.db-shm
+	$(BUILD)/rockfall run projects/noto/noto.yaml -o noto.db
 
-test: $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
+test:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
 	ROCKFALL_BIN=$(BUILD)/rockfall ROCKFALL_TOOLS=$(BUILD)/tools $(BUILD)/run_tests $(T)
 
-bench: all
-	$(BUILD)/tools/bench
+bench:
+	@$(MAKE) --no-print-directory OPT="-O3 -march=native" BUILD=build/bench build/bench/tools/bench
+	build/bench/tools/bench
+
+# The report in a real browser: the demo run's report rendered by Debian's headless
+# chromium (installed when missing) to $(BUILD)/report/screenshot.png.  Look at it.
+CHROMIUM_FLAGS := --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
+                  --disable-background-networking --disable-component-update --disable-sync \
+                  --window-size=1200,3000
+report-check:
+	@$(MAKE) --no-print-directory demo
+	@[ -x /usr/bin/chromium ] || { echo "installing chromium"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+	  $(SUDO) apt-get install -y -qq chromium; }
+	rm -rf $(BUILD)/report
+	$(BUILD)/rockfall report noto.db --out $(BUILD)/report
+	profile=$$(mktemp -d); \
+	timeout 300 chromium $(CHROMIUM_FLAGS) --user-data-dir=$$profile \
+	  --screenshot=$(BUILD)/report/screenshot.png file://$(CURDIR)/$(BUILD)/report/index.html; \
+	status=$$?; rm -rf $$profile; exit $$status
+	@test -s $(BUILD)/report/screenshot.png
+	@echo "report: $(BUILD)/report/index.html, screenshot: $(BUILD)/report/screenshot.png"
 
 install: $(BUILD)/rockfall
 	install -d $(DESTDIR)$(PREFIX)/bin

@@ -622,14 +622,19 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
         size_t before = l.n;
         if (rf_mesh_read(path, spec->up, &l, err))
             goto fail;
+        /* The file's zone: named and surfaced by its zone entry, else by the file. */
         rf_surface surface = spec->surface;
+        size_t len;
+        const char *name = base_name(path, &len);
         for (size_t z = 0; z < spec->nzones; z++)
             if (spec->zones[z].file && strcmp(spec->zones[z].file, path) == 0) {
                 surface = spec->zones[z].surface;
+                if (spec->zones[z].name) {
+                    name = spec->zones[z].name;
+                    len = strlen(name);
+                }
                 break;
             }
-        size_t len;
-        const char *name = base_name(path, &len);
         int32_t zone = (int32_t)t->nzones;
         if (add_zone(t, name, len, surface)) {
             rf_error_set(err, path, 0, 0, "out of memory");

@@ -787,8 +787,10 @@ TEST(terrain_authume_mesh)
     build_ok(&spec, &t);
     ENSURE(t.nzones == 4);
     ENSURE(strcmp(t.zones[0].name, "default") == 0);
-    for (int i = 0; i < 3; i++)
-        ENSURE(strcmp(t.zones[i + 1].name, names[i]) == 0);
+    /* a file's zone takes the name of its zone entry, else the file's */
+    ENSURE(strcmp(t.zones[1].name, names[0]) == 0);
+    ENSURE(strcmp(t.zones[2].name, "gray") == 0);
+    ENSURE(strcmp(t.zones[3].name, names[2]) == 0);
     ENSURE(t.zones[2].surface.friction.mean == SURF_OTHER.friction.mean);
     ENSURE(t.zones[3].surface.friction.mean == SURF_DEFAULT.friction.mean);
     ENSURE_MSG(t.ntri == 9001, "%zu triangles", t.ntri);

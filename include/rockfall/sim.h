@@ -3,7 +3,8 @@
  * rf_simulate moves one rock from its start until it rests, leaves the terrain, is
  * stopped or runs out of time.  The exact engine is event driven: flight is an exact
  * parabola whose next contact is found by root finding; impacts follow Eq. 8;
- * rolling and sliding are integrated per face in closed form.  The fixed-step engine
+ * rolling and sliding are moved per face in closed form, or integrated under error
+ * control where the friction direction turns (docs/engine.md).  The fixed-step engine
  * integrates the same model with a time step dt (the paper's successive integration)
  * as the baseline for speed against error.  Everything random is drawn from the
  * caller's GSL stream, so a trajectory depends on its stream alone. */
@@ -54,6 +55,10 @@ typedef struct rf_sink {
     double sample_spacing;
     void (*interception)(void *ctx, const rf_interception_record *r);
     void (*tree_hit)(void *ctx, const rf_tree_hit_record *r);
+    /* At every impact on the terrain: time, total kinetic energy before and after (kJ)
+     * and the normal approach speed (m/s).  For checks and diagnostics. */
+    void (*impact)(void *ctx, double t_s, double energy_before_kj, double energy_after_kj,
+                   double approach_ms);
 } rf_sink;
 
 /* Per-thread scratch reused across trajectories (no allocation in the inner loop). */

@@ -1,0 +1,47 @@
+/* montecarlo.h - Monte Carlo runs over a project's releases, into the results database.
+ *
+ * Trajectory k of release i draws only from its own GSL stream seeded from
+ * (project seed, i, k), and rows are written in (release, index) order whatever the
+ * number of threads: the same project and seed give the same database contents. */
+#ifndef ROCKFALL_MONTECARLO_H
+#define ROCKFALL_MONTECARLO_H
+
+#include <stdint.h>
+
+#include <gsl/gsl_rng.h>
+
+#include "rockfall/error.h"
+#include "rockfall/project.h"
+#include "rockfall/sim.h"
+
+struct rf_store;
+
+typedef struct rf_run_options {
+    int threads;  /* worker threads, >= 1 */
+    int progress; /* print progress to stderr */
+} rf_run_options;
+
+typedef struct rf_run_summary {
+    int64_t run_id;
+    long n_trajectories;
+    long by_reason[4]; /* indexed by rf_stop_reason */
+    double seconds;    /* wall-clock time of the simulation and writing */
+} rf_run_summary;
+
+/* Runs every release of the project and writes one complete run into the store (its
+ * row is 'failed' when anything goes wrong after it was begun). */
+int rf_montecarlo_run(const rf_project *p, struct rf_store *s, const rf_run_options *o,
+                      rf_run_summary *sum, rf_error *err);
+
+/* Seed of trajectory `idx` of release `release` (a 64-bit mix of the three). */
+unsigned long rf_trajectory_seed(uint64_t project_seed, size_t release, long idx);
+/* The generator every trajectory uses. */
+const gsl_rng_type *rf_rng_type(void);
+/* The rock body of a release under the project's simulation model. */
+rf_body rf_release_body(const rf_project *p, size_t release);
+/* Start state of one trajectory of a release: the release point moved by the random
+ * horizontal jitter (uniform in a disc), the rock resting on the ground along the
+ * surface normal, raised by the release height, with the release velocity. */
+rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b, gsl_rng *rng);
+
+#endif

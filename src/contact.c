@@ -1,0 +1,789 @@
+/* contact.c - the earliest contact of the rock with the terrain along an arc.
+ *
+ * The centre moves on p(t) = p + v t + a t^2 / 2.  Against a face plane the signed
+ * distance minus the contact radius is a quadratic in t; against an edge line or a
+ * vertex the squared distance minus rho^2 is a quartic.  The triangles near the path
+ * are gathered piece by piece along it (the candidate set stays small however long
+ * the arc), culled by height and by the time window in which the face plane is within
+ * reach, and the earliest entering root over all of them wins.  No stepping: a contact
+ * is found whatever the speed. */
+#include "motion_private.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+static inline double dmin(double a, double b) { return a < b ? a : b; }
+static inline double dmax(double a, double b) { return a > b ? a : b; }
+
+/* Grid terrains: the cells the box touches, both triangles of each (a few more than
+ * the box holds, none missing), by index arithmetic on the documented layout. */
+static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
+{
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
+    double ncx = (double)(t->nx - 1), ncy = (double)(t->ny - 1);
+    double fi0 = floor((xmin - t->x0) / t->cell), fi1 = floor((xmax - t->x0) / t->cell);
+    double fj0 = floor((ymin - t->y0) / t->cell), fj1 = floor((ymax - t->y0) / t->cell);
+    if (!(fi1 >= 0 && fj1 >= 0 && fi0 <= ncx - 1 && fj0 <= ncy - 1))
+        return 0;
+    size_t i0 = fi0 < 0 ? 0 : (size_t)fi0, j0 = fj0 < 0 ? 0 : (size_t)fj0;
+    size_t i1 = fi1 > ncx - 1 ? (size_t)ncx - 1 : (size_t)fi1;
+    size_t j1 = fj1 > ncy - 1 ? (size_t)ncy - 1 : (size_t)fj1;
+    size_t need = 2 * (i1 - i0 + 1) * (j1 - j0 + 1);
+    if (need > ws->cap) {
+        size_t cap = ws->cap;
+        while (cap < need)
+            cap *= 2;
+        int32_t *c = realloc(ws->cand, cap * sizeof *c);
+        if (!c)
+            return 0;
+        ws->cand = c;
+        ws->cap = cap;
+    }
+    size_t n = 0, row = t->nx - 1;
+    for (size_t j = j0; j <= j1; j++) {
+        const int32_t *g = t->grid_tri + 2 * (j * row + i0);
+        for (size_t i = i0; i <= i1; i++, g += 2) {
+            if (g[0] >= 0)
+                ws->cand[n++] = g[0];
+            if (g[1] >= 0)
+                ws->cand[n++] = g[1];
+        }
+    }
+    return n;
+}
+
+size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
+{
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
+    if (t->is_grid)
+        return gather_grid(m, xmin, ymin, xmax, ymax);
+    for (;;) {
+        size_t n = rf_terrain_query_box(t, xmin, ymin, xmax, ymax, ws->cand, ws->cap,
+                                        ws->stamp, &ws->epoch);
+        if (n <= ws->cap)
+            return n;
+        /* Rare: a box larger than any before; grow once and query again. */
+        size_t cap = ws->cap;
+        while (cap < n)
+            cap *= 2;
+        int32_t *c = realloc(ws->cand, cap * sizeof *c);
+        if (!c)
+            return ws->cap;
+        ws->cand = c;
+        ws->cap = cap;
+    }
+}
+
+/* ---- triangle helpers ---------------------------------------------------------------- */
+
+static inline rf_vec3 tri_vertex(const rf_triangle *T, int i)
+{
+    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
+}
+
+static inline int same_point(rf_vec3 a, rf_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* 1 when vertex v is a vertex of one of the support triangles. */
+static int excluded_vertex(const rf_terrain *t, const rf_support *ex, rf_vec3 v)
+{
+    if (!ex)
+        return 0;
+    for (int k = 0; k < ex->n; k++) {
+        const rf_triangle *S = &t->tri[ex->tri[k]];
+        if (same_point(v, S->a) || same_point(v, S->b) || same_point(v, S->c))
+            return 1;
+    }
+    return 0;
+}
+
+static int excluded_tri(const rf_support *ex, int32_t idx)
+{
+    if (!ex)
+        return 0;
+    for (int k = 0; k < ex->n; k++)
+        if (ex->tri[k] == idx)
+            return 1;
+    return 0;
+}
+
+/* Signed in-plane distance of q (on the plane) inside the triangle's edges: >= 0 on
+ * the inner side of all three; returns the smallest of the three. */
+static double inside_margin(const rf_triangle *T, rf_vec3 q)
+{
+    rf_vec3 ab = rf_v3_sub(T->b, T->a), bc = rf_v3_sub(T->c, T->b), ca = rf_v3_sub(T->a, T->c);
+    double orient = rf_v3_dot(rf_v3_cross(ab, rf_v3_scale(ca, -1.0)), T->n) >= 0 ? 1.0 : -1.0;
+    double s0 = orient * rf_v3_dot(rf_v3_cross(ab, rf_v3_sub(q, T->a)), T->n) / rf_v3_norm(ab);
+    double s1 = orient * rf_v3_dot(rf_v3_cross(bc, rf_v3_sub(q, T->b)), T->n) / rf_v3_norm(bc);
+    double s2 = orient * rf_v3_dot(rf_v3_cross(ca, rf_v3_sub(q, T->c)), T->n) / rf_v3_norm(ca);
+    return dmin(s0, dmin(s1, s2));
+}
+
+/* Bounding box of the arc over [t0, t1] (componentwise extremes). */
+static void arc_box(const rf_arc *arc, double t0, double t1, rf_vec3 *lo, rf_vec3 *hi)
+{
+    rf_vec3 a = rf_arc_pos(arc, t0), b = rf_arc_pos(arc, t1);
+    double l[3] = {dmin(a.x, b.x), dmin(a.y, b.y), dmin(a.z, b.z)};
+    double h[3] = {dmax(a.x, b.x), dmax(a.y, b.y), dmax(a.z, b.z)};
+    double p[3] = {arc->p.x, arc->p.y, arc->p.z};
+    double v[3] = {arc->v.x, arc->v.y, arc->v.z};
+    double ac[3] = {arc->a.x, arc->a.y, arc->a.z};
+    for (int k = 0; k < 3; k++) {
+        if (ac[k] != 0.0) {
+            double tv = -v[k] / ac[k];
+            if (tv > t0 && tv < t1) {
+                double x = p[k] + v[k] * tv + 0.5 * ac[k] * tv * tv;
+                l[k] = dmin(l[k], x);
+                h[k] = dmax(h[k], x);
+            }
+        }
+    }
+    *lo = rf_v3(l[0], l[1], l[2]);
+    *hi = rf_v3(h[0], h[1], h[2]);
+}
+
+static double box_point_dist2(rf_vec3 lo, rf_vec3 hi, rf_vec3 q)
+{
+    double dx = dmax(0.0, dmax(lo.x - q.x, q.x - hi.x));
+    double dy = dmax(0.0, dmax(lo.y - q.y, q.y - hi.y));
+    double dz = dmax(0.0, dmax(lo.z - q.z, q.z - hi.z));
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* 1 when point v is on or below one of the support faces' planes. */
+static int below_support(const rf_motion *m, rf_vec3 v)
+{
+    for (int k = 0; k < m->sup.n && k < 2; k++) {
+        const rf_triangle *S = &m->terrain->tri[m->sup.tri[k]];
+        if (rf_v3_dot(S->n, v) - S->d <= m->tol_len)
+            return 1;
+    }
+    return 0;
+}
+
+static double box_box_dist2(rf_vec3 alo, rf_vec3 ahi, rf_vec3 blo, rf_vec3 bhi)
+{
+    double dx = dmax(0.0, dmax(alo.x - bhi.x, blo.x - ahi.x));
+    double dy = dmax(0.0, dmax(alo.y - bhi.y, blo.y - ahi.y));
+    double dz = dmax(0.0, dmax(alo.z - bhi.z, blo.z - ahi.z));
+    return dx * dx + dy * dy + dz * dz;
+}
+
+/* ---- one triangle ------------------------------------------------------------------- */
+
+typedef struct search {
+    rf_motion *m;
+    const rf_arc *arc;
+    const rf_support *ex;
+    int planar;       /* the arc lies on the support planes (a surface segment) */
+    double best;      /* earliest contact so far (exclusive bound) */
+    int found;
+    rf_contact *c;
+} search;
+
+static void take(search *s, double t, int32_t idx, rf_feature kind, int index, rf_vec3 point)
+{
+    s->best = t;
+    s->found = 1;
+    s->c->t = t;
+    s->c->tri = idx;
+    s->c->kind = kind;
+    s->c->index = index;
+    s->c->point = point;
+}
+
+/* 1 when |W + V t + H t^2| stays above reach over [w0, w1]: a lower bound from the
+ * exact expansion about the window's middle. */
+static int stays_beyond(rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1, double reach)
+{
+    double tm = 0.5 * (w0 + w1), d = 0.5 * (w1 - w0);
+    rf_vec3 X = rf_v3_add(W, rf_v3_add(rf_v3_scale(V, tm), rf_v3_scale(H, tm * tm)));
+    rf_vec3 D = rf_v3_madd(V, 2.0 * tm, H);
+    return rf_v3_norm(X) - rf_v3_norm(D) * d - rf_v3_norm(H) * d * d > reach;
+}
+
+/* Edge from va to vb against the centre over [w0, w1]. */
+static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, double w0,
+                      double w1, rf_vec3 blo, rf_vec3 bhi)
+{
+    double rho = s->m->rho;
+    double reach = rho + s->m->tol_len;
+    rf_vec3 elo = rf_v3(dmin(va.x, vb.x), dmin(va.y, vb.y), dmin(va.z, vb.z));
+    rf_vec3 ehi = rf_v3(dmax(va.x, vb.x), dmax(va.y, vb.y), dmax(va.z, vb.z));
+    if (box_box_dist2(blo, bhi, elo, ehi) > reach * reach)
+        return;
+    rf_vec3 e = rf_v3_sub(vb, va);
+    double len = rf_v3_norm(e);
+    e = rf_v3_scale(e, 1.0 / len);
+    const rf_arc *arc = s->arc;
+    rf_vec3 w0v = rf_v3_sub(arc->p, va), v = arc->v, h = rf_v3_scale(arc->a, 0.5);
+    /* components perpendicular to the edge */
+    rf_vec3 W = rf_v3_madd(w0v, -rf_v3_dot(w0v, e), e);
+    rf_vec3 V = rf_v3_madd(v, -rf_v3_dot(v, e), e);
+    rf_vec3 H = rf_v3_madd(h, -rf_v3_dot(h, e), e);
+    if (stays_beyond(W, V, H, w0, w1, reach))
+        return;
+    double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
+                   rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
+    double roots[3];
+    int n = rf_poly_entries(c, 4, w0, w1, 2 * rho * s->m->tol_len, 2 * rho * RF_APPROACH_EPS,
+                            roots);
+    for (int k = 0; k < n; k++) {
+        double t = roots[k];
+        if (t >= s->best)
+            return;
+        rf_vec3 w = rf_v3_sub(rf_arc_pos(arc, t), va);
+        double sp = rf_v3_dot(w, e);
+        if (sp >= 0.0 && sp <= len) {
+            take(s, t, idx, RF_FEAT_EDGE, ei, rf_v3_madd(va, sp, e));
+            return;
+        }
+    }
+}
+
+static void test_vertex(search *s, int32_t idx, int vi, rf_vec3 q, double w0, double w1,
+                        rf_vec3 blo, rf_vec3 bhi)
+{
+    double rho = s->m->rho;
+    double reach = rho + s->m->tol_len;
+    if (box_point_dist2(blo, bhi, q) > reach * reach)
+        return;
+    const rf_arc *arc = s->arc;
+    rf_vec3 W = rf_v3_sub(arc->p, q), V = arc->v, H = rf_v3_scale(arc->a, 0.5);
+    if (stays_beyond(W, V, H, w0, w1, reach))
+        return;
+    double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
+                   rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
+    double roots[3];
+    int n = rf_poly_entries(c, 4, w0, w1, 2 * rho * s->m->tol_len, 2 * rho * RF_APPROACH_EPS,
+                            roots);
+    if (n > 0 && roots[0] < s->best)
+        take(s, roots[0], idx, RF_FEAT_VERTEX, vi, q);
+}
+
+/* Entering root of the face plane f(t) = n.p(t) - d - rho on [t0, t1] (closed form):
+ * the first root where f falls through 0 after being above tol, a start touching and
+ * approaching, or a start touching tangentially while curving into the plane. */
+static int face_entry(const double f[3], double t0, double t1, double tol, double *t)
+{
+    double f0 = f[0] + t0 * (f[1] + t0 * f[2]);
+    double f1 = f[0] + t1 * (f[1] + t1 * f[2]);
+    if (f0 > tol && f1 > 0.0) {
+        /* clear of the plane at both ends: a root needs a minimum inside */
+        double tv = f[2] > 0.0 ? -f[1] / (2.0 * f[2]) : t0;
+        if (!(tv > t0 && tv < t1 && f[0] + tv * (f[1] + tv * f[2]) <= 0.0))
+            return 0;
+    }
+    double d0 = f[1] + 2.0 * f[2] * t0;
+    if (f0 <= tol && f0 >= -RF_TOUCH_BAND * tol) {
+        if (d0 < -RF_APPROACH_EPS || (fabs(f0) <= tol && d0 <= RF_APPROACH_EPS && f[2] < -1e-9)) {
+            *t = t0;
+            return 1;
+        }
+    }
+    double r[2];
+    int n = rf_quadratic_roots(f[2], f[1], f[0], r);
+    for (int k = 0; k < n; k++) {
+        double x = r[k];
+        if (!(x > t0 && x <= t1))
+            continue;
+        if (!(f[1] + 2.0 * f[2] * x < -RF_APPROACH_EPS))
+            continue;
+        if (f0 <= tol) {
+            /* it must have risen clear of the plane before */
+            double tv = f[2] != 0.0 ? -f[1] / (2.0 * f[2]) : t0;
+            if (!(tv > t0 && tv < x && f[0] + tv * (f[1] + tv * f[2]) > tol))
+                continue;
+        }
+        *t = x;
+        return 1;
+    }
+    return 0;
+}
+
+/* Centre mode (Eq. 6-7): contact while the centre is over the triangle and within rho
+ * of its plane.  The centre's horizontal path is taken as straight (flight). */
+static void test_centre(search *s, int32_t idx, double t0, double t1)
+{
+    const rf_triangle *T = &s->m->terrain->tri[idx];
+    const rf_arc *arc = s->arc;
+    double lo = t0, hi = t1;
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
+    if (orient == 0.0)
+        return;
+    double sg = orient > 0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 A = P[k], B = P[(k + 1) % 3];
+        double ex = B.x - A.x, ey = B.y - A.y;
+        double el = hypot(ex, ey);
+        /* inward distance of the centre: alpha + beta t */
+        double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
+        double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
+        double tol = s->m->tol_len;
+        if (!(el > 0))
+            return;
+        if (beta > 0) {
+            lo = dmax(lo, (-tol - alpha) / beta);
+        } else if (beta < 0) {
+            hi = dmin(hi, (-tol - alpha) / beta);
+        } else if (alpha < -tol) {
+            return;
+        }
+    }
+    if (!(lo <= hi))
+        return;
+    double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->rho, rf_v3_dot(T->n, arc->v),
+                   0.5 * rf_v3_dot(T->n, arc->a)};
+    double f_lo = f[0] + lo * (f[1] + lo * f[2]);
+    double d_lo = f[1] + 2.0 * f[2] * lo;
+    double tol = s->m->tol_len;
+    double t;
+    if (lo > t0 && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) {
+        t = lo; /* the centre moves over a face already within reach of its plane */
+    } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {
+        return;
+    }
+    if (t < s->best) {
+        rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t), -(f[0] + t * (f[1] + t * f[2])) - s->m->rho, T->n);
+        take(s, t, idx, RF_FEAT_FACE, 0, q);
+    }
+}
+
+/* Face of triangle idx over [t0, t1].  Returns 1 when its edges and vertices must be
+ * tested too, from *w0 on. */
+static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
+{
+    rf_motion *m = s->m;
+    const rf_triangle *T = &m->terrain->tri[idx];
+    const rf_arc *arc = s->arc;
+    double rho = m->rho, tol = m->tol_len;
+    if (t1 > s->best)
+        t1 = s->best;
+    if (!(t1 >= t0))
+        return 0;
+    if (m->centre) {
+        test_centre(s, idx, t0, t1);
+        return 0;
+    }
+    double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - rho, rf_v3_dot(T->n, arc->v),
+                   0.5 * rf_v3_dot(T->n, arc->a)};
+    double f0 = f[0] + t0 * (f[1] + t0 * f[2]);
+    double t_face;
+    int has = face_entry(f, t0, t1, tol, &t_face);
+    if (has) {
+        rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t_face), -rho, T->n);
+        double tol_in = rho > 0 ? 0.0 : tol;
+        if (inside_margin(T, q) >= -tol_in) {
+            if (t_face < s->best)
+                take(s, t_face, idx, RF_FEAT_FACE, 0, q);
+            if (f0 > tol)
+                return 0; /* nothing of this triangle is met before its plane */
+        }
+    }
+    if (rho <= 0.0)
+        return 0;
+    /* edges and vertices: only once the plane is within reach */
+    *w0 = t0;
+    if (f0 > tol) {
+        if (!has)
+            return 0;
+        *w0 = t_face;
+    }
+    return 1;
+}
+
+static void test_edges(search *s, int32_t idx, double w0, double t1)
+{
+    rf_motion *m = s->m;
+    const rf_triangle *T = &m->terrain->tri[idx];
+    double w1 = t1 < s->best ? t1 : s->best;
+    if (!(w1 >= w0))
+        return;
+    rf_vec3 blo, bhi;
+    arc_box(s->arc, w0, w1, &blo, &bhi);
+    rf_vec3 tlo = rf_v3(dmin(T->a.x, dmin(T->b.x, T->c.x)), dmin(T->a.y, dmin(T->b.y, T->c.y)),
+                        dmin(T->a.z, dmin(T->b.z, T->c.z)));
+    rf_vec3 thi = rf_v3(dmax(T->a.x, dmax(T->b.x, T->c.x)), dmax(T->a.y, dmax(T->b.y, T->c.y)),
+                        dmax(T->a.z, dmax(T->b.z, T->c.z)));
+    double reach = m->rho + m->tol_len;
+    if (box_box_dist2(blo, bhi, tlo, thi) > reach * reach)
+        return;
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 va = tri_vertex(T, k), vb = tri_vertex(T, (k + 1) % 3);
+        int xa = excluded_vertex(m->terrain, s->ex, va), xb = excluded_vertex(m->terrain, s->ex, vb);
+        if (s->planar) {
+            /* on or below a support plane: never reached by a centre r above it */
+            xa = xa || below_support(m, va);
+            xb = xb || below_support(m, vb);
+        }
+        if (!(xa && xb))
+            test_edge(s, idx, k, va, vb, w0, w1 < s->best ? w1 : s->best, blo, bhi);
+        if (!xa)
+            test_vertex(s, idx, k, va, w0, w1 < s->best ? w1 : s->best, blo, bhi);
+    }
+}
+
+static int coplanar_with_support(const rf_terrain *t, const rf_support *ex, const rf_triangle *T,
+                                 double tol)
+{
+    if (!ex)
+        return 0;
+    for (int k = 0; k < ex->n; k++) {
+        const rf_triangle *S = &t->tri[ex->tri[k]];
+        if (rf_v3_norm(rf_v3_sub(S->n, T->n)) <= RF_COPLANAR_EPS && fabs(S->d - T->d) <= tol)
+            return 1;
+    }
+    return 0;
+}
+
+/* Tests candidates over [ta, tb]: faces first, then the edges and vertices of the
+ * triangles whose planes are reached before the earliest contact found. */
+static void test_candidates(search *s, const int32_t *cand, size_t n, double ta, double tb,
+                            rf_vec3 lo, rf_vec3 hi)
+{
+    rf_motion *m = s->m;
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
+    const rf_support *ex = s->ex;
+    double reach = m->rho + 4 * m->tol_len;
+    if (ws->pend_cap < n) {
+        size_t cap = ws->pend_cap ? ws->pend_cap : 64;
+        while (cap < n)
+            cap *= 2;
+        int32_t *pi = realloc(ws->pend_idx, cap * sizeof *pi);
+        if (pi)
+            ws->pend_idx = pi;
+        double *pw = realloc(ws->pend_w0, cap * sizeof *pw);
+        if (pw)
+            ws->pend_w0 = pw;
+        if (pi && pw)
+            ws->pend_cap = cap;
+    }
+    size_t npend = 0;
+    for (size_t k = 0; k < n; k++) {
+        int32_t idx = cand[k];
+        const rf_triangle *Tr = &t->tri[idx];
+        if (excluded_tri(ex, idx))
+            continue;
+        double zlo = dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z));
+        double zhi = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
+        if (zhi < lo.z - reach || zlo > hi.z + reach)
+            continue;
+        double w0;
+        if (test_face(s, idx, ta, tb, &w0)) {
+            if (npend < ws->pend_cap) {
+                ws->pend_idx[npend] = idx;
+                ws->pend_w0[npend] = w0;
+                npend++;
+            } else {
+                test_edges(s, idx, w0, tb);
+            }
+        }
+    }
+    for (size_t k = 0; k < npend; k++)
+        if (ws->pend_w0[k] < s->best)
+            test_edges(s, ws->pend_idx[k], ws->pend_w0[k], tb);
+}
+
+/* Contact normal at the contact time. */
+static void finish(const rf_motion *m, const rf_arc *arc, rf_contact *c)
+{
+    rf_vec3 p = rf_arc_pos(arc, c->t);
+    if (c->kind == RF_FEAT_FACE) {
+        c->n = m->terrain->tri[c->tri].n;
+    } else {
+        rf_vec3 d = rf_v3_sub(p, c->point);
+        double dl = rf_v3_norm(d);
+        c->n = dl > 0 ? rf_v3_scale(d, 1.0 / dl) : m->terrain->tri[c->tri].n;
+    }
+}
+
+int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
+                      rf_contact *c)
+{
+    const rf_terrain *t = m->terrain;
+    search s = {m, arc, ex, 0, INFINITY, 0, c};
+    if (!(T >= 0))
+        return 0;
+    double reach = m->rho + 4 * m->tol_len;
+    /* pieces of about a few cells of horizontal travel */
+    double cell = t->is_grid ? t->cell : t->bsize;
+    double piece = dmax(4.0 * cell, 2.0 * m->rho);
+    double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
+    double hlen = vh * T;
+    long npieces = (long)ceil(hlen / piece);
+    if (npieces < 1)
+        npieces = 1;
+    if (npieces > 1000000)
+        npieces = 1000000;
+    for (long i = 0; i < npieces; i++) {
+        double ta = T * (double)i / (double)npieces;
+        double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
+        if (ta >= s.best)
+            break;
+        rf_vec3 lo, hi;
+        arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
+        if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
+            continue;
+        size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
+        test_candidates(&s, m->ws->cand, n, ta, tb, lo, hi);
+        if (s.found && s.best <= tb)
+            break;
+    }
+    if (!s.found)
+        return 0;
+    finish(m, arc, c);
+    return 1;
+}
+
+size_t rf_gather_support(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    rf_workspace *ws = m->ws;
+    double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
+    for (int k = 0; k < m->sup.n && k < 2; k++) {
+        const rf_triangle *S = &t->tri[m->sup.tri[k]];
+        xmin = dmin(xmin, dmin(S->a.x, dmin(S->b.x, S->c.x)));
+        xmax = dmax(xmax, dmax(S->a.x, dmax(S->b.x, S->c.x)));
+        ymin = dmin(ymin, dmin(S->a.y, dmin(S->b.y, S->c.y)));
+        ymax = dmax(ymax, dmax(S->a.y, dmax(S->b.y, S->c.y)));
+    }
+    /* the contact point stays on the support: the centre within r of it, and what it
+     * touches within r of the centre */
+    double reach = 2.0 * m->rho + 4 * m->tol_len;
+    size_t n = rf_gather(m, xmin - reach, ymin - reach, xmax + reach, ymax + reach);
+    if (ws->near_cap < n) {
+        size_t cap = ws->near_cap ? ws->near_cap : 64;
+        while (cap < n)
+            cap *= 2;
+        int32_t *p = realloc(ws->near, cap * sizeof *p);
+        if (!p)
+            return 0;
+        ws->near = p;
+        ws->near_cap = cap;
+    }
+    /* faces of the support, in its plane or wholly on or below a support plane are
+     * out of reach for the whole segment */
+    size_t kept = 0;
+    for (size_t k = 0; k < n; k++) {
+        int32_t idx = ws->cand[k];
+        const rf_triangle *Tr = &t->tri[idx];
+        if (excluded_tri(&m->sup, idx))
+            continue;
+        if (!m->centre && !m->point) {
+            if (coplanar_with_support(t, &m->sup, Tr, m->tol_len))
+                continue;
+            if (below_support(m, Tr->a) && below_support(m, Tr->b) && below_support(m, Tr->c))
+                continue;
+        }
+        ws->near[kept++] = idx;
+    }
+    ws->nnear = kept;
+    return kept;
+}
+
+int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
+                           rf_contact *c)
+{
+    search s = {m, arc, ex, 1, INFINITY, 0, c};
+    if (!(T >= 0))
+        return 0;
+    rf_vec3 lo, hi;
+    arc_box(arc, 0.0, T, &lo, &hi);
+    test_candidates(&s, m->ws->near, m->ws->nnear, 0.0, T, lo, hi);
+    if (!s.found)
+        return 0;
+    finish(m, arc, c);
+    return 1;
+}
+
+/* ---- leaving the terrain -------------------------------------------------------------- */
+
+/* Time at which the straight horizontal line p + v t enters the 2D triangle (A, B, C),
+ * within [t0, t1]; INFINITY when it does not (a start inside counts as t0). */
+static double line_enters_triangle(rf_vec3 p, rf_vec3 v, const double *xy, double t0, double t1)
+{
+    double orient = (xy[2] - xy[0]) * (xy[5] - xy[1]) - (xy[3] - xy[1]) * (xy[4] - xy[0]);
+    double sg = orient > 0 ? 1.0 : -1.0;
+    double lo = t0, hi = t1;
+    for (int k = 0; k < 3; k++) {
+        int j = (k + 1) % 3;
+        double ex = xy[2 * j] - xy[2 * k], ey = xy[2 * j + 1] - xy[2 * k + 1];
+        double alpha = sg * (ex * (p.y - xy[2 * k + 1]) - ey * (p.x - xy[2 * k]));
+        double beta = sg * (ex * v.y - ey * v.x);
+        if (beta > 0)
+            lo = dmax(lo, -alpha / beta);
+        else if (beta < 0)
+            hi = dmin(hi, -alpha / beta);
+        else if (alpha < 0)
+            return INFINITY;
+    }
+    /* only the interior counts: a path along the border stays on the terrain */
+    return lo < hi ? lo : INFINITY;
+}
+
+double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
+{
+    const rf_terrain *t = m->terrain;
+    double te = T;
+    double px = arc->p.x, py = arc->p.y, vx = arc->v.x, vy = arc->v.y;
+    double xmin = t->xmin, xmax = t->xmax, ymin = t->ymin, ymax = t->ymax;
+    if (t->is_grid) {
+        xmin = t->x0;
+        xmax = t->x0 + (double)(t->nx - 1) * t->cell;
+        ymin = t->y0;
+        ymax = t->y0 + (double)(t->ny - 1) * t->cell;
+    }
+    if (vx > 0)
+        te = dmin(te, (xmax - px) / vx);
+    else if (vx < 0)
+        te = dmin(te, (xmin - px) / vx);
+    if (vy > 0)
+        te = dmin(te, (ymax - py) / vy);
+    else if (vy < 0)
+        te = dmin(te, (ymin - py) / vy);
+    if (te < 0)
+        te = 0;
+    if (!t->is_grid || !m->ws->grid_has_holes)
+        return te;
+    /* holes of a grid: the cells along the path, a few at a time */
+    double cell = t->cell;
+    double vh = hypot(vx, vy);
+    long npieces = (long)ceil(vh * te / (8.0 * cell));
+    if (npieces < 1)
+        npieces = 1;
+    size_t ncx = t->nx - 1, ncy = t->ny - 1;
+    for (long i = 0; i < npieces; i++) {
+        double ta = te * (double)i / (double)npieces, tb = te * (double)(i + 1) / (double)npieces;
+        double xa = px + vx * ta, xb = px + vx * tb, ya = py + vy * ta, yb = py + vy * tb;
+        long i0 = (long)floor((dmin(xa, xb) - t->x0) / cell) - 1;
+        long i1 = (long)floor((dmax(xa, xb) - t->x0) / cell) + 1;
+        long j0 = (long)floor((dmin(ya, yb) - t->y0) / cell) - 1;
+        long j1 = (long)floor((dmax(ya, yb) - t->y0) / cell) + 1;
+        if (i0 < 0)
+            i0 = 0;
+        if (j0 < 0)
+            j0 = 0;
+        if (i1 > (long)ncx - 1)
+            i1 = (long)ncx - 1;
+        if (j1 > (long)ncy - 1)
+            j1 = (long)ncy - 1;
+        double best = INFINITY;
+        for (long j = j0; j <= j1; j++)
+            for (long ii = i0; ii <= i1; ii++)
+                for (int k = 0; k < 2; k++) {
+                    if (t->grid_tri[2 * ((size_t)j * ncx + (size_t)ii) + (size_t)k] >= 0)
+                        continue;
+                    double x0 = t->x0 + (double)ii * cell, y0 = t->y0 + (double)j * cell;
+                    double x1 = x0 + cell, y1 = y0 + cell;
+                    /* k = 0: SW, SE, NE;  k = 1: SW, NE, NW */
+                    double xy[6] = {x0, y0, x1, k == 0 ? y0 : y1, k == 0 ? x1 : x0, y1};
+                    double th = line_enters_triangle(arc->p, arc->v, xy, ta, tb);
+                    if (th < best) {
+                        /* the centre is over the hole only if no triangle holds it there */
+                        double tm = dmin(tb, th + 1e-9 * (1 + th));
+                        if (rf_terrain_locate(t, px + vx * tm, py + vy * tm) < 0)
+                            best = th;
+                    }
+                }
+        if (best < INFINITY)
+            return best;
+    }
+    return te;
+}
+
+/* ---- distances --------------------------------------------------------------------- */
+
+static rf_vec3 closest_on_segment(rf_vec3 a, rf_vec3 b, rf_vec3 p)
+{
+    rf_vec3 ab = rf_v3_sub(b, a);
+    double l2 = rf_v3_norm2(ab);
+    if (!(l2 > 0))
+        return a;
+    double s = rf_v3_dot(rf_v3_sub(p, a), ab) / l2;
+    s = s < 0 ? 0 : (s > 1 ? 1 : s);
+    return rf_v3_madd(a, s, ab);
+}
+
+double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
+{
+    const rf_triangle *T = &t->tri[c->tri];
+    switch (c->kind) {
+    case RF_FEAT_FACE:
+        return rf_v3_dot(T->n, p) - T->d;
+    case RF_FEAT_EDGE: {
+        rf_vec3 q = closest_on_segment(tri_vertex(T, c->index), tri_vertex(T, (c->index + 1) % 3), p);
+        return rf_v3_norm(rf_v3_sub(p, q));
+    }
+    default:
+        return rf_v3_norm(rf_v3_sub(p, tri_vertex(T, c->index)));
+    }
+}
+
+double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
+{
+    const rf_terrain *t = m->terrain;
+    size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
+    double best = INFINITY;
+    c->kind = RF_FEAT_EDGE;
+    for (size_t k = 0; k < n; k++) {
+        int32_t idx = m->ws->cand[k];
+        const rf_triangle *T = &t->tri[idx];
+        rf_vec3 q = rf_triangle_closest_point(T, p);
+        double d = rf_v3_norm(rf_v3_sub(p, q));
+        double dplane = fabs(rf_v3_dot(T->n, p) - T->d);
+        /* prefer a face over its own edges at the same distance */
+        int face = fabs(d - dplane) <= m->tol_len;
+        if (d < best - m->tol_len || (d <= best + m->tol_len && face && c->kind != RF_FEAT_FACE)) {
+            best = dmin(best, d);
+            c->t = 0;
+            c->tri = idx;
+            c->point = q;
+            if (face) {
+                c->kind = RF_FEAT_FACE;
+                c->index = 0;
+                c->n = T->n;
+            } else {
+                c->kind = RF_FEAT_EDGE;
+                c->index = 0;
+                for (int i = 0; i < 3; i++) {
+                    if (rf_v3_norm(rf_v3_sub(q, tri_vertex(T, i))) <= m->tol_len) {
+                        c->kind = RF_FEAT_VERTEX;
+                        c->index = i;
+                        break;
+                    }
+                }
+                if (c->kind == RF_FEAT_EDGE) {
+                    double bd = INFINITY;
+                    for (int i = 0; i < 3; i++) {
+                        rf_vec3 qq = closest_on_segment(tri_vertex(T, i), tri_vertex(T, (i + 1) % 3), p);
+                        double dd = rf_v3_norm(rf_v3_sub(qq, q));
+                        if (dd < bd)
+                            bd = dd, c->index = i;
+                    }
+                }
+                rf_vec3 dv = rf_v3_sub(p, q);
+                c->n = d > 0 ? rf_v3_scale(dv, 1.0 / d) : T->n;
+            }
+        }
+    }
+    return best;
+}
+
+int32_t rf_face_beyond(const rf_terrain *t, int32_t from, rf_vec3 q, rf_vec3 dir)
+{
+    double h = rf_v3_hnorm(dir);
+    if (!(h > 0))
+        return rf_terrain_locate(t, q.x, q.y);
+    double ux = dir.x / h, uy = dir.y / h;
+    double scale = 1.0 + dmax(fabs(q.x), fabs(q.y)) * 1e-9;
+    int32_t idx = -1;
+    for (double step = 1e-7 * scale; step < 1e-3; step *= 10) {
+        idx = rf_terrain_locate(t, q.x + step * ux, q.y + step * uy);
+        if (idx != from)
+            return idx;
+    }
+    return idx;
+}

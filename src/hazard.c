@@ -1,0 +1,167 @@
+/* hazard.c - accumulating the hazard map (see hazard.h). */
+#include "hazard.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "store.h"
+
+int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell)
+{
+    memset(h, 0, sizeof *h);
+    h->cell = cell;
+    h->x0 = t->xmin;
+    h->y0 = t->ymin;
+    h->nx = (size_t)ceil((t->xmax - t->xmin) / cell);
+    h->ny = (size_t)ceil((t->ymax - t->ymin) / cell);
+    if (h->nx == 0)
+        h->nx = 1;
+    if (h->ny == 0)
+        h->ny = 1;
+    size_t n = h->nx * h->ny;
+    h->cells = calloc(n, sizeof *h->cells);
+    h->slot_epoch = calloc(n, sizeof *h->slot_epoch);
+    h->slot = calloc(n, sizeof *h->slot);
+    if (!h->cells || !h->slot_epoch || !h->slot) {
+        rf_hazard_free(h);
+        return -1;
+    }
+    return 0;
+}
+
+void rf_hazard_free(rf_hazard *h)
+{
+    if (h->cells)
+        for (size_t i = 0; i < h->nx * h->ny; i++) {
+            free(h->cells[i].energy_kj);
+            free(h->cells[i].height_m);
+        }
+    free(h->cells);
+    free(h->slot_epoch);
+    free(h->slot);
+    free(h->touched);
+    memset(h, 0, sizeof *h);
+}
+
+void rf_hazard_begin(rf_hazard *h)
+{
+    h->ntouched = 0;
+    if (++h->epoch == 0) { /* wrapped: forget every old mark */
+        memset(h->slot_epoch, 0, h->nx * h->ny * sizeof *h->slot_epoch);
+        h->epoch = 1;
+    }
+}
+
+void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double height_m)
+{
+    double fx = floor((x - h->x0) / h->cell), fy = floor((y - h->y0) / h->cell);
+    if (!(fx >= 0 && fy >= 0 && fx < (double)h->nx && fy < (double)h->ny))
+        return;
+    uint32_t c = (uint32_t)((size_t)fy * h->nx + (size_t)fx);
+    if (h->slot_epoch[c] == h->epoch) {
+        rf_hazard_touch *tc = &h->touched[h->slot[c]];
+        if (energy_kj > tc->energy_kj)
+            tc->energy_kj = (float)energy_kj;
+        if (height_m > tc->height_m)
+            tc->height_m = (float)height_m;
+        return;
+    }
+    if (h->ntouched == h->cap_touched) {
+        size_t nc = h->cap_touched ? 2 * h->cap_touched : 256;
+        rf_hazard_touch *nt = realloc(h->touched, nc * sizeof *nt);
+        if (!nt) {
+            h->oom = 1;
+            return;
+        }
+        h->touched = nt;
+        h->cap_touched = nc;
+    }
+    h->slot_epoch[c] = h->epoch;
+    h->slot[c] = (uint32_t)h->ntouched;
+    h->touched[h->ntouched++] = (rf_hazard_touch){c, (float)energy_kj, (float)height_m};
+}
+
+static int cell_push(rf_hazard_cell *c, float e, float hgt)
+{
+    if (c->n == c->cap) {
+        uint32_t nc = c->cap ? 2 * c->cap : 16;
+        float *ne = realloc(c->energy_kj, nc * sizeof *ne);
+        if (!ne)
+            return -1;
+        c->energy_kj = ne;
+        float *nh = realloc(c->height_m, nc * sizeof *nh);
+        if (!nh)
+            return -1;
+        c->height_m = nh;
+        c->cap = nc;
+    }
+    c->energy_kj[c->n] = e;
+    c->height_m[c->n] = hgt;
+    c->n++;
+    return 0;
+}
+
+int rf_hazard_end(rf_hazard *h)
+{
+    for (size_t i = 0; i < h->ntouched; i++) {
+        const rf_hazard_touch *tc = &h->touched[i];
+        if (cell_push(&h->cells[tc->cell], tc->energy_kj, tc->height_m))
+            h->oom = 1;
+    }
+    h->ntouched = 0;
+    return h->oom ? -1 : 0;
+}
+
+int rf_hazard_merge(rf_hazard *into, const rf_hazard *from)
+{
+    for (size_t i = 0; i < into->nx * into->ny; i++)
+        for (uint32_t k = 0; k < from->cells[i].n; k++)
+            if (cell_push(&into->cells[i], from->cells[i].energy_kj[k], from->cells[i].height_m[k]))
+                return -1;
+    return 0;
+}
+
+static int cmp_float(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+double rf_percentile_nearest_rank(float *v, size_t n, double q)
+{
+    if (n == 0)
+        return NAN;
+    qsort(v, n, sizeof *v, cmp_float);
+    size_t rank = (size_t)ceil(q * (double)n); /* 1-based */
+    if (rank < 1)
+        rank = 1;
+    if (rank > n)
+        rank = n;
+    return v[rank - 1];
+}
+
+int rf_hazard_write(rf_hazard *h, long n_trajectories, rf_store *s, rf_error *err)
+{
+    if (rf_store_batch_begin(s, err))
+        return -1;
+    for (size_t iy = 0; iy < h->ny; iy++)
+        for (size_t ix = 0; ix < h->nx; ix++) {
+            rf_hazard_cell *c = &h->cells[iy * h->nx + ix];
+            if (c->n == 0)
+                continue;
+            rf_hazard_cell_record r;
+            r.ix = (long)ix;
+            r.iy = (long)iy;
+            r.x = h->x0 + ((double)ix + 0.5) * h->cell;
+            r.y = h->y0 + ((double)iy + 0.5) * h->cell;
+            r.passes = c->n;
+            r.reach_probability = (double)c->n / (double)n_trajectories;
+            r.energy_p95_kj = rf_percentile_nearest_rank(c->energy_kj, c->n, 0.95);
+            r.energy_max_kj = c->energy_kj[c->n - 1]; /* sorted by the percentile */
+            r.height_p95_m = rf_percentile_nearest_rank(c->height_m, c->n, 0.95);
+            if (rf_store_add_hazard_cell(s, &r, err))
+                return -1;
+        }
+    return rf_store_batch_commit(s, err);
+}

@@ -1,0 +1,101 @@
+/* measures.c - crossings of measure polylines and their outcomes (see measures.h). */
+#include "measures.h"
+
+#include <math.h>
+
+#include "motion_private.h" /* rf_quadratic_roots */
+
+/* Relative tolerance on the segment fraction, so a crossing exactly through a
+ * vertex is on both neighbouring segments (then reported once, by time). */
+#define U_TOL 1e-12
+
+/* Earliest crossing of one segment A-B over (t_after, T]; returns the time or INFINITY. */
+static double segment_crossing(const double *A, const double *B, rf_vec3 p, rf_vec3 v, rf_vec3 a,
+                               double t_after, double T, double *u_out)
+{
+    double dx = B[0] - A[0], dy = B[1] - A[1];
+    double len2 = dx * dx + dy * dy;
+    if (len2 == 0.0)
+        return INFINITY;
+    /* signed distance (times |AB|) of the horizontal path from the segment's line */
+    double nx = -dy, ny = dx;
+    double c0 = nx * (p.x - A[0]) + ny * (p.y - A[1]);
+    double c1 = nx * v.x + ny * v.y;
+    double c2 = 0.5 * (nx * a.x + ny * a.y);
+    double r[2];
+    int k = rf_quadratic_roots(c2, c1, c0, r);
+    if (k == 2 && r[0] == r[1])
+        return INFINITY; /* touches the line without crossing it */
+    for (int i = 0; i < k; i++) {
+        double t = r[i];
+        if (!(t > t_after && t <= T))
+            continue;
+        double x = p.x + v.x * t + 0.5 * a.x * t * t - A[0];
+        double y = p.y + v.y * t + 0.5 * a.y * t * t - A[1];
+        double u = (x * dx + y * dy) / len2;
+        if (u >= -U_TOL && u <= 1.0 + U_TOL) {
+            *u_out = fmin(fmax(u, 0.0), 1.0);
+            return t;
+        }
+    }
+    return INFINITY;
+}
+
+int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
+                               rf_vec3 a, double t_after, double T, rf_crossing *c)
+{
+    /* horizontal bounding box of the path over [t_after, T] */
+    double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
+    double ts[4] = {t_after > 0 ? t_after : 0.0, T, -1.0, -1.0};
+    if (a.x != 0.0)
+        ts[2] = -v.x / a.x;
+    if (a.y != 0.0)
+        ts[3] = -v.y / a.y;
+    for (int i = 0; i < 4; i++) {
+        double t = ts[i];
+        if (i >= 2 && !(t > ts[0] && t < T))
+            continue;
+        double x = p.x + v.x * t + 0.5 * a.x * t * t, y = p.y + v.y * t + 0.5 * a.y * t * t;
+        xlo = fmin(xlo, x), xhi = fmax(xhi, x), ylo = fmin(ylo, y), yhi = fmax(yhi, y);
+    }
+    int found = 0;
+    double best = INFINITY;
+    for (size_t mi = 0; mi < n; mi++) {
+        const rf_polyline *l = &ms[mi].line;
+        for (size_t s = 0; s + 1 < l->n; s++) {
+            const double *A = &l->xy[2 * s], *B = &l->xy[2 * s + 2];
+            if (fmax(A[0], B[0]) < xlo || fmin(A[0], B[0]) > xhi || fmax(A[1], B[1]) < ylo ||
+                fmin(A[1], B[1]) > yhi)
+                continue;
+            double u = 0.0, t = segment_crossing(A, B, p, v, a, t_after, T, &u);
+            if (t < best) { /* strictly earlier: a vertex crossing stays on its first segment */
+                best = t;
+                c->measure = (int)mi;
+                c->segment = s;
+                c->t = t;
+                c->u = u;
+                found = 1;
+            }
+        }
+    }
+    return found;
+}
+
+double rf_measure_breaking_energy(const rf_measure *m)
+{
+    if (m->kind == RF_CONTROL || m->behaviour == RF_COLLECT)
+        return INFINITY;
+    double cap = -1.0;
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        cap = fmax(cap, m->capacity[s]);
+    return cap >= 0.0 ? cap : INFINITY;
+}
+
+rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, double energy_kj)
+{
+    if (m->kind == RF_CONTROL || m->behaviour == RF_COLLECT)
+        return RF_OUT_PASSED;
+    if (passing_height_m >= m->height)
+        return RF_OUT_OVERTOPPED;
+    return energy_kj <= rf_measure_breaking_energy(m) ? RF_OUT_STOPPED : RF_OUT_BROKE_THROUGH;
+}

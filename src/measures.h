@@ -1,0 +1,46 @@
+/* measures.h - protection measures on the slope: exact crossings of their polylines
+ * by the horizontal path of the rock's centre, and what a measure does to a rock. */
+#ifndef ROCKFALL_MEASURES_H
+#define ROCKFALL_MEASURES_H
+
+#include <stddef.h>
+
+#include "rockfall/project.h"
+#include "rockfall/records.h"
+#include "rockfall/vec3.h"
+
+/* A crossing of measure `measure`'s polyline at time t of a motion piece, on its
+ * segment `segment` at fraction u (0 at its first point, 1 at its second). */
+typedef struct rf_crossing {
+    int measure;
+    size_t segment;
+    double t, u;
+} rf_crossing;
+
+/* Time after which a motion piece looks for crossings: a piece that starts exactly on
+ * a polyline (the previous piece ended on it and counted it) does not count it again,
+ * and a search that goes on after a crossing at tc starts at tc + RF_CROSSING_EPS, so
+ * a crossing through a polyline vertex (a root of both neighbouring segments) counts
+ * once. */
+#define RF_CROSSING_EPS 1e-12
+
+/* Earliest crossing over (t_after, T] of any measure's polyline by the horizontal
+ * path of p(t) = p + v t + a t^2 / 2 (the centre over one motion piece: a flight
+ * parabola or a piece of rolling, both exact quadratics).  A path that only touches a
+ * polyline without crossing it is no crossing.  Returns 1 and fills *c when there is
+ * one. */
+int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
+                               rf_vec3 a, double t_after, double T, rf_crossing *c);
+
+/* The energy (kJ) above which a barrier or embankment breaks through: its last
+ * limit state's capacity (a barrier's MEL; an embankment's largest capacity given).
+ * Infinite for control lines and `collect` measures. */
+double rf_measure_breaking_energy(const rf_measure *m);
+
+/* What measure m does to a rock whose centre passes at `passing_height_m` above the
+ * ground with total kinetic energy `energy_kj`: control lines and `collect` measures
+ * let it pass; a `stop` measure stops it below its height within its capacity, lets
+ * it overtop above its height, and lets it break through above its capacity. */
+rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, double energy_kj);
+
+#endif

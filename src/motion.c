@@ -1,0 +1,365 @@
+/* motion.c - one rock's trajectory: the event loop of the exact engine, the records
+ * and the public functions of sim.h.
+ *
+ * A trajectory alternates flights and surface phases.  Each pass of the loop computes
+ * the earliest of the events the current phase can meet (terrain contact, leaving a
+ * face, leaving the terrain, max_time; the surface phase adds slip, stop and rest),
+ * moves the state there along the exact path and handles the event.  The cost follows
+ * the number of events, not the simulated time.  Two later modules plug in as more
+ * candidate events per segment: tree collisions (the distance to the next tree event
+ * along the horizontal path) and measure crossings (the time the horizontal path
+ * crosses a polyline); rf_scene_horizon and rf_scene_event are where they belong. */
+#include "motion_private.h"
+
+#include <gsl/gsl_randist.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define RF_PI 3.14159265358979323846
+#define START_TOUCH_TOL 1e-6 /* a start this close to the ground touches it (m) */
+
+/* ---- public helpers ------------------------------------------------------------------ */
+
+rf_body rf_body_make(double mass, double density, rf_rock_model model)
+{
+    rf_body b;
+    b.mass = mass;
+    b.model = model;
+    b.radius = cbrt(3.0 * mass / (4.0 * RF_PI * density));
+    b.inertia = 0.4 * mass * b.radius * b.radius; /* solid sphere (Eq. 8b) */
+    return b;
+}
+
+double rf_kinetic_energy(const rf_body *b, rf_vec3 v, rf_vec3 w)
+{
+    double e = 0.5 * b->mass * rf_v3_norm2(v);
+    if (b->model == RF_MODEL_SPHERE)
+        e += 0.5 * b->inertia * rf_v3_norm2(w);
+    return e;
+}
+
+double rf_draw_truncated(gsl_rng *rng, rf_dist d, double lo, double hi)
+{
+    if (d.sd > 0.0) {
+        for (int k = 0; k < 1000; k++) {
+            double x = d.mean + gsl_ran_gaussian_ziggurat(rng, d.sd);
+            if (x >= lo && x <= hi)
+                return x;
+        }
+    }
+    return d.mean < lo ? lo : (d.mean > hi ? hi : d.mean);
+}
+
+rf_workspace *rf_workspace_alloc(const rf_terrain *t)
+{
+    rf_workspace *ws = calloc(1, sizeof *ws);
+    if (!ws)
+        return NULL;
+    ws->terrain = t;
+    ws->cap = 256;
+    ws->cand = malloc(ws->cap * sizeof *ws->cand);
+    ws->stamp = calloc(t->ntri ? t->ntri : 1, sizeof *ws->stamp);
+    if (!ws->cand || !ws->stamp) {
+        rf_workspace_free(ws);
+        return NULL;
+    }
+    if (t->is_grid) {
+        size_t ncell = 2 * (t->nx - 1) * (t->ny - 1);
+        for (size_t i = 0; i < ncell && !ws->grid_has_holes; i++)
+            ws->grid_has_holes = t->grid_tri[i] < 0;
+    }
+    return ws;
+}
+
+void rf_workspace_free(rf_workspace *ws)
+{
+    if (!ws)
+        return;
+    free(ws->cand);
+    free(ws->stamp);
+    free(ws->near);
+    free(ws->pend_idx);
+    free(ws->pend_w0);
+    free(ws);
+}
+
+/* ---- records ------------------------------------------------------------------------ */
+
+double rf_motion_energy(const rf_motion *m) { return rf_kinetic_energy(m->body, m->s.v, m->s.w); }
+
+static void note_energy(rf_motion *m)
+{
+    double e = rf_motion_energy(m) / 1000.0;
+    if (e > m->rec->max_energy_kj)
+        m->rec->max_energy_kj = e;
+}
+
+static void emit_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
+{
+    double z;
+    double h = rf_terrain_height(m->terrain, p.x, p.y, &z) >= 0 ? p.z - z : 0.0;
+    m->sink->sample(m->sink->ctx, p, rf_v3_norm(v), ekj, h);
+}
+
+void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
+{
+    if (!(T > 0)) {
+        return;
+    }
+    m->rec->path_length_m += rf_arc_length(arc->v, arc->a, T);
+    const rf_sink *sk = m->sink;
+    if (sk && sk->sample && sk->sample_spacing > 0) {
+        /* |v_h(t)|^2 is convex on an arc: its larger end bounds the horizontal speed */
+        double vmax = fmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
+        double L = vmax * T;
+        double next = sk->sample_spacing - m->sample_acc, last = -1.0;
+        for (long k = 0; next <= L && k < 10000000; k++) {
+            double ts = T * next / L;
+            rf_vec3 v = rf_arc_vel(arc, ts);
+            emit_sample(m, rf_arc_pos(arc, ts), v, rf_kinetic_energy(m->body, v, m->s.w) / 1000.0);
+            last = next;
+            next += sk->sample_spacing;
+        }
+        m->sample_acc = last >= 0 ? L - last : m->sample_acc + L;
+    }
+    m->s.p = rf_arc_pos(arc, T);
+    m->s.v = rf_arc_vel(arc, T);
+    m->s.t += T;
+    note_energy(m);
+}
+
+void rf_motion_event(rf_motion *m)
+{
+    note_energy(m);
+    const rf_sink *sk = m->sink;
+    if (!sk)
+        return;
+    double e = rf_motion_energy(m) / 1000.0;
+    if (sk->path_point) {
+        rf_path_point pt = {m->s.t, m->s.p, rf_v3_norm(m->s.v), e};
+        sk->path_point(sk->ctx, &pt);
+    }
+    if (sk->sample) {
+        emit_sample(m, m->s.p, m->s.v, e);
+        m->sample_acc = 0.0;
+    }
+}
+
+/* ---- flight ------------------------------------------------------------------------ */
+
+/* ---- scene events (trees, measures) ---------------------------------------------- */
+
+double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
+{
+    (void)arc;
+    m->scene_pending = 0;
+    return T;
+}
+
+int rf_scene_event(rf_motion *m)
+{
+    m->scene_pending = 0;
+    rf_motion_event(m);
+    return -1;
+}
+
+/* One flight until its next event; returns -1 to go on, or the end reason. */
+static int flight_step(rf_motion *m)
+{
+    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    double T = fmax(0.0, m->t_end - m->s.t);
+    /* below every face: the rock has left the terrain */
+    double zfloor = m->terrain->zmin - m->rho - 1.0;
+    double t_fall = INFINITY;
+    double r[2];
+    int nr = rf_quadratic_roots(-0.5 * RF_GRAVITY, arc.v.z, arc.p.z - zfloor, r);
+    if (nr == 2)
+        t_fall = fmax(0.0, r[1]);
+    double tc = fmin(T, t_fall);
+    double te = rf_terrain_exit_time(m, &arc, tc);
+    rf_contact c;
+    const rf_support *ex = m->flight_ex.n ? &m->flight_ex : NULL;
+    int hit = rf_contact_search(m, &arc, te, ex, &c) && c.t <= te;
+    double tend = hit ? c.t : te;
+    double ts = rf_scene_horizon(m, &arc, tend);
+    if (m->scene_pending && ts < tend) {
+        rf_motion_advance(m, &arc, ts);
+        return rf_scene_event(m);
+    }
+    if (hit) {
+        rf_motion_advance(m, &arc, c.t);
+        m->flight_ex.n = 0;
+        rf_contact_resolve(m, &c);
+        rf_motion_event(m);
+        return -1;
+    }
+    rf_motion_advance(m, &arc, te);
+    if (te < tc || t_fall <= T)
+        return RF_END_EXITED;
+    return RF_END_MAX_TIME;
+}
+
+/* ---- start ------------------------------------------------------------------------- */
+
+/* Places the rock: on the surface when it touches it, else in flight.  Returns -1 to
+ * go on or an end reason. */
+static int start_phase(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+    if (tri < 0)
+        return RF_END_EXITED;
+    m->sup.n = 0;
+    m->sup.left = -1;
+    m->flight_ex.n = 0;
+    rf_contact c;
+    memset(&c, 0, sizeof c);
+    double dist;
+    if (m->point || m->centre) {
+        const rf_triangle *T = &t->tri[tri];
+        dist = rf_v3_dot(T->n, m->s.p) - T->d;
+        c.tri = tri;
+        c.kind = RF_FEAT_FACE;
+        c.n = T->n;
+        c.point = rf_v3_madd(m->s.p, -dist, T->n);
+        if (m->point && T->n.z > 0) {
+            /* the point's height above the face, measured vertically */
+            double zs = rf_triangle_z_at(T, m->s.p.x, m->s.p.y);
+            dist = (m->s.p.z - zs) * T->n.z;
+        }
+    } else {
+        /* a centre below the face under it is lifted onto it */
+        const rf_triangle *T = &t->tri[tri];
+        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
+        if (dp < m->rho)
+            m->s.p = rf_v3_madd(m->s.p, m->rho - dp, T->n);
+        dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+    }
+    if (!(dist <= m->rho + START_TOUCH_TOL))
+        return -1; /* in the air */
+    if (m->point && t->tri[c.tri].n.z > 0)
+        m->s.p.z = rf_triangle_z_at(&t->tri[c.tri], m->s.p.x, m->s.p.y);
+    else if (c.kind == RF_FEAT_FACE)
+        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
+    double vn = rf_v3_dot(m->s.v, c.n);
+    if (vn > m->v_stay)
+        return -1; /* launched off the ground */
+    if (c.kind == RF_FEAT_FACE && vn > -m->v_stay) {
+        rf_surface_enter(m, c.tri);
+        return -1;
+    }
+    rf_contact_resolve(m, &c);
+    return -1;
+}
+
+/* ---- the exact engine ------------------------------------------------------------- */
+
+/* A rock that meets events without moving (degenerate contact geometry) moves free for
+ * a moment and is put back on or above the surface under it. */
+static void unstall(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    rf_motion_advance(m, &arc, RF_UNSTALL_TIME);
+    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+    if (tri >= 0) {
+        const rf_triangle *T = &t->tri[tri];
+        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
+        if (dp < m->rho + m->tol_len)
+            m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
+        double vn = rf_v3_dot(m->s.v, T->n);
+        if (vn < 0)
+            m->s.v = rf_v3_madd(m->s.v, -vn, T->n);
+    }
+    m->sup.n = 0;
+    m->flight_ex.n = 0;
+    m->stall = 0;
+    m->stall_t = m->s.t;
+}
+
+static int run_exact(rf_motion *m)
+{
+    int end = start_phase(m);
+    if (end >= 0)
+        return end;
+    m->stall_t = m->s.t;
+    for (;;) {
+        if (++m->events > RF_MAX_EVENTS)
+            return RF_END_MAX_TIME;
+        if (m->s.t > m->stall_t + RF_TIME_TOL * 10) {
+            m->stall_t = m->s.t;
+            m->stall = 0;
+        } else if (++m->stall > RF_STALL_EVENTS) {
+            /* no progress in time: a rock wedged between features */
+            if (rf_v3_norm(m->s.v) <= m->scene->sim->stop_speed)
+                return RF_END_REST;
+            if (++m->rescues > RF_MAX_RESCUES)
+                return RF_END_MAX_TIME;
+            unstall(m);
+        }
+        if (m->s.t >= m->t_end)
+            return RF_END_MAX_TIME;
+        if (m->sup.n == 0) {
+            end = flight_step(m);
+            if (end >= 0)
+                return end;
+            continue;
+        }
+        switch (rf_surface_step(m)) {
+        case RF_SURF_REST:
+            return RF_END_REST;
+        case RF_SURF_EXITED:
+            return RF_END_EXITED;
+        case RF_SURF_MAX_TIME:
+            return RF_END_MAX_TIME;
+        case RF_SURF_STOPPED:
+            return RF_END_STOPPED;
+        default:
+            break;
+        }
+    }
+}
+
+int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *start,
+                gsl_rng *rng, rf_workspace *ws, const rf_sink *sink,
+                rf_trajectory_record *out)
+{
+    const rf_terrain *t = scene->terrain;
+    const rf_simulation *sim = scene->sim;
+    rf_motion m;
+    memset(&m, 0, sizeof m);
+    m.scene = scene;
+    m.terrain = t;
+    m.body = body;
+    m.rng = rng;
+    m.ws = ws;
+    m.sink = sink;
+    m.rec = out;
+    m.point = body->model == RF_MODEL_POINT;
+    m.rho = m.point ? 0.0 : body->radius;
+    m.centre = !m.point && sim->contact == RF_CONTACT_CENTRE;
+    double scale = fmax(fmax(fabs(t->xmin), fabs(t->xmax)),
+                        fmax(fmax(fabs(t->ymin), fabs(t->ymax)), fmax(fabs(t->zmin), fabs(t->zmax))));
+    m.tol_len = fmax(RF_LEN_TOL, 1e-14 * scale);
+    m.v_stay = sqrt(2.0 * RF_GRAVITY * RF_STAY_HEIGHT);
+    m.s = *start;
+    if (m.point)
+        m.s.w = rf_v3(0, 0, 0);
+    m.t_end = start->t + sim->max_time;
+    memset(out, 0, sizeof *out);
+    out->max_energy_kj = rf_motion_energy(&m) / 1000.0;
+    rf_motion_event(&m);
+
+    int end = sim->engine == RF_ENGINE_FIXED_STEP ? rf_simulate_fixed_step(&m) : run_exact(&m);
+
+    out->reason = (rf_stop_reason)end;
+    if (end == RF_END_REST) {
+        m.s.v = rf_v3(0, 0, 0);
+        m.s.w = rf_v3(0, 0, 0);
+    }
+    out->stop = m.s.p;
+    out->duration_s = m.s.t - start->t;
+    rf_motion_event(&m);
+    return 0;
+}

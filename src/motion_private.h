@@ -1,0 +1,212 @@
+/* motion_private.h - internals of the motion engine shared by its source files.
+ *
+ *   arc.c       constant-acceleration arcs: evaluation, arc length, polynomial roots
+ *   contact.c   earliest contact of the rock with the terrain along an arc
+ *   impact.c    the impact law (Eq. 8) and the transfers of a slow rock between faces
+ *   surface.c   rolling and sliding on one face or in a crease (Eq. 1-2, 5/7 law)
+ *   motion.c    the event loop, records and the public functions of sim.h
+ *   fixed_step.c  the fixed-step baseline engine
+ *
+ * docs/engine.md describes the phases, events, root finding and tolerances. */
+#ifndef ROCKFALL_MOTION_PRIVATE_H
+#define ROCKFALL_MOTION_PRIVATE_H
+
+#include <stdint.h>
+
+#include "rockfall/sim.h"
+
+/* ---- tolerances (docs/engine.md) ------------------------------------------------- */
+#define RF_TIME_TOL 1e-13          /* root finding in time (s) */
+#define RF_LEN_TOL 1e-9            /* lengths (m); scaled up for large coordinates */
+#define RF_APPROACH_EPS 1e-7       /* approach speeds below this (m/s) are grazing */
+#define RF_TOUCH_BAND 1000.0       /* a start within this many length tolerances behind a
+                                      surface still touches it */
+#define RF_STAY_HEIGHT 1e-3        /* a rebound lower than this (m) stays on the surface */
+#define RF_COPLANAR_EPS 1e-9       /* faces whose normals differ less are one plane */
+#define RF_SLIP_EPS 1e-6           /* slip speed (m/s) below which a sphere rolls */
+#define RF_ODE_TOL 1e-9            /* error per step of the in-plane integrator */
+#define RF_ODE_MAX_STEPS 100000    /* steps of one integrated segment */
+#define RF_SPEED_EPS 1e-6          /* speeds below this (m/s) on a face count as rest */
+#define RF_MAX_EVENTS 200000       /* a trajectory ends (max_time) after this many events */
+#define RF_STALL_EVENTS 64         /* events without progress in time before a rescue */
+#define RF_MAX_RESCUES 1000        /* rescues before a trajectory is given up (max_time) */
+#define RF_UNSTALL_TIME 1e-6       /* free motion of a rescue (s) */
+
+/* ---- arcs: p(t) = p + v t + a t^2 / 2 ------------------------------------------- */
+typedef struct rf_arc {
+    rf_vec3 p, v, a;
+} rf_arc;
+
+static inline rf_vec3 rf_arc_pos(const rf_arc *c, double t)
+{
+    return rf_v3_add(c->p, rf_v3_add(rf_v3_scale(c->v, t), rf_v3_scale(c->a, 0.5 * t * t)));
+}
+static inline rf_vec3 rf_arc_vel(const rf_arc *c, double t) { return rf_v3_madd(c->v, t, c->a); }
+
+/* Length of the path of an arc over [0, T] (closed form). */
+double rf_arc_length(rf_vec3 v, rf_vec3 a, double T);
+/* Real roots of c2 t^2 + c1 t + c0 in ascending order (numerically stable); count. */
+int rf_quadratic_roots(double c2, double c1, double c0, double r[2]);
+/* Value of the polynomial c[0] + c[1] t + ... + c[deg] t^deg. */
+double rf_poly_eval(const double *c, int deg, double t);
+/* Entering roots of P (deg <= 4) on [t0, t1]: times where P falls through 0 with
+ * P' < -slope_eps, after having been above tol (a start with -RF_TOUCH_BAND tol <= P(t0)
+ * <= tol counts only when P'(t0) < -slope_eps: touching and approaching).  Writes up to 3 roots in
+ * ascending order and returns their number. */
+int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
+                    double slope_eps, double *roots);
+
+/* ---- the run-time context of one trajectory --------------------------------------- */
+typedef enum rf_feature { RF_FEAT_FACE, RF_FEAT_EDGE, RF_FEAT_VERTEX } rf_feature;
+
+typedef struct rf_contact {
+    double t;        /* time along the searched arc */
+    int32_t tri;     /* triangle whose face, edge or vertex is met */
+    rf_feature kind;
+    int index;       /* edge (0: ab, 1: bc, 2: ca) or vertex (0: a, 1: b, 2: c) */
+    rf_vec3 point;   /* contact point on the terrain */
+    rf_vec3 n;       /* unit contact normal, from the terrain towards the centre */
+} rf_contact;
+
+/* Support of a rock on the surface: none (flight), one face, or a crease of two. */
+typedef struct rf_support {
+    int n;
+    int32_t tri[3];   /* tri[0], tri[1]: the faces; tri[2] only in search exclusions */
+    int32_t left;     /* a face the rock has just left over its edge (or -1): the next
+                         segment's contact search ignores it */
+    int rolling;      /* sphere rolls without slip */
+    int32_t zone;     /* zone whose coefficients mu and mu_r were drawn */
+    double mu, mu_r;
+} rf_support;
+
+struct rf_workspace {
+    const rf_terrain *terrain;
+    int32_t *cand;    /* candidate triangles */
+    size_t cap;
+    uint32_t *stamp;  /* query stamps, one per triangle */
+    uint32_t epoch;
+    int grid_has_holes;
+    int32_t *near;    /* candidates of the current surface segment */
+    size_t near_cap, nnear;
+    int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
+    double *pend_w0;
+    size_t pend_cap;
+};
+
+typedef struct rf_motion {
+    const rf_scene *scene;
+    const rf_terrain *terrain;
+    const rf_body *body;
+    gsl_rng *rng;
+    rf_workspace *ws;
+    const rf_sink *sink;
+    rf_trajectory_record *rec;
+
+    double rho;        /* contact radius: r for the sphere, 0 for the point */
+    int point;         /* point model: no size, no rotation */
+    int centre;        /* contact `centre`: only the face under the centre (Eq. 6-7) */
+    double tol_len;    /* length tolerance for this terrain */
+    double v_stay;     /* rebound normal speed below which the rock stays on the surface */
+    double t_end;      /* max_time */
+
+    rf_state s;        /* current state */
+    rf_support sup;
+    rf_support flight_ex; /* faces a flight ignores (the face it rolled off) */
+    long events;
+    double stall_t;    /* time of the last event that advanced time */
+    int stall;         /* events since */
+    long rescues;
+    double ode_h;      /* last step size of the in-plane integrator */
+    int scene_pending; /* rf_scene_horizon found an event (kind for the modules) */
+
+    /* samples */
+    double sample_acc; /* horizontal travel since the last sample */
+} rf_motion;
+
+/* ---- contact.c -------------------------------------------------------------------- */
+/* Gathers the triangles whose xy box overlaps the box into ws->cand; returns count. */
+size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax);
+/* Earliest contact along `arc` over [0, T] of the rock (contact radius m->rho; centre
+ * mode tests the face under the centre only).  The faces, edges and vertices of the
+ * support triangles in `ex` are ignored.  Returns 1 and fills *c when there is one. */
+int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
+                      rf_contact *c);
+/* Gathers the triangles a rock on its support (m->sup) can meet while its contact
+ * point stays on the support faces (into ws->near); returns their number. */
+size_t rf_gather_support(rf_motion *m);
+/* rf_contact_search for a surface segment: the arc lies on the support planes, the
+ * candidates are those of rf_gather_support, and features on or below a support plane
+ * are skipped (a centre r above the plane cannot reach them). */
+int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
+                           rf_contact *c);
+/* Time (<= T) at which the centre's horizontal path leaves the terrain (outside its
+ * bounds or over a hole); T when it does not. */
+double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T);
+/* Distance from p to the contact's feature (face plane, edge segment or vertex). */
+double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p);
+/* Closest terrain feature to p among triangles within `reach` of it: distance, or
+ * INFINITY when there is none; fills *c (t = 0). */
+double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c);
+/* The triangle under the point a tiny step from q in the horizontal direction dir
+ * (the face a rock enters when it leaves `from` at q); -1 for none. */
+int32_t rf_face_beyond(const rf_terrain *t, int32_t from, rf_vec3 q, rf_vec3 dir);
+
+/* ---- impact.c --------------------------------------------------------------------- */
+/* Draws e_n, mu for the zone of triangle tri and applies the impact (Eq. 8) with unit
+ * normal n at the current state.  Returns the rebound normal speed. */
+double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n, double *mu_out);
+/* Draws the surface phase's mu and mu_r of triangle tri's zone into m->sup. */
+void rf_support_draw(rf_motion *m, int32_t tri);
+/* A slow sphere rolls over a convex edge or vertex at q onto face `to`: its centre
+ * goes from q + rho u to q + rho n_to, conserving total energy.  Returns 0, or -1 when
+ * it cannot climb there (the state is untouched). */
+int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to);
+
+/* ---- surface.c -------------------------------------------------------------------- */
+typedef enum rf_surface_end {
+    RF_SURF_CONTINUE,  /* the support changed; carry on */
+    RF_SURF_FLIGHT,    /* left the surface */
+    RF_SURF_REST,
+    RF_SURF_EXITED,
+    RF_SURF_MAX_TIME,
+    RF_SURF_STOPPED    /* stopped by a scene event (a measure) */
+} rf_surface_end;
+
+/* Handles a contact found by the search (or a concave face change): impact (Eq. 8),
+ * then flight, landing on a face or in a crease, or a roll over an edge or vertex. */
+void rf_contact_resolve(rf_motion *m, const rf_contact *c);
+/* Moves the rock on its support until the next event and handles it. */
+rf_surface_end rf_surface_step(rf_motion *m);
+/* Puts the rock onto face tri after a landing or at the start (velocity made tangent,
+ * coefficients drawn when the zone changes, rolling when the slip vanishes). */
+void rf_surface_enter(rf_motion *m, int32_t tri);
+/* The surface law on a face with normal n for the rock's current mode (point, slipping
+ * or rolling sphere; coefficients of m->sup): acceleration of the centre, and in *du
+ * the rate of the slip u of a slipping sphere. */
+rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du);
+/* 1 when the rock at rest on its support would stay there. */
+int rf_surface_holds(const rf_motion *m);
+
+/* ---- motion.c --------------------------------------------------------------------- */
+/* Records the motion along an arc over [0, T] from the current state (path length,
+ * energy, samples) and moves the state to its end: p, v, t; w is set by the caller. */
+void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T);
+/* A path point at the current state. */
+void rf_motion_event(rf_motion *m);
+/* Total kinetic energy of the current state (J). */
+double rf_motion_energy(const rf_motion *m);
+
+/* Events of the scene beyond the terrain (tree collisions, measure crossings): the
+ * extension point of the vegetation and measures modules.  Every piece of exact motion
+ * - a flight, a closed-form surface segment, one integrator step - is offered as an
+ * arc over [0, T] before it is taken; rf_scene_horizon returns the earliest time in
+ * [0, T] at which a scene event cuts it (T when none) and remembers the event;
+ * rf_scene_event handles it once the state has been moved there, and returns -1 to go
+ * on or an end reason (RF_END_STOPPED). */
+double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T);
+int rf_scene_event(rf_motion *m);
+
+/* ---- fixed_step.c ----------------------------------------------------------------- */
+int rf_simulate_fixed_step(rf_motion *m);
+
+#endif

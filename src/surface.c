@@ -1,0 +1,1110 @@
+/* surface.c - rolling and sliding on one face or in a crease of two faces.
+ *
+ * On a face with normal n gravity splits into g_t (along the face) and the pressure
+ * g_n = g n.z.  The point mass and the slipping sphere feel Coulomb friction opposite
+ * the slip of the contact point; the rolling sphere feels rolling resistance:
+ *
+ *   point mass        a = g_t - mu g_n v^                 (Eq. 1-2 on a plane)
+ *   slipping sphere   a = g_t - mu g_n u^,   du/dt = g_t - (1 + m r^2 / I) mu g_n u^
+ *   rolling sphere    a = 5/7 (g_t - mu_r g_n v^)         (I = 2/5 m r^2)
+ *
+ * When the friction direction stays constant (velocity or slip along the fall line,
+ * or a level face) the acceleration is constant and every event time is the root of
+ * a quadratic.  Otherwise the in-plane equations are integrated with an embedded
+ * Runge-Kutta method (Dormand-Prince 5(4)) under error control, and events inside a
+ * step are located by re-stepping from its start to ~1e-13 s.
+ *
+ * Events: the contact point leaves the face (over a convex edge: flight or a roll
+ * over the edge; a concave edge: impact on the next face; the same plane: carry on),
+ * another face, edge or vertex is met (impact), the slip vanishes (rolling), the
+ * velocity vanishes, the speed falls below stop_speed where friction holds (rest),
+ * max_time.  A crease (two faces touched at once, as in a gully) is a straight line:
+ * the rock moves along it with the normal forces of both faces. */
+#include "motion_private.h"
+
+#include <math.h>
+#include <string.h>
+
+#define G_ACC RF_GRAVITY
+
+typedef enum ev_kind {
+    EV_NONE, EV_MAX_TIME, EV_REST, EV_ZERO, EV_SLIP, EV_EXIT, EV_CONTACT, EV_SCENE
+} ev_kind;
+
+typedef enum law { LAW_POINT, LAW_SLIDE, LAW_ROLL } law;
+
+/* The dynamics of one face. */
+typedef struct face_dyn {
+    rf_vec3 n, gt, e1;
+    double G, gn;       /* |g_t|, g n.z */
+    law mode;
+    double k, c;        /* a = k (g_t - c g_n dir) */
+    double K;           /* slip factor 1 + m r^2 / I */
+    double mu;
+} face_dyn;
+
+static double roll_factor(const rf_body *b, double rho)
+{
+    return 1.0 / (1.0 + b->inertia / (b->mass * rho * rho)); /* 5/7 for I = 2/5 m r^2 */
+}
+
+static void face_setup(const rf_motion *m, rf_vec3 n, face_dyn *f)
+{
+    f->n = n;
+    f->gn = G_ACC * n.z;
+    /* g_t = g - (g.n) n with g = (0, 0, -G) */
+    f->gt = rf_v3(G_ACC * n.z * n.x, G_ACC * n.z * n.y, G_ACC * n.z * n.z - G_ACC);
+    f->G = rf_v3_norm(f->gt);
+    if (f->G > 1e-12) {
+        f->e1 = rf_v3_scale(f->gt, 1.0 / f->G);
+    } else {
+        f->G = 0.0;
+        f->gt = rf_v3(0, 0, 0);
+        rf_vec3 x = fabs(n.x) < 0.9 ? rf_v3(1, 0, 0) : rf_v3(0, 1, 0);
+        f->e1 = rf_v3_unit(rf_v3_madd(x, -rf_v3_dot(x, n), n));
+    }
+    f->mu = m->sup.mu;
+    if (m->point) {
+        f->mode = LAW_POINT, f->k = 1.0, f->c = m->sup.mu;
+    } else if (m->sup.rolling) {
+        f->mode = LAW_ROLL, f->k = roll_factor(m->body, m->rho), f->c = m->sup.mu_r;
+    } else {
+        f->mode = LAW_SLIDE, f->k = 1.0, f->c = m->sup.mu;
+    }
+    f->K = m->point ? 1.0 : 1.0 + m->body->mass * m->rho * m->rho / m->body->inertia;
+}
+
+/* The surface laws (module comment): acceleration of the centre and rate of the slip. */
+static rf_vec3 law_accel(const face_dyn *f, rf_vec3 dir)
+{
+    return rf_v3_scale(rf_v3_madd(f->gt, -f->c * f->gn, dir), f->k);
+}
+static rf_vec3 law_slip_rate(const face_dyn *f, rf_vec3 udir)
+{
+    return rf_v3_madd(f->gt, -f->K * f->mu * f->gn, udir);
+}
+
+static rf_vec3 in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
+
+rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du)
+{
+    face_dyn f;
+    face_setup(m, n, &f);
+    rf_vec3 dir;
+    if (f.mode == LAW_SLIDE) {
+        double ul = rf_v3_norm(u);
+        dir = ul > 0 ? rf_v3_scale(u, 1.0 / ul) : f.e1;
+        *du = law_slip_rate(&f, dir);
+    } else {
+        double vl = rf_v3_norm(v);
+        dir = vl > 0 ? rf_v3_scale(v, 1.0 / vl) : f.e1;
+        *du = rf_v3(0, 0, 0);
+    }
+    return law_accel(&f, dir);
+}
+
+/* Slip of the contact point of the sphere on a face with normal n. */
+static rf_vec3 slip_of(const rf_motion *m, rf_vec3 n)
+{
+    rf_vec3 u = rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(n, -m->rho)));
+    return in_plane(u, n);
+}
+
+/* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r. */
+static void set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
+{
+    if (m->point) {
+        m->s.w = rf_v3(0, 0, 0);
+        return;
+    }
+    double wn = rf_v3_dot(m->s.w, n);
+    rf_vec3 wt = rf_v3_scale(rf_v3_cross(n, rf_v3_sub(m->s.v, u)), 1.0 / m->rho);
+    m->s.w = rf_v3_madd(wt, wn, n);
+}
+
+static rf_vec3 tri_vertex(const rf_triangle *T, int i)
+{
+    i %= 3;
+    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
+}
+
+static int coplanar(const rf_triangle *A, const rf_triangle *B, double tol)
+{
+    return rf_v3_norm(rf_v3_sub(A->n, B->n)) <= RF_COPLANAR_EPS && fabs(A->d - B->d) <= tol;
+}
+
+/* The faces a surface segment's contact search ignores: the support, and once the face
+ * just left over an edge. */
+static rf_support segment_exclusion(rf_motion *m)
+{
+    rf_support ex = m->sup;
+    if (ex.left >= 0 && ex.n < 3)
+        ex.tri[ex.n++] = ex.left;
+    m->sup.left = -1;
+    return ex;
+}
+
+/* ---- entering a face or a crease ---------------------------------------------------- */
+
+/* Sets the single support tri; draws the coefficients when fresh or the zone changes. */
+static void support_single(rf_motion *m, int32_t tri, int fresh)
+{
+    const rf_triangle *T = &m->terrain->tri[tri];
+    if (fresh || m->sup.n == 0 || m->sup.zone != T->zone)
+        rf_support_draw(m, tri);
+    m->sup.n = 1;
+    m->sup.tri[0] = tri;
+    m->sup.tri[1] = -1;
+    m->sup.left = -1;
+    /* on the offset plane, velocity tangent */
+    m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
+    m->s.v = in_plane(m->s.v, T->n);
+    if (!m->point) {
+        rf_vec3 u = slip_of(m, T->n);
+        m->sup.rolling = rf_v3_norm(u) <= RF_SLIP_EPS;
+        if (m->sup.rolling)
+            set_spin(m, T->n, rf_v3(0, 0, 0));
+    } else {
+        m->sup.rolling = 0;
+    }
+}
+
+void rf_surface_enter(rf_motion *m, int32_t tri) { support_single(m, tri, 1); }
+
+/* Normal pressures (per unit mass) of the two faces of a crease, l its direction. */
+static int crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
+{
+    rf_vec3 c = rf_v3_cross(nA, nB);
+    double cl = rf_v3_norm(c);
+    if (!(cl > 1e-6))
+        return -1;
+    *l = rf_v3_scale(c, 1.0 / cl);
+    double bA = G_ACC * nA.z, bB = G_ACC * nB.z, nab = rf_v3_dot(nA, nB);
+    double den = 1.0 - nab * nab;
+    *xA = (bA - nab * bB) / den;
+    *xB = (bB - nab * bA) / den;
+    return 0;
+}
+
+/* The rock on face A meets face B gently: a crease when both faces press on it. */
+static int try_crease(rf_motion *m, int32_t a, int32_t b)
+{
+    const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
+    if (a == b || coplanar(A, B, m->tol_len))
+        return -1;
+    if (rf_v3_dot(m->s.v, A->n) > m->v_stay)
+        return -1; /* leaving A */
+    double xA, xB;
+    rf_vec3 l;
+    if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
+        return -1;
+    /* both faces touched: the centre lies on both offset planes */
+    double s = rf_v3_dot(m->s.v, l);
+    m->s.v = rf_v3_scale(l, s);
+    rf_vec3 p = m->s.p;
+    for (int it = 0; it < 3; it++) {
+        p = rf_v3_madd(p, A->d + m->rho - rf_v3_dot(A->n, p), A->n);
+        p = rf_v3_madd(p, B->d + m->rho - rf_v3_dot(B->n, p), B->n);
+    }
+    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * fmax(m->rho, 0.01))
+        return -1;
+    m->s.p = p;
+    if (m->sup.n == 0 || m->sup.zone != B->zone)
+        rf_support_draw(m, b);
+    int rolling = !m->point && m->sup.n >= 1 && m->sup.rolling;
+    m->sup.n = 2;
+    m->sup.tri[0] = a;
+    m->sup.tri[1] = b;
+    m->sup.left = -1;
+    m->sup.rolling = rolling;
+    if (rolling) {
+        rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
+        m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
+    }
+    return 0;
+}
+
+/* Landing gently on face tri (rebound below the stay threshold). */
+static void land(rf_motion *m, int32_t tri)
+{
+    if (m->sup.n == 1 && try_crease(m, m->sup.tri[0], tri) == 0)
+        return;
+    if (m->sup.n == 2) {
+        int32_t a = m->sup.tri[0], b = m->sup.tri[1];
+        if (try_crease(m, a, tri) == 0 || try_crease(m, b, tri) == 0)
+            return;
+    }
+    support_single(m, tri, m->sup.n == 0);
+}
+
+/* 1 when a sphere rolled over q onto face `to` would touch no other feature: the
+ * roll is only taken where the two faces are all there is. */
+static int pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
+{
+    rf_vec3 c = rf_v3_madd(q, m->rho, m->terrain->tri[to].n);
+    rf_contact near;
+    double d = rf_closest_feature(m, c, m->rho + 1e-3, &near);
+    return d >= m->rho - 1e-6 * m->rho - m->tol_len;
+}
+
+static void go_flight(rf_motion *m, int32_t exclude)
+{
+    m->sup.n = 0;
+    m->flight_ex.n = exclude >= 0 ? 1 : 0;
+    m->flight_ex.tri[0] = exclude;
+}
+
+/* A slow sphere on a convex edge or vertex (unit normal u) that cannot roll over it
+ * cleanly hops off: its velocity is turned, at the same speed, to leave the feature
+ * at the stay speed, so that it is never dragged through the feature. */
+static void hop(rf_motion *m, rf_vec3 u)
+{
+    double speed = rf_v3_norm(m->s.v);
+    double vn = fmin(speed, m->v_stay);
+    rf_vec3 vt = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, u), u);
+    double vtl = rf_v3_norm(vt);
+    double st = sqrt(fmax(0.0, speed * speed - vn * vn));
+    m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
+    go_flight(m, -1);
+}
+
+/* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
+ * over a face whose plane it is already closer to than r.  It is lifted onto that
+ * face's offset plane, and the lift is paid from the kinetic energy; when the rock
+ * cannot pay, the face acts as a wall at the border of its column and the horizontal
+ * velocity into it is reflected with restitution e.  Returns 1 after a reflection. */
+static int centre_lift(rf_motion *m, const rf_contact *c)
+{
+    const rf_triangle *T = &m->terrain->tri[c->tri];
+    double gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
+    if (!(gap > 0))
+        return 0;
+    double lift = T->n.z >= 0.2 ? gap / T->n.z : gap * T->n.z;
+    double cost = m->body->mass * RF_GRAVITY * lift;
+    double ke = rf_motion_energy(m);
+    if (ke > cost) {
+        double s = sqrt((ke - cost) / ke);
+        m->s.v = rf_v3_scale(m->s.v, s);
+        m->s.w = rf_v3_scale(m->s.w, s);
+        if (T->n.z >= 0.2)
+            m->s.p.z += lift; /* stays over the face (Eq. 6) */
+        else
+            m->s.p = rf_v3_madd(m->s.p, gap, T->n);
+        return 0;
+    }
+    /* the border of the face's column the centre is crossing: nearest to it among
+     * those it moves in through */
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
+    double sg = orient >= 0 ? 1.0 : -1.0, best = INFINITY;
+    rf_vec3 in = rf_v3(0, 0, 0);
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 A = P[k], B = P[(k + 1) % 3];
+        double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
+        if (!(el > 0))
+            continue;
+        rf_vec3 mk = rf_v3(-sg * ey / el, sg * ex / el, 0.0);
+        if (!(rf_v3_dot(m->s.v, mk) > 0))
+            continue;
+        double e = mk.x * (m->s.p.x - A.x) + mk.y * (m->s.p.y - A.y);
+        if (e < best)
+            best = e, in = mk;
+    }
+    double vin = rf_v3_dot(m->s.v, in);
+    const rf_surface *sf = &m->terrain->zones[T->zone].surface;
+    double e = rf_draw_truncated(m->rng, sf->restitution, 0.0, 1.0);
+    double e0 = rf_motion_energy(m);
+    if (vin > 0)
+        m->s.v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
+    m->rec->n_impacts++;
+    if (m->sink && m->sink->impact)
+        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
+    return 1;
+}
+
+void rf_contact_resolve(rf_motion *m, const rf_contact *c)
+{
+    const rf_terrain *t = m->terrain;
+    if (m->centre && centre_lift(m, c))
+        return; /* reflected: the support is unchanged */
+    rf_vec3 n = c->n;
+    if (c->kind != RF_FEAT_FACE) {
+        rf_vec3 d = rf_v3_sub(m->s.p, c->point);
+        double dl = rf_v3_norm(d);
+        if (dl > 0)
+            n = rf_v3_scale(d, 1.0 / dl);
+    }
+    /* exactly at the contact distance */
+    if (!m->centre) {
+        double dist = rf_feature_distance(t, c, m->s.p);
+        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, n);
+    }
+    double e0 = rf_motion_energy(m);
+    double vn = rf_v3_dot(m->s.v, n);
+    double rebound = rf_impact(m, c->tri, n, NULL);
+    m->rec->n_impacts++;
+    if (m->sink && m->sink->impact)
+        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, -vn);
+    if (rebound >= m->v_stay) {
+        go_flight(m, -1);
+        return;
+    }
+    m->s.v = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, n), n);
+    if (c->kind == RF_FEAT_FACE || m->point || m->centre) {
+        land(m, c->tri);
+        return;
+    }
+    /* a slow sphere on a convex edge or vertex rolls over it onto a face */
+    rf_vec3 w = m->s.v;
+    if (rf_v3_hnorm(w) < 1e-9)
+        w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
+    int32_t to = rf_face_beyond(t, -2, c->point, w);
+    if (to >= 0 && pivot_clear(m, c->point, to) && rf_pivot(m, c->point, to) == 0) {
+        support_single(m, to, m->sup.n == 0);
+        m->sup.rolling = 1;
+        return;
+    }
+    hop(m, n);
+}
+
+/* ---- face edges and exits ----------------------------------------------------------- */
+
+/* Edge functions of a face: E_i(c) = m_i . c - o_i >= 0 while the contact point of a
+ * centre c is inside edge i (in-plane distances; over the xy projection in centre
+ * mode). */
+typedef struct face_edges {
+    rf_vec3 m[3];
+    double o[3];
+} face_edges;
+
+static void edges_setup(const rf_motion *m, const rf_triangle *T, face_edges *fe)
+{
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    if (m->centre) {
+        double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
+        double sg = orient >= 0 ? 1.0 : -1.0;
+        for (int k = 0; k < 3; k++) {
+            rf_vec3 A = P[k], B = P[(k + 1) % 3];
+            double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
+            fe->m[k] = el > 0 ? rf_v3(-sg * ey / el, sg * ex / el, 0.0) : rf_v3(0, 0, 0);
+            fe->o[k] = rf_v3_dot(fe->m[k], A);
+        }
+        return;
+    }
+    rf_vec3 ab = rf_v3_sub(P[1], P[0]), ac = rf_v3_sub(P[2], P[0]);
+    double sg = rf_v3_dot(rf_v3_cross(ab, ac), T->n) >= 0 ? 1.0 : -1.0;
+    rf_vec3 lift = rf_v3_scale(T->n, m->rho);
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 A = P[k], B = P[(k + 1) % 3];
+        rf_vec3 in = rf_v3_scale(rf_v3_cross(T->n, rf_v3_sub(B, A)), sg);
+        fe->m[k] = rf_v3_unit(in);
+        fe->o[k] = rf_v3_dot(fe->m[k], rf_v3_add(A, lift));
+    }
+}
+
+/* First time in [0, T] the contact point of the arc leaves the face; T when it does
+ * not.  *edge receives the edge. */
+static double exit_time(const rf_motion *m, const face_edges *fe, const rf_arc *arc, double T,
+                        int *edge)
+{
+    double best = INFINITY;
+    for (int k = 0; k < 3; k++) {
+        double f[3] = {rf_v3_dot(fe->m[k], arc->p) - fe->o[k], rf_v3_dot(fe->m[k], arc->v),
+                       0.5 * rf_v3_dot(fe->m[k], arc->a)};
+        double r[3], t = INFINITY;
+        double tol = m->tol_len;
+        double fmaxv = fmax(f[0], f[0] + T * (f[1] + T * f[2]));
+        if (f[2] < 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < T)
+            fmaxv = f[0] - f[1] * f[1] / (4 * f[2]);
+        if (f[0] < -tol && (f[1] <= RF_APPROACH_EPS || fmaxv <= tol)) {
+            t = 0.0; /* already beyond the edge and not coming back */
+        } else if (rf_poly_entries(f, 2, 0.0, fmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
+            t = r[0];
+        } else if (fabs(f[0]) <= tol && fabs(f[1]) <= RF_APPROACH_EPS && f[2] < -1e-12) {
+            t = 0.0;
+        }
+        if (t < best) {
+            best = t;
+            *edge = k;
+        }
+    }
+    return best < T ? best : T;
+}
+
+/* The contact point crossed edge `edge` of the support face at the current state. */
+static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_edges *fe,
+                                 rf_vec3 acc)
+{
+    const rf_terrain *t = m->terrain;
+    int32_t from = m->sup.tri[slot];
+    const rf_triangle *F = &t->tri[from];
+    rf_vec3 q = m->centre ? m->s.p : rf_v3_madd(m->s.p, -m->rho, F->n);
+    rf_vec3 dir = m->s.v;
+    if (rf_v3_norm(dir) < 1e-9)
+        dir = acc;
+    if (rf_v3_hnorm(dir) < 1e-12)
+        dir = rf_v3_scale(fe->m[edge], -1.0);
+    int32_t to = rf_face_beyond(t, from, q, dir);
+    if (to == from) {
+        /* numerically still inside: step over the middle of the edge */
+        rf_vec3 mid = rf_v3_scale(rf_v3_add(tri_vertex(F, edge), tri_vertex(F, edge + 1)), 0.5);
+        to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[edge], -1.0));
+        if (to == from)
+            to = -1;
+    }
+    if (m->sup.n == 2) {
+        int32_t other = m->sup.tri[1 - slot];
+        if (to >= 0 && coplanar(F, &t->tri[to], m->tol_len)) {
+            m->sup.tri[slot] = to;
+            m->sup.left = from;
+            return RF_SURF_CONTINUE;
+        }
+        if (to < 0) {
+            if (m->point || m->centre)
+                return RF_SURF_EXITED;
+            go_flight(m, from);
+            m->flight_ex.n = 2;
+            m->flight_ex.tri[1] = other;
+            return RF_SURF_FLIGHT;
+        }
+        /* the crease goes on between the other face and the next one, or ends: carry
+         * on on the other face */
+        if (m->point && try_crease(m, other, to) == 0)
+            return RF_SURF_CONTINUE; /* a point moves on along the valley line */
+        m->sup.n = 1;
+        m->sup.tri[0] = other;
+        m->sup.tri[1] = -1;
+        m->sup.left = from;
+        return RF_SURF_CONTINUE;
+    }
+    if (to < 0) {
+        if (m->point || m->centre)
+            return RF_SURF_EXITED;
+        go_flight(m, from);
+        return RF_SURF_FLIGHT;
+    }
+    const rf_triangle *Tn = &t->tri[to];
+    if (coplanar(F, Tn, m->tol_len)) {
+        support_single(m, to, 0);
+        m->sup.left = from;
+        return RF_SURF_CONTINUE;
+    }
+    double vn = rf_v3_dot(m->s.v, Tn->n);
+    if (fabs(vn) <= RF_APPROACH_EPS) {
+        /* moving along the edge: the acceleration decides */
+        double an = rf_v3_dot(acc, Tn->n);
+        if (fabs(an) > 1e-9)
+            vn = an > 0 ? INFINITY : -INFINITY;
+    }
+    if (m->centre) {
+        /* over the next face the centre is above, on or below its offset plane */
+        double gap = rf_v3_dot(Tn->n, m->s.p) - Tn->d - m->rho;
+        if (gap > m->tol_len) {
+            go_flight(m, from);
+            return RF_SURF_FLIGHT;
+        }
+        if (gap < -m->tol_len)
+            vn = -INFINITY;
+    }
+    if (vn < -RF_APPROACH_EPS) {
+        /* concave: an impact on the next face */
+        rf_contact c = {0};
+        c.t = 0;
+        c.tri = to;
+        c.kind = RF_FEAT_FACE;
+        c.n = Tn->n;
+        c.point = rf_v3_madd(m->s.p, -(rf_v3_dot(Tn->n, m->s.p) - Tn->d), Tn->n);
+        if (m->point)
+            m->s.p = c.point;
+        rf_contact_resolve(m, &c);
+        return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+    }
+    if (vn <= RF_APPROACH_EPS) {
+        support_single(m, to, 0); /* tangent: the path continues on the next face */
+        m->sup.left = from;
+        return RF_SURF_CONTINUE;
+    }
+    /* convex: the next face falls away */
+    if (m->point || m->centre) {
+        go_flight(m, from);
+        return RF_SURF_FLIGHT;
+    }
+    rf_vec3 e = rf_v3_unit(rf_v3_sub(tri_vertex(F, edge + 1), tri_vertex(F, edge)));
+    rf_vec3 vp = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, e), e);
+    if (rf_v3_norm2(vp) >= m->rho * G_ACC * F->n.z) {
+        go_flight(m, from); /* fast enough to fly off the edge */
+        return RF_SURF_FLIGHT;
+    }
+    if (!pivot_clear(m, q, to)) {
+        hop(m, F->n);
+        return RF_SURF_FLIGHT;
+    }
+    if (rf_pivot(m, q, to) == 0) {
+        support_single(m, to, 0);
+        m->sup.rolling = 1;
+        return RF_SURF_CONTINUE;
+    }
+    /* cannot climb over: rolls back onto the face */
+    rf_vec3 mo = rf_v3_scale(fe->m[edge], -1.0);
+    double vo = rf_v3_dot(m->s.v, mo);
+    if (vo > 0) {
+        m->s.v = rf_v3_madd(m->s.v, -2.0 * vo, mo);
+        if (m->sup.rolling)
+            set_spin(m, F->n, rf_v3(0, 0, 0));
+    }
+    return RF_SURF_CONTINUE;
+}
+
+/* ---- rest ---------------------------------------------------------------------------- */
+
+int rf_surface_holds(const rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    double c = m->point ? m->sup.mu : (m->sup.rolling ? m->sup.mu_r : -1.0);
+    if (m->sup.n == 1) {
+        if (c < 0)
+            return 0; /* a slipping sphere first rolls */
+        rf_vec3 n = t->tri[m->sup.tri[0]].n;
+        double G = G_ACC * sqrt(fmax(0.0, 1.0 - n.z * n.z));
+        return G <= c * G_ACC * n.z;
+    }
+    if (m->sup.n == 2) {
+        if (c < 0)
+            c = m->sup.mu;
+        double xA, xB;
+        rf_vec3 l;
+        if (crease_forces(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n, &xA, &xB, &l))
+            return 0;
+        return fabs(G_ACC * l.z) <= c * (xA + xB);
+    }
+    return 0;
+}
+
+/* ---- closed-form segments ------------------------------------------------------------ */
+
+typedef struct seg_event {
+    ev_kind kind;
+    double t;
+    int edge, slot;
+    rf_contact con;
+    double level; /* EV_REST, EV_ZERO: the speed it falls to */
+} seg_event;
+
+static void consider(seg_event *ev, ev_kind kind, double t)
+{
+    if (t < ev->t) {
+        ev->t = t;
+        ev->kind = kind;
+    }
+}
+
+/* Finishes a segment at the event: records the motion and dispatches. */
+static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const face_edges *fe)
+{
+    switch (ev->kind) {
+    case EV_MAX_TIME:
+        return RF_SURF_MAX_TIME;
+    case EV_REST:
+        return RF_SURF_REST;
+    case EV_ZERO:
+        m->s.v = rf_v3(0, 0, 0);
+        if (!m->point && m->sup.rolling)
+            m->s.w = rf_v3(0, 0, 0);
+        rf_motion_event(m);
+        return RF_SURF_CONTINUE;
+    case EV_SLIP:
+        m->sup.rolling = 1;
+        set_spin(m, m->terrain->tri[m->sup.tri[0]].n, rf_v3(0, 0, 0));
+        rf_motion_event(m);
+        return RF_SURF_CONTINUE;
+    case EV_EXIT: {
+        rf_surface_end r = leave_face(m, ev->slot, ev->edge, fe, acc);
+        rf_motion_event(m);
+        return r;
+    }
+    case EV_CONTACT:
+        rf_contact_resolve(m, &ev->con);
+        rf_motion_event(m);
+        return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+    case EV_SCENE:
+        if (rf_scene_event(m) >= 0)
+            return RF_SURF_STOPPED;
+        return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+    default:
+        return RF_SURF_CONTINUE;
+    }
+}
+
+/* A segment of constant acceleration on one face. */
+static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, rf_vec3 u0,
+                                  const face_edges *fe)
+{
+    rf_support ex = segment_exclusion(m);
+    if (!m->point && !m->centre)
+        rf_gather_support(m);
+    rf_vec3 a = law_accel(f, dir);
+    double speed = rf_v3_norm(m->s.v);
+    seg_event ev = {EV_MAX_TIME, m->t_end - m->s.t, 0, 0, {0}, 0.0};
+    if (ev.t < 0)
+        ev.t = 0;
+    rf_vec3 du = rf_v3(0, 0, 0);
+    if (f->mode == LAW_SLIDE) {
+        du = law_slip_rate(f, dir);
+        double dus = rf_v3_dot(du, dir);
+        if (dus < 0)
+            consider(&ev, EV_SLIP, rf_v3_norm(u0) / -dus);
+    } else if (speed > 0) {
+        double as = rf_v3_dot(a, dir);
+        if (as < 0) {
+            if (rf_surface_holds(m))
+                consider(&ev, EV_REST, speed > m->scene->sim->stop_speed
+                                            ? (speed - m->scene->sim->stop_speed) / -as : 0.0);
+            else
+                consider(&ev, EV_ZERO, speed / -as);
+        }
+    }
+    rf_arc arc = {m->s.p, m->s.v, a};
+    int edge = 0;
+    double tx = exit_time(m, fe, &arc, ev.t, &edge);
+    if (tx < ev.t) {
+        consider(&ev, EV_EXIT, tx);
+        ev.edge = edge;
+        ev.slot = 0;
+    }
+    if (!m->point && !m->centre && ev.t > 0) {
+        rf_contact con;
+        if (rf_contact_search_near(m, &arc, ev.t, &ex, &con) && con.t < ev.t) {
+            consider(&ev, EV_CONTACT, con.t);
+            ev.con = con;
+        }
+    }
+    double ts = rf_scene_horizon(m, &arc, ev.t);
+    if (m->scene_pending && ts < ev.t)
+        consider(&ev, EV_SCENE, ts);
+    rf_motion_advance(m, &arc, ev.t);
+    if (!m->point) {
+        rf_vec3 u = f->mode == LAW_SLIDE ? rf_v3_madd(u0, ev.t, du) : rf_v3(0, 0, 0);
+        set_spin(m, f->n, u);
+    }
+    return dispatch(m, &ev, a, fe);
+}
+
+/* ---- integrated segments (Dormand-Prince 5(4)) ------------------------------------- */
+
+typedef struct ode {
+    const face_dyn *f;
+    int dim; /* 6 (c, v) or 9 (c, v, u) */
+} ode;
+
+static void rhs(const ode *o, const double *y, double *dy)
+{
+    const face_dyn *f = o->f;
+    rf_vec3 v = rf_v3(y[3], y[4], y[5]);
+    rf_vec3 dir;
+    dy[0] = y[3], dy[1] = y[4], dy[2] = y[5];
+    if (f->mode == LAW_SLIDE) {
+        rf_vec3 u = rf_v3(y[6], y[7], y[8]);
+        double ul = rf_v3_norm(u);
+        dir = ul > 0 ? rf_v3_scale(u, 1.0 / ul) : f->e1;
+        rf_vec3 du = law_slip_rate(f, dir);
+        dy[6] = du.x, dy[7] = du.y, dy[8] = du.z;
+    } else {
+        double vl = rf_v3_norm(v);
+        dir = vl > 0 ? rf_v3_scale(v, 1.0 / vl) : f->e1;
+    }
+    rf_vec3 a = law_accel(f, dir);
+    dy[3] = a.x, dy[4] = a.y, dy[5] = a.z;
+}
+
+/* One Dormand-Prince step of size h; returns the scaled error norm (<= 1 accepts). */
+static double dp_step(const ode *o, const double *y, double h, double *out)
+{
+    static const double c21 = 1.0 / 5, c31 = 3.0 / 40, c32 = 9.0 / 40, c41 = 44.0 / 45,
+                        c42 = -56.0 / 15, c43 = 32.0 / 9, c51 = 19372.0 / 6561,
+                        c52 = -25360.0 / 2187, c53 = 64448.0 / 6561, c54 = -212.0 / 729,
+                        c61 = 9017.0 / 3168, c62 = -355.0 / 33, c63 = 46732.0 / 5247,
+                        c64 = 49.0 / 176, c65 = -5103.0 / 18656, b1 = 35.0 / 384,
+                        b3 = 500.0 / 1113, b4 = 125.0 / 192, b5 = -2187.0 / 6784,
+                        b6 = 11.0 / 84, e1 = 71.0 / 57600, e3 = -71.0 / 16695,
+                        e4 = 71.0 / 1920, e5 = -17253.0 / 339200, e6 = 22.0 / 525,
+                        e7 = -1.0 / 40;
+    const int n = 9;
+    double k1[9], k2[9], k3[9], k4[9], k5[9], k6[9], k7[9], tmp[9];
+    rhs(o, y, k1);
+    for (int i = 0; i < n; i++)
+        tmp[i] = y[i] + h * c21 * k1[i];
+    rhs(o, tmp, k2);
+    for (int i = 0; i < n; i++)
+        tmp[i] = y[i] + h * (c31 * k1[i] + c32 * k2[i]);
+    rhs(o, tmp, k3);
+    for (int i = 0; i < n; i++)
+        tmp[i] = y[i] + h * (c41 * k1[i] + c42 * k2[i] + c43 * k3[i]);
+    rhs(o, tmp, k4);
+    for (int i = 0; i < n; i++)
+        tmp[i] = y[i] + h * (c51 * k1[i] + c52 * k2[i] + c53 * k3[i] + c54 * k4[i]);
+    rhs(o, tmp, k5);
+    for (int i = 0; i < n; i++)
+        tmp[i] = y[i] + h * (c61 * k1[i] + c62 * k2[i] + c63 * k3[i] + c64 * k4[i] + c65 * k5[i]);
+    rhs(o, tmp, k6);
+    for (int i = 0; i < n; i++)
+        out[i] = y[i] + h * (b1 * k1[i] + b3 * k3[i] + b4 * k4[i] + b5 * k5[i] + b6 * k6[i]);
+    rhs(o, out, k7);
+    double err = 0.0;
+    for (int i = 0; i < o->dim; i++) {
+        double ei = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
+        double sc = RF_ODE_TOL * (1.0 + fmax(fabs(y[i]), fabs(out[i])));
+        double r = fabs(ei) / sc;
+        if (r > err)
+            err = r;
+    }
+    return err;
+}
+
+static rf_vec3 y_c(const double *y) { return rf_v3(y[0], y[1], y[2]); }
+static rf_vec3 y_v(const double *y) { return rf_v3(y[3], y[4], y[5]); }
+static rf_vec3 y_u(const double *y) { return rf_v3(y[6], y[7], y[8]); }
+
+/* Scalar event function at a state (relative centre c + c0). */
+static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const face_edges *fe,
+                          rf_vec3 c0, const double *y)
+{
+    rf_vec3 c = rf_v3_add(c0, y_c(y));
+    switch (kind) {
+    case EV_EXIT:
+        return rf_v3_dot(fe->m[ev->edge], c) - fe->o[ev->edge];
+    case EV_REST:
+    case EV_ZERO:
+        return rf_v3_norm2(y_v(y)) - ev->level * ev->level;
+    case EV_CONTACT:
+        return rf_feature_distance(m->terrain, &ev->con, c) - m->rho;
+    default:
+        return 0.0;
+    }
+}
+
+/* Time in (0, h] where the event function crosses zero on the integrated path, by
+ * re-stepping from y; -1 when it does not (the step's parabola was only close). */
+static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
+                     const face_edges *fe, rf_vec3 c0, const double *y, double h, double guess)
+{
+    double tmp[9];
+    double lo = 0.0, hi = h;
+    double flo = event_value(m, kind, ev, fe, c0, y);
+    if (flo <= 0.0)
+        return 0.0;
+    double fhi = 1.0;
+    if (guess > 0 && guess < h) {
+        /* just after the parabola's estimate, the usual bracket */
+        hi = fmin(h, guess + 1e-6 * h + 1e-12);
+        dp_step(o, y, hi, tmp);
+        fhi = event_value(m, kind, ev, fe, c0, tmp);
+    }
+    if (fhi > 0.0) {
+        hi = h;
+        dp_step(o, y, h, tmp);
+        fhi = event_value(m, kind, ev, fe, c0, tmp);
+    }
+    if (fhi > 0.0)
+        return -1.0;
+    double t = (guess > lo && guess < hi) ? guess : lo + (hi - lo) * flo / (flo - fhi);
+    int side = 0;
+    for (int it = 0; it < 60 && hi - lo > RF_TIME_TOL; it++) {
+        dp_step(o, y, t, tmp);
+        double ft = event_value(m, kind, ev, fe, c0, tmp);
+        if (ft > 0) {
+            lo = t, flo = ft;
+            if (side == 1)
+                fhi *= 0.5; /* Illinois */
+            side = 1;
+        } else {
+            hi = t, fhi = ft;
+            if (side == -1)
+                flo *= 0.5;
+            side = -1;
+            if (ft == 0.0)
+                break;
+        }
+        t = lo + (hi - lo) * flo / (flo - fhi);
+        if (!(t > lo && t < hi))
+            t = 0.5 * (lo + hi);
+    }
+    return hi; /* the event has happened at hi */
+}
+
+static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const face_edges *fe)
+{
+    rf_support ex = segment_exclusion(m);
+    if (!m->point && !m->centre)
+        rf_gather_support(m);
+    ode o = {f, f->mode == LAW_SLIDE ? 9 : 6};
+    rf_vec3 c0 = m->s.p;
+    double y[9] = {0, 0, 0, m->s.v.x, m->s.v.y, m->s.v.z, u0.x, u0.y, u0.z};
+    double yn[9];
+    double t = 0.0, tcap = m->t_end - m->s.t;
+    double speed = rf_v3_norm(m->s.v);
+    double h = m->ode_h > 0 ? m->ode_h : fmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
+    int holds = rf_surface_holds(m);
+    double stop = m->scene->sim->stop_speed;
+    for (long steps = 0;; steps++) {
+        if (t >= tcap)
+            return RF_SURF_MAX_TIME;
+        if (steps > RF_ODE_MAX_STEPS)
+            return RF_SURF_CONTINUE; /* start a fresh segment */
+        if (f->mode != LAW_SLIDE && rf_v3_norm(y_v(y)) <= RF_SPEED_EPS) {
+            m->s.v = rf_v3(0, 0, 0);
+            return RF_SURF_CONTINUE; /* from rest: a closed-form segment */
+        }
+        if (f->mode == LAW_SLIDE && rf_v3_norm(y_u(y)) <= RF_SLIP_EPS) {
+            m->sup.rolling = 1; /* the slip has vanished */
+            set_spin(m, f->n, rf_v3(0, 0, 0));
+            rf_motion_event(m);
+            return RF_SURF_CONTINUE;
+        }
+        double hs = fmin(h, tcap - t);
+        if (f->mode == LAW_SLIDE) {
+            rf_vec3 u = y_u(y);
+            double ul = rf_v3_norm(u);
+            rf_vec3 du = law_slip_rate(f, ul > 0 ? rf_v3_scale(u, 1.0 / ul) : f->e1);
+            double dus = ul > 0 ? rf_v3_dot(du, u) / ul : -1.0;
+            if (dus < 0 && ul / -dus <= hs) {
+                hs = ul / -dus;
+            }
+        }
+        double err = dp_step(&o, y, hs, yn);
+        if (err > 1.0 && hs > 1e-12) {
+            h = hs * fmax(0.2, 0.9 * pow(err, -0.2));
+            continue;
+        }
+        /* accepted step [t, t + hs]: project back onto the plane */
+        rf_vec3 cn = y_c(yn), vn = y_v(yn);
+        cn = rf_v3_madd(cn, -rf_v3_dot(cn, f->n), f->n);
+        vn = in_plane(vn, f->n);
+        yn[0] = cn.x, yn[1] = cn.y, yn[2] = cn.z, yn[3] = vn.x, yn[4] = vn.y, yn[5] = vn.z;
+        rf_vec3 ck = rf_v3_add(c0, y_c(y)), vk = y_v(y);
+        rf_vec3 afit = rf_v3_scale(rf_v3_sub(rf_v3_sub(cn, y_c(y)), rf_v3_scale(vk, hs)), 2.0 / (hs * hs));
+        rf_arc arc = {ck, vk, afit};
+        seg_event ev = {EV_NONE, hs, 0, 0, {0}, 0.0};
+        double guess = -1;
+        int edge = 0;
+        double tx = exit_time(m, fe, &arc, hs, &edge);
+        rf_vec3 cabs = rf_v3_add(c0, cn);
+        int outside = 0;
+        for (int k = 0; k < 3; k++) {
+            if (rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
+                outside = 1;
+                if (!(tx < hs))
+                    edge = k, tx = hs;
+            }
+        }
+        if (tx < hs || outside) {
+            ev.kind = EV_EXIT, ev.t = tx, ev.edge = edge;
+            guess = tx;
+        }
+        /* rest, or a speed so small that friction's direction is undefined: stop
+         * there and go on from rest (along the fall line) */
+        double level = holds ? stop : RF_SPEED_EPS;
+        if (f->mode != LAW_SLIDE && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level) {
+            ev.kind = holds ? EV_REST : EV_ZERO, ev.t = hs, ev.level = level;
+            guess = -1;
+        }
+        if (!m->point && !m->centre) {
+            rf_contact con;
+            double tl = ev.kind == EV_NONE ? hs : fmin(hs, ev.t + 0.1 * hs);
+            if (rf_contact_search_near(m, &arc, tl, &ex, &con) && con.t <= ev.t) {
+                ev.kind = EV_CONTACT, ev.t = con.t, ev.con = con;
+                guess = con.t;
+            }
+        }
+        /* scene events on the step's parabola, before any terrain event */
+        double ts = rf_scene_horizon(m, &arc, ev.kind != EV_NONE ? ev.t : hs);
+        if (m->scene_pending && ts < (ev.kind != EV_NONE ? ev.t : hs)) {
+            ev.kind = EV_SCENE, ev.t = ts;
+        } else {
+            m->scene_pending = 0;
+        }
+        double te = -1.0;
+        if (ev.kind == EV_SCENE) {
+            te = ts;
+        } else if (ev.kind != EV_NONE) {
+            if (ev.kind == EV_EXIT && tx <= 0.0)
+                te = 0.0;
+            else
+                te = locate(m, &o, ev.kind, &ev, fe, c0, y, hs, guess);
+        }
+        if (te >= 0.0) {
+            double ye[9];
+            if (te > 0) {
+                dp_step(&o, y, te, ye);
+            } else {
+                memcpy(ye, y, sizeof ye);
+            }
+            rf_vec3 ce = y_c(ye);
+            ce = rf_v3_madd(ce, -rf_v3_dot(ce, f->n), f->n);
+            rf_vec3 ve = in_plane(y_v(ye), f->n);
+            rf_vec3 ae = te > 0 ? rf_v3_scale(rf_v3_sub(rf_v3_sub(ce, y_c(y)), rf_v3_scale(vk, te)), 2.0 / (te * te))
+                                : rf_v3(0, 0, 0);
+            rf_arc ea = {ck, vk, ae};
+            rf_motion_advance(m, &ea, te);
+            m->s.p = rf_v3_add(c0, ce);
+            m->s.v = ve;
+            if (!m->point)
+                set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(ye) : rf_v3(0, 0, 0));
+            if (ev.kind == EV_CONTACT) {
+                /* exactly at contact distance is restored by the resolver */
+                rf_contact_resolve(m, &ev.con);
+                rf_motion_event(m);
+                return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+            }
+            return dispatch(m, &ev, law_accel(f, f->e1), fe);
+        }
+        rf_motion_advance(m, &arc, hs);
+        m->s.p = cabs;
+        m->s.v = vn;
+        if (!m->point)
+            set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(yn) : rf_v3(0, 0, 0));
+        memcpy(y, yn, sizeof y);
+        t += hs;
+        h = hs * fmin(5.0, 0.9 * pow(fmax(err, 1e-10), -0.2));
+        m->ode_h = h;
+    }
+}
+
+/* ---- one face ----------------------------------------------------------------------- */
+
+static int along(rf_vec3 x, rf_vec3 e1)
+{
+    double xl = rf_v3_norm(x);
+    return xl == 0.0 || rf_v3_norm(rf_v3_cross(x, e1)) <= 1e-12 * xl;
+}
+
+static rf_surface_end face_step(rf_motion *m)
+{
+    int32_t tri = m->sup.tri[0];
+    const rf_triangle *T = &m->terrain->tri[tri];
+    m->s.v = in_plane(m->s.v, T->n);
+    face_dyn f;
+    rf_vec3 u0 = rf_v3(0, 0, 0);
+    if (!m->point) {
+        u0 = slip_of(m, T->n);
+        if (!m->sup.rolling && rf_v3_norm(u0) <= RF_SLIP_EPS) {
+            m->sup.rolling = 1;
+            set_spin(m, T->n, rf_v3(0, 0, 0));
+            u0 = rf_v3(0, 0, 0);
+        }
+    }
+    face_setup(m, T->n, &f);
+    if (f.mode == LAW_ROLL) {
+        /* rolling needs the friction force 2/7 m g_t (and the resistance) <= mu m g_n */
+        double kr = f.k;
+        rf_vec3 dirv = rf_v3_norm(m->s.v) > 0 ? rf_v3_unit(m->s.v) : f.e1;
+        rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - kr), -kr * m->sup.mu_r * f.gn, dirv);
+        if (rf_v3_norm(need) > m->sup.mu * f.gn * (1 + 1e-12) && rf_v3_norm(m->s.v) > 0) {
+            m->sup.rolling = 0;
+            face_setup(m, T->n, &f);
+            u0 = rf_v3(0, 0, 0);
+        }
+    }
+    double speed = rf_v3_norm(m->s.v);
+    if (speed <= m->scene->sim->stop_speed && f.mode != LAW_SLIDE && rf_surface_holds(m))
+        return RF_SURF_REST;
+    face_edges fe;
+    edges_setup(m, T, &fe);
+    rf_vec3 dir;
+    int closed;
+    if (f.mode == LAW_SLIDE) {
+        double ul = rf_v3_norm(u0);
+        dir = ul > 0 ? rf_v3_scale(u0, 1.0 / ul) : f.e1;
+        closed = f.G == 0.0 || along(u0, f.e1);
+    } else {
+        dir = speed > 0 ? rf_v3_scale(m->s.v, 1.0 / speed) : f.e1;
+        closed = f.G == 0.0 || along(m->s.v, f.e1);
+    }
+    if (closed)
+        return face_closed(m, &f, dir, u0, &fe);
+    return face_ode(m, &f, u0, &fe);
+}
+
+/* ---- a crease ---------------------------------------------------------------------- */
+
+static rf_surface_end crease_step(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
+    double xA, xB;
+    rf_vec3 l;
+    if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
+        int keep = (xA < 0) ? 1 : 0;
+        int32_t tri = m->sup.tri[keep];
+        m->sup.n = 1;
+        m->sup.tri[0] = tri;
+        m->sup.tri[1] = -1;
+        return RF_SURF_CONTINUE;
+    }
+    rf_support ex = segment_exclusion(m);
+    if (!m->point && !m->centre)
+        rf_gather_support(m);
+    double s = rf_v3_dot(m->s.v, l);
+    if (s < 0) {
+        l = rf_v3_scale(l, -1.0);
+        s = -s;
+    }
+    m->s.v = rf_v3_scale(l, s);
+    double gl = -G_ACC * l.z;
+    double N = xA + xB;
+    int rolling = !m->point && m->sup.rolling;
+    if (rolling && (1.0 - roll_factor(m->body, m->rho)) * fabs(G_ACC * l.z) > m->sup.mu * (xA + xB)) {
+        m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
+    }
+    double k = rolling ? roll_factor(m->body, m->rho) : 1.0;
+    double c = rolling ? m->sup.mu_r : m->sup.mu;
+    double stop = m->scene->sim->stop_speed;
+    int holds = fabs(gl) <= c * N;
+    if (s <= stop && holds)
+        return RF_SURF_REST;
+    if (s == 0.0 && gl < 0) {
+        l = rf_v3_scale(l, -1.0);
+        gl = -gl;
+    }
+    double as = k * (gl - c * N);
+    rf_vec3 a = rf_v3_scale(l, as);
+    seg_event ev = {EV_MAX_TIME, fmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
+    if (as < 0 && s > 0) {
+        if (holds)
+            consider(&ev, EV_REST, (s - stop) / -as);
+        else
+            consider(&ev, EV_ZERO, s / -as);
+    }
+    rf_arc arc = {m->s.p, m->s.v, a};
+    face_edges fe[2];
+    for (int slot = 0; slot < 2; slot++) {
+        edges_setup(m, slot == 0 ? A : B, &fe[slot]);
+        int edge = 0;
+        double tx = exit_time(m, &fe[slot], &arc, ev.t, &edge);
+        if (tx < ev.t) {
+            consider(&ev, EV_EXIT, tx);
+            ev.edge = edge;
+            ev.slot = slot;
+        }
+    }
+    if (!m->point && !m->centre && ev.t > 0) {
+        rf_contact con;
+        if (rf_contact_search_near(m, &arc, ev.t, &ex, &con) && con.t < ev.t) {
+            consider(&ev, EV_CONTACT, con.t);
+            ev.con = con;
+        }
+    }
+    double ts = rf_scene_horizon(m, &arc, ev.t);
+    if (m->scene_pending && ts < ev.t)
+        consider(&ev, EV_SCENE, ts);
+    rf_motion_advance(m, &arc, ev.t);
+    if (rolling) {
+        rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
+        m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
+    }
+    return dispatch(m, &ev, a, &fe[ev.slot]);
+}
+
+rf_surface_end rf_surface_step(rf_motion *m)
+{
+    return m->sup.n == 2 ? crease_step(m) : face_step(m);
+}

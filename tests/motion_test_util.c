@@ -1,0 +1,191 @@
+/* motion_test_util.c - scenes and a recording sink for the motion tests. */
+#include "motion_test_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "test.h"
+
+void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_surface s)
+{
+    rf_terrain_spec spec;
+    memset(&spec, 0, sizeof spec);
+    spec.source = RF_TERRAIN_PROFILE;
+    spec.profile = (double *)pts;
+    spec.nprofile = n;
+    spec.width = width;
+    spec.up = 'z';
+    spec.surface = s;
+    rf_error err;
+    memset(&err, 0, sizeof err);
+    int rc = rf_terrain_build(&spec, t, &err);
+    ENSURE_MSG(rc == 0, "profile: %s", err.message);
+}
+
+static void build_file(rf_terrain *t, rf_terrain_source src, const char *name, const char *text,
+                       rf_surface s)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", rf_test_tmpdir(), name);
+    FILE *f = fopen(path, "w");
+    ENSURE(f != NULL);
+    fputs(text, f);
+    fclose(f);
+    char *files[1] = {path};
+    rf_terrain_spec spec;
+    memset(&spec, 0, sizeof spec);
+    spec.source = src;
+    spec.files = files;
+    spec.nfiles = 1;
+    spec.up = 'z';
+    spec.surface = s;
+    rf_error err;
+    memset(&err, 0, sizeof err);
+    int rc = rf_terrain_build(&spec, t, &err);
+    ENSURE_MSG(rc == 0, "%s:%d:%d: %s", err.file, err.line, err.column, err.message);
+}
+
+void mt_dem_text(rf_terrain *t, const char *name, const char *text, rf_surface s)
+{
+    build_file(t, RF_TERRAIN_DEM, name, text, s);
+}
+
+void mt_mesh_text(rf_terrain *t, const char *name, const char *text, rf_surface s)
+{
+    build_file(t, RF_TERRAIN_MESH, name, text, s);
+}
+
+rf_state mt_state(rf_vec3 p, rf_vec3 v)
+{
+    rf_state s;
+    memset(&s, 0, sizeof s);
+    s.p = p;
+    s.v = v;
+    return s;
+}
+
+rf_simulation mt_sim(rf_rock_model model, rf_contact_kind contact, double max_time)
+{
+    rf_simulation sim;
+    memset(&sim, 0, sizeof sim);
+    sim.model = model;
+    sim.engine = RF_ENGINE_EXACT;
+    sim.dt = 0.001;
+    sim.contact = contact;
+    sim.stop_speed = 0.1;
+    sim.max_time = max_time;
+    sim.paths = 10;
+    return sim;
+}
+
+static int bad(double x) { return !isfinite(x); }
+
+static void on_point(void *ctx, const rf_path_point *pt)
+{
+    mt_run *r = ctx;
+    if (bad(pt->t_s) || bad(pt->p.x) || bad(pt->p.y) || bad(pt->p.z) || bad(pt->speed_ms) ||
+        bad(pt->energy_kj))
+        r->nan_seen = 1;
+    if (r->npoints == r->cap) {
+        r->cap = r->cap ? 2 * r->cap : 64;
+        r->points = realloc(r->points, r->cap * sizeof *r->points);
+    }
+    r->points[r->npoints++] = *pt;
+    if (r->pending_impacts > 0) {
+        if (r->n_impacts == r->icap) {
+            r->icap = r->icap ? 2 * r->icap : 64;
+            r->impacts = realloc(r->impacts, r->icap * sizeof *r->impacts);
+        }
+        r->impacts[r->n_impacts++] = *pt;
+        r->pending_impacts = 0;
+    }
+    r->last = *pt;
+}
+
+static void on_impact(void *ctx, double t, double e0, double e1, double vn)
+{
+    mt_run *r = ctx;
+    (void)t;
+    if (bad(e0) || bad(e1) || bad(vn))
+        r->nan_seen = 1;
+    if (e1 - e0 > r->energy_gain_kj)
+        r->energy_gain_kj = e1 - e0;
+    r->pending_impacts++;
+}
+
+static void on_sample(void *ctx, rf_vec3 p, double speed, double ekj, double h)
+{
+    mt_run *r = ctx;
+    if (bad(p.x) || bad(p.y) || bad(p.z) || bad(speed) || bad(ekj) || bad(h))
+        r->nan_seen = 1;
+    if (r->samples > 0) {
+        double d = hypot(p.x - r->last_sample.x, p.y - r->last_sample.y);
+        if (d > r->max_sample_gap)
+            r->max_sample_gap = d;
+    }
+    r->samples++;
+    r->last_sample = p;
+}
+
+void mt_simulate_opts(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
+                      const rf_state *s, unsigned long seed, double sample_spacing, mt_run *r)
+{
+    memset(r, 0, sizeof *r);
+    rf_scene scene = {t, sim, NULL, 0, NULL, 0};
+    rf_workspace *ws = rf_workspace_alloc(t);
+    ENSURE(ws != NULL);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, seed);
+    rf_sink sink;
+    memset(&sink, 0, sizeof sink);
+    sink.ctx = r;
+    sink.path_point = on_point;
+    sink.impact = on_impact;
+    if (sample_spacing > 0) {
+        sink.sample = on_sample;
+        sink.sample_spacing = sample_spacing;
+    }
+    rf_simulate(&scene, b, s, rng, ws, &sink, &r->rec);
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+}
+
+void mt_simulate_t(const rf_terrain *t, rf_rock_model model, double mass,
+                   rf_contact_kind contact, const rf_state *s, unsigned long seed,
+                   double max_time, mt_run *r)
+{
+    rf_simulation sim = mt_sim(model, contact, max_time);
+    rf_body b = rf_body_make(mass, 2650.0, model);
+    mt_simulate_opts(t, &sim, &b, s, seed, 0.0, r);
+}
+
+void mt_simulate(const rf_terrain *t, rf_rock_model model, double mass, rf_contact_kind contact,
+                 const rf_state *s, unsigned long seed, mt_run *r)
+{
+    mt_simulate_t(t, model, mass, contact, s, seed, 300.0, r);
+}
+
+void mt_run_free(mt_run *r)
+{
+    free(r->points);
+    free(r->impacts);
+    memset(r, 0, sizeof *r);
+}
+
+const rf_path_point *mt_first_impact(const mt_run *r)
+{
+    return r->n_impacts ? &r->impacts[0] : NULL;
+}
+
+double mt_terrain_distance(const rf_terrain *t, rf_vec3 p)
+{
+    double best = INFINITY;
+    for (size_t i = 0; i < t->ntri; i++) {
+        rf_vec3 q = rf_triangle_closest_point(&t->tri[i], p);
+        double d = rf_v3_norm(rf_v3_sub(p, q));
+        if (d < best)
+            best = d;
+    }
+    return best;
+}

@@ -1,0 +1,50 @@
+/* motion_test_util.h - scenes and a recording sink for the motion tests. */
+#ifndef ROCKFALL_MOTION_TEST_UTIL_H
+#define ROCKFALL_MOTION_TEST_UTIL_H
+
+#include <gsl/gsl_rng.h>
+
+#include "rockfall/sim.h"
+
+/* One simulated trajectory and what its sink saw. */
+typedef struct mt_run {
+    rf_trajectory_record rec;
+    rf_path_point *points;   /* every path point */
+    size_t npoints, cap;
+    rf_path_point *impacts;  /* the path point right after each impact */
+    size_t n_impacts, icap;
+    rf_path_point last;      /* the end */
+    double energy_gain_kj;   /* largest increase of kinetic energy at an impact */
+    long pending_impacts;
+    int nan_seen;
+    long samples;
+    double max_sample_gap;   /* largest horizontal distance between samples (m) */
+    rf_vec3 last_sample;
+} mt_run;
+
+/* Builds a profile terrain (distance, elevation pairs) of the given width; ENSUREs. */
+void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_surface s);
+/* Builds a terrain from an ESRI ASCII grid or an ascii STL written into the test's
+ * temporary directory. */
+void mt_dem_text(rf_terrain *t, const char *name, const char *text, rf_surface s);
+void mt_mesh_text(rf_terrain *t, const char *name, const char *text, rf_surface s);
+
+rf_state mt_state(rf_vec3 p, rf_vec3 v);
+/* Simulation options of the tests (exact engine, stop_speed 0.1, max_time 300). */
+rf_simulation mt_sim(rf_rock_model model, rf_contact_kind contact, double max_time);
+
+void mt_simulate(const rf_terrain *t, rf_rock_model model, double mass, rf_contact_kind contact,
+                 const rf_state *s, unsigned long seed, mt_run *r);
+void mt_simulate_t(const rf_terrain *t, rf_rock_model model, double mass,
+                   rf_contact_kind contact, const rf_state *s, unsigned long seed,
+                   double max_time, mt_run *r);
+/* Full control: simulation options, body and an optional sample spacing. */
+void mt_simulate_opts(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
+                      const rf_state *s, unsigned long seed, double sample_spacing, mt_run *r);
+void mt_run_free(mt_run *r);
+const rf_path_point *mt_first_impact(const mt_run *r);
+
+/* Smallest distance from p to the terrain (all triangles). */
+double mt_terrain_distance(const rf_terrain *t, rf_vec3 p);
+
+#endif

@@ -1,0 +1,462 @@
+/* test_hardcases.c - the motion engine on the hard cases of DESIGN.md section 5:
+ * bouncing to rest, resting, gullies, exact hits on vertices and edges, big rocks on
+ * small cells, near-vertical faces, holes and edges, truncation limits, extreme
+ * masses, random rough terrain, determinism. */
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "motion_test_util.h"
+
+#define PI 3.14159265358979323846
+#define G RF_GRAVITY
+
+static const rf_surface ROCKY = {{0.35, 0.1}, {0.45, 0.15}, {0.12, 0.04}};
+
+/* Writes an ESRI grid of nx * ny nodes (row-major from the north row) into buf. */
+static char *grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx)
+{
+    size_t cap = 128 + (size_t)nx * (size_t)ny * 24;
+    char *buf = malloc(cap);
+    size_t n = (size_t)snprintf(buf, cap,
+                                "ncols %d\nnrows %d\nxllcorner 0\nyllcorner 0\ncellsize %.17g\n"
+                                "NODATA_value -9999\n",
+                                nx, ny, cell);
+    for (int j = ny - 1; j >= 0; j--) {
+        for (int i = 0; i < nx; i++)
+            n += (size_t)snprintf(buf + n, cap - n, i ? " %.17g" : "%.17g", z(i, j, ctx));
+        n += (size_t)snprintf(buf + n, cap - n, "\n");
+    }
+    return buf;
+}
+
+static void ensure_sane(const mt_run *r, double max_time)
+{
+    ENSURE(!r->nan_seen);
+    ENSURE(r->rec.duration_s <= max_time + 1e-9);
+    ENSURE(r->rec.reason != RF_END_MAX_TIME || r->rec.duration_s >= max_time - 1e-6);
+    ENSURE_MSG(r->energy_gain_kj <= 1e-12 + 1e-12 * r->rec.max_energy_kj,
+               "energy gain %.3g kJ at an impact", r->energy_gain_kj);
+}
+
+/* ---- rest ---------------------------------------------------------------------------- */
+
+TEST(hard_bounce_to_rest_on_flat_ground)
+{
+    double prof[4] = {0.0, 0.0, 100.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 100.0, (rf_surface){{0.55, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(2385.0, 2650.0, md);
+        double r0 = model ? 0.0 : b.radius;
+        rf_state s = mt_state(rf_v3(31.7, 44.9, 7.3 + r0), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, md, 2385.0, RF_CONTACT_FULL, &s, 7, &r);
+        ensure_sane(&r, 300);
+        ENSURE(r.rec.reason == RF_END_REST);
+        ENSURE(r.rec.n_impacts > 3 && r.rec.n_impacts < 40);
+        ENSURE(r.npoints < 100);
+        ENSURE(r.rec.stop.x == 31.7 && r.rec.stop.y == 44.9);
+        ENSURE_SMALL(r.rec.stop.z - r0, 1e-12);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+TEST(hard_resting_rock_stays_put)
+{
+    const double theta = 20.0 * PI / 180.0;
+    double prof[4] = {0.0, 100.0 * tan(theta), 100.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 50.0, (rf_surface){{0.3, 0.0}, {0.8, 0.0}, {0.5, 0.0}});
+    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(4500.0, 2650.0, md);
+        rf_vec3 ground = rf_v3(40.0, 20.0, 60.0 * tan(theta));
+        rf_state s = mt_state(rf_v3_madd(ground, model ? 0.0 : b.radius, n), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, md, 4500.0, RF_CONTACT_FULL, &s, 7, &r);
+        ENSURE(r.rec.reason == RF_END_REST);
+        ENSURE(r.rec.duration_s == 0.0);
+        ENSURE(r.rec.n_impacts == 0);
+        ENSURE_SMALL(rf_v3_norm(rf_v3_sub(r.rec.stop, s.p)), 1e-12);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- a frictionless V-shaped gully ---------------------------------------------------- */
+
+static void v_gully(rf_terrain *t, double slope, double side, double L, double W, rf_surface s)
+{
+    /* z = -slope x + side |y| on x in [0, L], y in [-W, W]: two planes, four triangles */
+    rf_vec3 P[6] = {{0, -W, side * W},         {L, -W, -slope * L + side * W},
+                    {0, 0, 0},                 {L, 0, -slope * L},
+                    {0, W, side * W},          {L, W, -slope * L + side * W}};
+    int tris[4][3] = {{0, 1, 3}, {0, 3, 2}, {2, 3, 5}, {2, 5, 4}};
+    char buf[4096];
+    size_t n = (size_t)snprintf(buf, sizeof buf, "solid v\n");
+    for (int k = 0; k < 4; k++) {
+        n += (size_t)snprintf(buf + n, sizeof buf - n, "facet normal 0 0 0\nouter loop\n");
+        for (int i = 0; i < 3; i++) {
+            rf_vec3 p = P[tris[k][i]];
+            n += (size_t)snprintf(buf + n, sizeof buf - n, "vertex %.17g %.17g %.17g\n", p.x, p.y, p.z);
+        }
+        n += (size_t)snprintf(buf + n, sizeof buf - n, "endloop\nendfacet\n");
+    }
+    snprintf(buf + n, sizeof buf - n, "endsolid v\n");
+    mt_mesh_text(t, "v.stl", buf, s);
+}
+
+TEST(hard_frictionless_v_gully_energy)
+{
+    const double slope = tan(12.0 * PI / 180.0), side = tan(35.0 * PI / 180.0);
+    rf_terrain t;
+    v_gully(&t, slope, side, 80.0, 20.0, (rf_surface){{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}});
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(2385.0, 2650.0, md);
+        double rho = model ? 0.0 : b.radius;
+        double x0 = 3.7;
+        /* on the thalweg, touching both faces */
+        double zc = rho * sqrt(1.0 + slope * slope + side * side) - slope * x0;
+        rf_state s = mt_state(rf_v3(x0, 0.0, zc), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, md, 2385.0, RF_CONTACT_FULL, &s, 3, &r);
+        ensure_sane(&r, 300);
+        ENSURE_MSG(r.rec.reason == RF_END_EXITED, "reason %d", (int)r.rec.reason);
+        ENSURE(r.npoints < 50);
+        /* the outlet: where the rock leaves the faces at x = 80 */
+        const rf_path_point *out = NULL;
+        for (size_t k = 0; k < r.npoints && !out; k++)
+            if (r.points[k].p.x >= 80.0 - 1e-9)
+                out = &r.points[k];
+        ENSURE(out != NULL);
+        ENSURE(out->p.x <= 80.0 + rho);
+        double ke = out->energy_kj * 1000.0, pe = 2385.0 * G * (s.p.z - out->p.z);
+        ENSURE_REL(ke, pe, 1e-3);
+        ENSURE_SMALL(out->p.y, 1e-6);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- exact hits on vertices, edges and grid corners ------------------------------------ */
+
+static double pyramid_z(int i, int j, void *ctx)
+{
+    (void)ctx;
+    /* a four-sided pyramid peaking at node (5, 5), 1 m cells, on a gentle slope */
+    double d = fmax(abs(i - 5), abs(j - 5));
+    return 6.0 - 1.2 * d + 0.1 * (10 - i);
+}
+
+TEST(hard_exact_hits_on_vertices_edges_corners)
+{
+    char *txt = grid_text(11, 11, 1.0, pyramid_z, NULL);
+    rf_terrain t;
+    mt_dem_text(&t, "pyr.asc", txt, ROCKY);
+    free(txt);
+    /* drop points: the peak vertex, an edge midpoint, a cell corner, a diagonal
+     * midpoint, a node on the flank */
+    const double xy[][2] = {{5, 5}, {5.5, 5}, {3, 7}, {6.5, 6.5}, {2, 5}, {7, 3.5}};
+    for (int model = 0; model < 2; model++) {
+        for (int contact = 0; contact < 2; contact++) {
+            for (size_t k = 0; k < sizeof xy / sizeof *xy; k++) {
+                rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+                rf_state s = mt_state(rf_v3(xy[k][0], xy[k][1], 12.0), rf_v3(0, 0, 0));
+                mt_run r;
+                mt_simulate_t(&t, md, 300.0, contact ? RF_CONTACT_CENTRE : RF_CONTACT_FULL, &s,
+                              11 + k, 60.0, &r);
+                ensure_sane(&r, 60.0);
+                ENSURE(r.rec.n_impacts >= 1);
+                ENSURE(r.npoints < 5000);
+                if (!model && !contact) {
+                    rf_body b = rf_body_make(300.0, 2650.0, md);
+                    for (size_t i = 0; i < r.npoints; i++) {
+                        double d = mt_terrain_distance(&t, r.points[i].p);
+                        ENSURE_MSG(d >= 0.99 * b.radius, "point %zu: distance %.6g r %.6g", i, d,
+                                   b.radius);
+                    }
+                }
+                mt_run_free(&r);
+            }
+        }
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- a rock twice the cell size against a step ---------------------------------------- */
+
+static double step_z(int i, int j, void *ctx)
+{
+    (void)j;
+    (void)ctx;
+    /* 0.5 m cells sloping down in +x, a 0.6 m step up at x = 10 m, then level */
+    double x = 0.5 * i;
+    return x < 10.0 ? 4.0 - 0.3 * x : 1.6;
+}
+
+TEST(hard_big_rock_against_step_no_penetration)
+{
+    char *txt = grid_text(61, 21, 0.5, step_z, NULL);
+    rf_terrain t;
+    mt_dem_text(&t, "step.asc", txt, ROCKY);
+    free(txt);
+    double mass = 4.0 / 3.0 * PI * 1.0 * 2650.0; /* r = 1 m, twice the cell */
+    rf_body b = rf_body_make(mass, 2650.0, RF_MODEL_SPHERE);
+    ENSURE_REL(b.radius, 1.0, 1e-12);
+    for (int k = 0; k < 12; k++) {
+        double y = 3.0 + 0.37 * k, vx = 1.0 + 1.5 * k;
+        rf_state s = mt_state(rf_v3(2.0, y, 4.0 - 0.6 + 1.2), rf_v3(vx, 0.3 * (k % 3) - 0.3, 0));
+        mt_run r;
+        mt_simulate_t(&t, RF_MODEL_SPHERE, mass, RF_CONTACT_FULL, &s, 100 + k, 60.0, &r);
+        ensure_sane(&r, 60.0);
+        for (size_t i = 0; i < r.npoints; i++) {
+            double d = mt_terrain_distance(&t, r.points[i].p);
+            ENSURE_MSG(d >= 0.99, "run %d point %zu: distance %.6g", k, i, d);
+        }
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- near-vertical faces --------------------------------------------------------------- */
+
+TEST(hard_near_vertical_faces)
+{
+    const double angles[] = {85.0, 87.5, 89.0, 89.9};
+    for (size_t a = 0; a < 4; a++) {
+        double w = 20.0 / tan(angles[a] * PI / 180.0);
+        /* level ground, a wall rising 20 m at the given angle, a level top */
+        double prof[8] = {0.0, 0.0, 30.0, 0.0, 30.0 + w, 20.0, 60.0 + w, 20.0};
+        rf_terrain t;
+        mt_profile(&t, prof, 4, 40.0, ROCKY);
+        for (int model = 0; model < 2; model++) {
+            rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+            rf_body b = rf_body_make(800.0, 2650.0, md);
+            double rho = model ? 0.0 : b.radius;
+            /* thrown against the wall */
+            rf_state s = mt_state(rf_v3(10.0, 20.0, 3.0 + rho), rf_v3(15.0, 1.0, 4.0));
+            mt_run r;
+            mt_simulate_t(&t, md, 800.0, RF_CONTACT_FULL, &s, 5, 60.0, &r);
+            ensure_sane(&r, 60.0);
+            ENSURE(r.rec.stop.x <= 30.0 + w + 1e-6); /* never through the wall */
+            if (!model)
+                for (size_t i = 0; i < r.npoints; i++)
+                    ENSURE(mt_terrain_distance(&t, r.points[i].p) >= 0.99 * rho);
+            mt_run_free(&r);
+            /* rolling off the top and down the wall */
+            s = mt_state(rf_v3(32.0 + w, 20.0, 20.0 + rho), rf_v3(-6.0, 0.5, 0.0));
+            mt_simulate_t(&t, md, 800.0, RF_CONTACT_FULL, &s, 6, 60.0, &r);
+            ensure_sane(&r, 60.0);
+            ENSURE(r.rec.stop.z < 20.0);
+            mt_run_free(&r);
+        }
+        rf_terrain_free(&t);
+    }
+}
+
+/* ---- holes and edges ------------------------------------------------------------------ */
+
+static double holed_z(int i, int j, void *ctx)
+{
+    (void)ctx;
+    if (i >= 10 && i <= 12 && j >= 4 && j <= 6)
+        return -9999.0;
+    return 20.0 - 0.8 * i;
+}
+
+TEST(hard_nodata_holes_and_terrain_edges)
+{
+    char *txt = grid_text(21, 11, 1.0, holed_z, NULL);
+    rf_terrain t;
+    mt_dem_text(&t, "hole.asc", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
+    free(txt);
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(50.0, 2650.0, md);
+        double rho = model ? 0.0 : b.radius;
+        /* down the fall line into the hole (cells with x in [9.5, 13.5], y in [3.5, 7.5]) */
+        double z;
+        ENSURE(rf_terrain_height(&t, 2.0, 5.0, &z) >= 0);
+        rf_state s = mt_state(rf_v3(2.0, 5.0, z + rho + 0.01), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        ensure_sane(&r, 300);
+        ENSURE(r.rec.reason == RF_END_EXITED);
+        ENSURE(rf_terrain_locate(&t, r.rec.stop.x + 1e-6, r.rec.stop.y) < 0);
+        ENSURE(r.rec.stop.x > 9.5 - 1e-9 && r.rec.stop.x < 13.5);
+        mt_run_free(&r);
+        /* beside the hole, off the lower edge (x = 20.5) */
+        ENSURE(rf_terrain_height(&t, 2.0, 1.5, &z) >= 0);
+        s = mt_state(rf_v3(2.0, 1.5, z + rho + 0.01), rf_v3(0, 0, 0));
+        mt_simulate(&t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        ensure_sane(&r, 300);
+        ENSURE(r.rec.reason == RF_END_EXITED);
+        ENSURE(r.rec.stop.x >= 20.5 - 1e-9 || r.rec.stop.z < t.zmin);
+        mt_run_free(&r);
+        /* thrown sideways off the terrain */
+        s = mt_state(rf_v3(5.0, 8.0, 30.0), rf_v3(0, 6.0, 0));
+        mt_simulate(&t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        ensure_sane(&r, 300);
+        ENSURE(r.rec.reason == RF_END_EXITED);
+        ENSURE_SMALL(r.rec.stop.y - 10.5, 1e-9);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- truncation limits ----------------------------------------------------------------- */
+
+TEST(hard_restitution_and_friction_at_limits)
+{
+    double prof[6] = {0.0, 30.0, 60.0, 0.0, 160.0, 0.0};
+    const rf_surface cases[] = {
+        {{0.0, 0.0}, {0.4, 0.0}, {0.1, 0.0}},   /* e = 0 */
+        {{1.0, 0.0}, {0.4, 0.0}, {0.1, 0.0}},   /* e = 1 */
+        {{0.4, 0.0}, {0.0, 0.0}, {0.0, 0.0}},   /* mu = 0 */
+        {{0.4, 0.0}, {1e9, 0.0}, {1e9, 0.0}},   /* huge mu */
+        {{0.5, 10.0}, {0.3, 10.0}, {0.1, 10.0}}, /* draws cut at the limits */
+        {{-3.0, 0.1}, {-2.0, 0.1}, {-1.0, 0.1}}, /* means outside: clamped */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; c++) {
+        rf_terrain t;
+        mt_profile(&t, prof, 3, 30.0, cases[c]);
+        for (int model = 0; model < 2; model++) {
+            rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+            rf_state s = mt_state(rf_v3(5.0, 15.0, 35.0), rf_v3(2.0, 0.3, 0.0));
+            mt_run r;
+            mt_simulate_t(&t, md, 1000.0, RF_CONTACT_FULL, &s, 21 + c, 40.0, &r);
+            ensure_sane(&r, 40.0);
+            ENSURE(r.rec.n_impacts >= 1);
+            mt_run_free(&r);
+        }
+        rf_terrain_free(&t);
+    }
+}
+
+TEST(hard_e_one_bounces_forever_without_loss)
+{
+    double prof[4] = {0.0, 0.0, 100.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 100.0, (rf_surface){{1.0, 0.0}, {0.5, 0.0}, {0.1, 0.0}});
+    rf_state s = mt_state(rf_v3(50.0, 50.0, 2.5), rf_v3(0, 0, 0));
+    mt_run r;
+    mt_simulate_t(&t, RF_MODEL_POINT, 10.0, RF_CONTACT_FULL, &s, 1, 20.0, &r);
+    ENSURE(r.rec.reason == RF_END_MAX_TIME);
+    double tb = 2.0 * sqrt(2.0 * 2.5 / G);
+    ENSURE(labs(r.rec.n_impacts - (long)(20.0 / tb + 0.5)) <= 1);
+    for (size_t k = 0; k < r.n_impacts; k++)
+        ENSURE_REL(r.impacts[k].speed_ms, sqrt(2.0 * G * 2.5), 1e-9);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+}
+
+/* ---- extreme masses -------------------------------------------------------------------- */
+
+TEST(hard_one_kg_and_hundred_tonnes)
+{
+    double prof[6] = {0.0, 60.0, 80.0, 0.0, 200.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 3, 50.0, ROCKY);
+    const double masses[] = {1.0, 1e5};
+    for (int k = 0; k < 2; k++) {
+        rf_body b = rf_body_make(masses[k], 2650.0, RF_MODEL_SPHERE);
+        rf_state s = mt_state(rf_v3(3.0, 25.0, 60.0 - 0.75 * 3.0 + b.radius * 1.3), rf_v3(1, 0, 0));
+        mt_run r;
+        mt_simulate(&t, RF_MODEL_SPHERE, masses[k], RF_CONTACT_FULL, &s, 4, &r);
+        ensure_sane(&r, 300);
+        ENSURE(r.rec.reason == RF_END_REST || r.rec.reason == RF_END_EXITED);
+        ENSURE(r.rec.stop.x > 60.0);
+        ENSURE(r.rec.max_energy_kj <= masses[k] * G * 62.0 / 1000.0);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- many random trajectories on rough terrain ---------------------------------------- */
+
+static double rough_z(int i, int j, void *ctx)
+{
+    gsl_rng *rng = ctx;
+    double z = 40.0 - 0.7 * i + 0.1 * j + 1.2 * gsl_rng_uniform(rng);
+    if (i >= 30 && i <= 31 && j >= 20 && j <= 22)
+        return -9999.0;
+    return z;
+}
+
+TEST(hard_random_rough_terrain_energy_never_increases)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 2385);
+    char *txt = grid_text(61, 41, 1.0, rough_z, rng);
+    rf_terrain t;
+    mt_dem_text(&t, "rough.asc", txt, ROCKY);
+    free(txt);
+    long n = 10000, by_reason[4] = {0};
+    for (long k = 0; k < n; k++) {
+        rf_rock_model md = (k % 3 == 2) ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_contact_kind ck = (k % 5 == 4) ? RF_CONTACT_CENTRE : RF_CONTACT_FULL;
+        double mass = exp(log(1.0) + (log(2e4) - log(1.0)) * gsl_rng_uniform(rng));
+        rf_body b = rf_body_make(mass, 2650.0, md);
+        double x = 1.0 + 20.0 * gsl_rng_uniform(rng), y = 2.0 + 36.0 * gsl_rng_uniform(rng);
+        double z;
+        ENSURE(rf_terrain_height(&t, x, y, &z) >= 0);
+        rf_state s = mt_state(rf_v3(x, y, z + 2.0 + (md == RF_MODEL_SPHERE ? b.radius : 0.0) +
+                                          3.0 * gsl_rng_uniform(rng)),
+                              rf_v3(4.0 * gsl_rng_uniform(rng) - 1.0, 4.0 * gsl_rng_uniform(rng) - 2.0,
+                                    0.0));
+        rf_simulation sim = mt_sim(md, ck, 60.0);
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, (unsigned long)k + 1, k % 10 == 0 ? 0.5 : 0.0, &r);
+        ENSURE_MSG(!r.nan_seen, "trajectory %ld: NaN", k);
+        ENSURE_MSG(r.energy_gain_kj <= 1e-9 * (1.0 + r.rec.max_energy_kj),
+                   "trajectory %ld: energy gain %.3g kJ", k, r.energy_gain_kj);
+        ENSURE_MSG(r.rec.reason != RF_END_MAX_TIME, "trajectory %ld: max_time (%.3f s, %zu points)",
+                   k, r.rec.duration_s, r.npoints);
+        ENSURE_MSG(r.npoints < 20000, "trajectory %ld: %zu events", k, r.npoints);
+        if (r.samples > 0)
+            ENSURE_MSG(r.max_sample_gap <= 0.5 + 1e-9, "trajectory %ld: sample gap %.12g", k,
+                       r.max_sample_gap);
+        if (md == RF_MODEL_SPHERE && ck == RF_CONTACT_FULL && k % 50 == 0)
+            for (size_t i = 0; i < r.npoints; i++)
+                ENSURE_MSG(mt_terrain_distance(&t, r.points[i].p) >= 0.99 * b.radius,
+                           "trajectory %ld point %zu penetrates", k, i);
+        by_reason[r.rec.reason]++;
+        mt_run_free(&r);
+    }
+    ENSURE(by_reason[RF_END_REST] > 0 && by_reason[RF_END_EXITED] > 0);
+    gsl_rng_free(rng);
+    rf_terrain_free(&t);
+}
+
+/* ---- determinism ------------------------------------------------------------------------ */
+
+TEST(hard_same_seed_bit_identical_records)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 99);
+    char *txt = grid_text(61, 41, 1.0, rough_z, rng);
+    rf_terrain t;
+    mt_dem_text(&t, "det.asc", txt, ROCKY);
+    free(txt);
+    for (int k = 0; k < 20; k++) {
+        rf_state s = mt_state(rf_v3(3.0 + k, 5.0 + k, 50.0), rf_v3(1.0, 0.5, 0.0));
+        mt_run a, b;
+        mt_simulate(&t, k % 2 ? RF_MODEL_POINT : RF_MODEL_SPHERE, 2385.0, RF_CONTACT_FULL, &s,
+                    1000 + (unsigned long)k, &a);
+        mt_simulate(&t, k % 2 ? RF_MODEL_POINT : RF_MODEL_SPHERE, 2385.0, RF_CONTACT_FULL, &s,
+                    1000 + (unsigned long)k, &b);
+        ENSURE(memcmp(&a.rec, &b.rec, sizeof a.rec) == 0);
+        ENSURE(a.npoints == b.npoints);
+        ENSURE(memcmp(a.points, b.points, a.npoints * sizeof *a.points) == 0);
+        mt_run_free(&a);
+        mt_run_free(&b);
+    }
+    gsl_rng_free(rng);
+    rf_terrain_free(&t);
+}

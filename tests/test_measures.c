@@ -1,0 +1,165 @@
+/* test_measures.c - crossings of measure polylines and what measures do to rocks. */
+#include <math.h>
+#include <string.h>
+
+#include "measures.h"
+#include "test.h"
+
+static rf_measure line_measure(double *xy, size_t n)
+{
+    rf_measure m;
+    memset(&m, 0, sizeof m);
+    m.kind = RF_CONTROL;
+    m.behaviour = RF_COLLECT;
+    m.line.xy = xy;
+    m.line.n = n;
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        m.capacity[s] = -1.0;
+    return m;
+}
+
+/* A straight horizontal path across one segment: time and fraction exact. */
+TEST(measures_straight_crossing)
+{
+    double xy[] = {10.0, -5.0, 10.0, 15.0};
+    rf_measure m = line_measure(xy, 2);
+    rf_crossing c;
+    rf_vec3 p = rf_v3(2.385, 1.25, 40.0), v = rf_v3(3.7, 0.0, -1.0), a = rf_v3(0, 0, -9.81);
+    ENSURE(rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 10.0, &c));
+    ENSURE_REL(c.t, (10.0 - 2.385) / 3.7, 1e-14);
+    ENSURE_REL(c.u, (1.25 + 5.0) / 20.0, 1e-14);
+    ENSURE(c.measure == 0 && c.segment == 0);
+    /* too short a piece: no crossing */
+    ENSURE(!rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 2.0, &c));
+    /* moving away: none */
+    ENSURE(!rf_measures_first_crossing(&m, 1, p, rf_v3(-3.7, 0, 0), a, RF_CROSSING_EPS, 10.0, &c));
+}
+
+/* A curved horizontal path (rolling with a sideways acceleration) crosses a line at
+ * the root of the quadratic. */
+TEST(measures_quadratic_path_crossing)
+{
+    double xy[] = {-50.0, 7.5, 50.0, 7.5};
+    rf_measure m = line_measure(xy, 2);
+    rf_crossing c;
+    rf_vec3 p = rf_v3(0.3, 0.0, 0.0), v = rf_v3(1.2, 0.5, 0.0), a = rf_v3(0.0, 2.385, 0.0);
+    ENSURE(rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 100.0, &c));
+    double t = (-0.5 + sqrt(0.25 + 2.0 * 2.385 * 7.5)) / 2.385;
+    ENSURE_REL(c.t, t, 1e-13);
+    /* a path that turns back before the line (apex y = 4.5) never crosses it */
+    ENSURE(!rf_measures_first_crossing(&m, 1, p, rf_v3(0, 3.0, 0), rf_v3(0, -1.0, 0),
+                                       RF_CROSSING_EPS, 100.0, &c));
+}
+
+/* A path tangent to the line (touching without crossing) is no crossing. */
+TEST(measures_touch_is_no_crossing)
+{
+    double xy[] = {-50.0, 2.0, 50.0, 2.0};
+    rf_measure m = line_measure(xy, 2);
+    rf_crossing c;
+    /* y(t) = 4 t - t^2 has its apex y = 4 at t = 2; the line y = 4 is touched */
+    double xy4[] = {-50.0, 4.0, 50.0, 4.0};
+    rf_measure m4 = line_measure(xy4, 2);
+    rf_vec3 p = rf_v3(0, 0, 0), v = rf_v3(1, 4, 0), a = rf_v3(0, -2, 0);
+    ENSURE(!rf_measures_first_crossing(&m4, 1, p, v, a, RF_CROSSING_EPS, 10.0, &c));
+    /* the line y = 2 is crossed twice: first at 2 - sqrt(2) */
+    ENSURE(rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 10.0, &c));
+    ENSURE_REL(c.t, 2.0 - sqrt(2.0), 1e-14);
+    ENSURE(rf_measures_first_crossing(&m, 1, p, v, a, c.t + RF_CROSSING_EPS, 10.0, &c));
+    ENSURE_REL(c.t, 2.0 + sqrt(2.0), 1e-14);
+}
+
+/* Through a polyline vertex: found once, whichever way the search continues. */
+TEST(measures_vertex_crossing_counted_once)
+{
+    double xy[] = {0.0, 0.0, 10.0, 10.0, 20.0, 0.0};
+    rf_measure m = line_measure(xy, 3);
+    rf_vec3 p = rf_v3(10.0, 20.0, 0.0), v = rf_v3(0.0, -7.3, 0.0), a = rf_v3(0, 0, -9.81);
+    int count = 0;
+    double t_after = RF_CROSSING_EPS;
+    rf_crossing c;
+    while (rf_measures_first_crossing(&m, 1, p, v, a, t_after, 10.0, &c)) {
+        count++;
+        ENSURE_REL(c.t, 10.0 / 7.3, 1e-14);
+        t_after = c.t + RF_CROSSING_EPS;
+    }
+    ENSURE(count == 1);
+    /* a piece that starts exactly at the vertex does not count it again */
+    rf_vec3 q = rf_v3(10.0, 10.0, 0.0);
+    ENSURE(!rf_measures_first_crossing(&m, 1, q, v, a, RF_CROSSING_EPS, 10.0, &c));
+}
+
+/* A polyline with a 0.1 m kink crossed at 60 m/s: every crossing is found, in order. */
+TEST(measures_kink_at_60ms)
+{
+    double xy[] = {0.0, 0.0, 30.0, 0.0, 30.05, 0.1, 30.1, 0.0, 60.0, 0.0};
+    rf_measure m = line_measure(xy, 5);
+    /* a path along x = 30.05 - crosses the kink's apex region once through (30.05, y) */
+    rf_vec3 p = rf_v3(30.05, 5.0, 0.0), v = rf_v3(0.0, -60.0, 0.0), a = rf_v3(0, 0, 0);
+    rf_crossing c;
+    ENSURE(rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 1.0, &c));
+    ENSURE_REL(c.t, (5.0 - 0.1) / 60.0, 1e-13); /* the kink's apex (30.05, 0.1) */
+    int count = 1;
+    while (rf_measures_first_crossing(&m, 1, p, v, a, c.t + RF_CROSSING_EPS, 1.0, &c))
+        count++;
+    ENSURE_MSG(count == 1, "count %d", count);
+    /* a path at x = 30.02 crosses the kink's first leg only */
+    p.x = 30.02;
+    ENSURE(rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 1.0, &c));
+    ENSURE(c.segment == 1);
+    ENSURE_REL(c.t, (5.0 - 0.04) / 60.0, 1e-12);
+    /* a diagonal fast path crosses the zig-zag three times */
+    p = rf_v3(29.9, 0.12, 0.0);
+    v = rf_v3(60.0, -60.0 * 0.14 / 0.3, 0.0);
+    count = 0;
+    double t_after = RF_CROSSING_EPS;
+    while (rf_measures_first_crossing(&m, 1, p, v, a, t_after, 1.0, &c)) {
+        count++;
+        t_after = c.t + RF_CROSSING_EPS;
+    }
+    ENSURE_MSG(count == 3, "count %d", count);
+}
+
+/* The earliest crossing over several measures wins. */
+TEST(measures_earliest_of_several)
+{
+    double a1[] = {20.0, -10.0, 20.0, 10.0}, a2[] = {12.0, -10.0, 12.0, 10.0};
+    rf_measure ms[2] = {line_measure(a1, 2), line_measure(a2, 2)};
+    rf_crossing c;
+    ENSURE(rf_measures_first_crossing(ms, 2, rf_v3(0, 0, 0), rf_v3(4.0, 0, 0), rf_v3(0, 0, 0),
+                                      RF_CROSSING_EPS, 100.0, &c));
+    ENSURE(c.measure == 1);
+    ENSURE_REL(c.t, 3.0, 1e-15);
+}
+
+TEST(measures_outcomes)
+{
+    double xy[] = {0, 0, 1, 0};
+    rf_measure b = line_measure(xy, 2);
+    b.kind = RF_BARRIER;
+    b.behaviour = RF_STOP;
+    b.height = 5.0;
+    b.mel = 3000.0;
+    b.sel = 1000.0;
+    b.capacity[RF_SERVICEABILITY] = 1000.0;
+    b.capacity[RF_ULTIMATE] = 3000.0;
+    ENSURE(rf_measure_breaking_energy(&b) == 3000.0);
+    ENSURE(rf_measure_outcome(&b, 2.385, 2999.0) == RF_OUT_STOPPED);
+    ENSURE(rf_measure_outcome(&b, 2.385, 3000.0) == RF_OUT_STOPPED);
+    ENSURE(rf_measure_outcome(&b, 2.385, 3000.5) == RF_OUT_BROKE_THROUGH);
+    ENSURE(rf_measure_outcome(&b, 5.0, 10.0) == RF_OUT_OVERTOPPED);
+    ENSURE(rf_measure_outcome(&b, 7.5, 1e6) == RF_OUT_OVERTOPPED);
+    b.behaviour = RF_COLLECT;
+    ENSURE(rf_measure_outcome(&b, 2.385, 1e6) == RF_OUT_PASSED);
+    ENSURE(isinf(rf_measure_breaking_energy(&b)));
+    rf_measure e = b;
+    e.kind = RF_EMBANKMENT;
+    e.behaviour = RF_STOP;
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        e.capacity[s] = 2000.0 * (s + 1);
+    ENSURE(rf_measure_breaking_energy(&e) == 8000.0);
+    ENSURE(rf_measure_outcome(&e, 1.0, 7999.0) == RF_OUT_STOPPED);
+    ENSURE(rf_measure_outcome(&e, 1.0, 8001.0) == RF_OUT_BROKE_THROUGH);
+    rf_measure c = line_measure(xy, 2);
+    ENSURE(rf_measure_outcome(&c, 0.5, 1e9) == RF_OUT_PASSED);
+}

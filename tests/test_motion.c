@@ -1,0 +1,363 @@
+/* test_motion.c - the motion engine against closed forms (Eq. 1-2, 5/7 rolling,
+ * parabolic landing, bounce sequence) and the fixed-step baseline. */
+#include "test.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "motion_test_util.h"
+
+#define PI 3.14159265358979323846
+#define G RF_GRAVITY
+
+/* ---- Eq. 1-2: a point mass slides down a plane ------------------------------------ */
+
+TEST(motion_point_slides_eq1_eq2)
+{
+    const double theta = 33.7 * PI / 180.0, mu = 0.385, L = 120.0;
+    const double top = L * tan(theta);
+    double prof[4] = {0.0, top, L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 40.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu, 0.0}});
+    const double heights[] = {2.385, 17.3, 48.9, top - 0.01};
+    for (size_t k = 0; k < sizeof heights / sizeof *heights; k++) {
+        double H = heights[k];
+        double x0 = L - H / tan(theta);
+        rf_state s = mt_state(rf_v3(x0, 13.7, H), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, RF_MODEL_POINT, 2385.0, RF_CONTACT_FULL, &s, 1, &r);
+        ENSURE_MSG(r.rec.reason == RF_END_EXITED, "reason %d", (int)r.rec.reason);
+        double V = sqrt(1.0 - mu / tan(theta)) * sqrt(2.0 * G * H); /* Eq. 1-2 */
+        ENSURE_REL(r.last.speed_ms, V, 1e-9);
+        ENSURE_REL(r.rec.stop.x, L, 1e-12);
+        ENSURE_SMALL(r.rec.stop.y - 13.7, 1e-9);
+        /* time and path length of uniform acceleration */
+        double a = G * (sin(theta) - mu * cos(theta)), len = H / sin(theta);
+        ENSURE_REL(r.rec.duration_s, sqrt(2.0 * len / a), 1e-9);
+        ENSURE_REL(r.rec.path_length_m, len, 1e-9);
+        ENSURE_REL(r.rec.max_energy_kj, 0.5 * 2385.0 * V * V / 1000.0, 1e-9);
+        ENSURE(r.rec.n_impacts == 0);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* A point mass sliding across the fall line is integrated (no closed form): its
+ * energy balance still holds: KE = m g dz - mu m g cos(theta) * path length. */
+TEST(motion_point_slides_across_fall_line_energy_balance)
+{
+    const double theta = 31.0 * PI / 180.0, mu = 0.21, L = 200.0;
+    double prof[4] = {0.0, L * tan(theta), L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 400.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu, 0.0}});
+    rf_state s = mt_state(rf_v3(20.0, 100.0, (L - 20.0) * tan(theta)), rf_v3(3.0, 9.5, -3.0 * tan(theta)));
+    mt_run r;
+    mt_simulate(&t, RF_MODEL_POINT, 1000.0, RF_CONTACT_FULL, &s, 1, &r);
+    ENSURE(r.rec.reason == RF_END_EXITED);
+    double ke0 = 0.5 * 1000.0 * rf_v3_norm2(s.v);
+    double dz = s.p.z - r.rec.stop.z;
+    double ke = 0.5 * 1000.0 * r.last.speed_ms * r.last.speed_ms;
+    double expect = ke0 + 1000.0 * G * dz - mu * 1000.0 * G * cos(theta) * r.rec.path_length_m;
+    ENSURE_REL(ke, expect, 1e-6);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+}
+
+/* ---- rolling sphere: a = 5/7 g (sin theta - mu_r cos theta) ------------------------ */
+
+TEST(motion_sphere_rolls_five_sevenths)
+{
+    const double theta = 27.3 * PI / 180.0, mu = 0.9, mu_r = 0.115, L = 300.0;
+    double prof[4] = {0.0, L * tan(theta), L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
+    double x0 = 30.0, z0 = (L - x0) * tan(theta);
+    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    rf_state s = mt_state(rf_v3_madd(rf_v3(x0, 23.85, z0), b.radius, n), rf_v3(0, 0, 0));
+    const double T[] = {0.75, 2.385, 4.1};
+    for (size_t k = 0; k < 3; k++) {
+        mt_run r;
+        mt_simulate_t(&t, RF_MODEL_SPHERE, 2385.0, RF_CONTACT_FULL, &s, 1, T[k], &r);
+        ENSURE(r.rec.reason == RF_END_MAX_TIME);
+        double a = 5.0 / 7.0 * G * (sin(theta) - mu_r * cos(theta));
+        ENSURE_REL(r.last.speed_ms, a * T[k], 1e-9);
+        double d = rf_v3_norm(rf_v3_sub(r.rec.stop, s.p));
+        ENSURE_REL(d, 0.5 * a * T[k] * T[k], 1e-9);
+        ENSURE_REL(r.rec.path_length_m, 0.5 * a * T[k] * T[k], 1e-9);
+        /* rolling: total energy 7/10 m v^2 */
+        ENSURE_REL(r.last.energy_kj, 0.7 * 2385.0 * a * a * T[k] * T[k] / 1000.0, 1e-9);
+        ENSURE_SMALL(r.rec.stop.y - 23.85, 1e-9);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- launch from a cliff -------------------------------------------------------------- */
+
+TEST(motion_launch_from_cliff_lands_at_v0_sqrt_2h_over_g)
+{
+    const double h = 23.85, xc = 50.0;
+    /* flat top, a near-vertical face (1 mm wide), flat base */
+    double prof[8] = {0.0, h, xc, h, xc + 0.001, 0.0, 400.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 4, 40.0, (rf_surface){{0.0, 0.0}, {0.7, 0.0}, {0.0, 0.0}});
+    const double v0s[] = {4.2, 11.3, 27.9};
+    for (size_t k = 0; k < 3; k++) {
+        double v0 = v0s[k];
+        /* point mass sliding on a frictionless top keeps v0 (mu only at the base) */
+        rf_terrain_free(&t);
+        mt_profile(&t, prof, 4, 40.0, (rf_surface){{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}});
+        rf_state s = mt_state(rf_v3(xc - 10.0, 20.0, h), rf_v3(v0, 0, 0));
+        mt_run r;
+        mt_simulate_t(&t, RF_MODEL_POINT, 100.0, RF_CONTACT_FULL, &s, 1, 1e9, &r);
+        /* the first impact point */
+        const rf_path_point *imp = mt_first_impact(&r);
+        ENSURE(imp != NULL);
+        ENSURE_REL(imp->p.x, xc + v0 * sqrt(2.0 * h / G), 1e-9);
+        ENSURE_SMALL(imp->p.z, 1e-9);
+        ENSURE_REL(imp->t_s, 10.0 / v0 + sqrt(2.0 * h / G), 1e-9);
+        mt_run_free(&r);
+
+        /* rolling sphere: the centre is r above the top and lands r above the base */
+        rf_body b = rf_body_make(1000.0, 2650.0, RF_MODEL_SPHERE);
+        if (v0 * v0 < b.radius * G)
+            continue; /* too slow to fly off the edge */
+        rf_state ss = mt_state(rf_v3(xc - 10.0, 20.0, h + b.radius), rf_v3(v0, 0, 0));
+        ss.w = rf_v3(0, v0 / b.radius, 0); /* rolling: w = n x v / r */
+        mt_simulate_t(&t, RF_MODEL_SPHERE, 1000.0, RF_CONTACT_FULL, &ss, 1, 1e9, &r);
+        imp = mt_first_impact(&r);
+        ENSURE(imp != NULL);
+        ENSURE_REL(imp->p.x, xc + v0 * sqrt(2.0 * h / G), 1e-9);
+        ENSURE_REL(imp->p.z, b.radius, 1e-9);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- vertical drop: bounce heights h e^(2k) --------------------------------------------- */
+
+TEST(motion_bounce_heights_h_e2k)
+{
+    const double e = 0.615, h = 3.85;
+    double prof[4] = {0.0, 0.0, 100.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 100.0, (rf_surface){{e, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(2385.0, 2650.0, md);
+        double r0 = md == RF_MODEL_SPHERE ? b.radius : 0.0;
+        rf_state s = mt_state(rf_v3(47.3, 52.1, h + r0), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, md, 2385.0, RF_CONTACT_FULL, &s, 1, &r);
+        ENSURE(r.rec.reason == RF_END_REST);
+        ENSURE(r.n_impacts >= 5);
+        double tk = sqrt(2.0 * h / G), vk = sqrt(2.0 * G * h);
+        for (int k = 1; k <= 4; k++) {
+            double hk = r.impacts[k - 1].speed_ms * r.impacts[k - 1].speed_ms / (2.0 * G);
+            ENSURE_REL(hk, h * pow(e, 2.0 * k), 1e-9);
+            ENSURE_REL(r.impacts[k - 1].t_s, tk, 1e-9);
+            ENSURE_SMALL(r.impacts[k - 1].p.x - 47.3, 1e-12);
+            vk *= e;
+            tk += 2.0 * vk / G;
+        }
+        ENSURE_SMALL(r.rec.stop.x - 47.3, 1e-12);
+        ENSURE_SMALL(r.rec.stop.y - 52.1, 1e-12);
+        ENSURE_REL(r.rec.stop.z, r0 > 0 ? r0 : 1.0, r0 > 0 ? 1e-9 : 1e300);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- arcs --------------------------------------------------------------------------- */
+
+TEST(motion_flight_path_length_and_max_energy)
+{
+    /* a throw onto flat ground that stops dead at the landing (e = 0, huge mu): the
+     * path length is the parabola's arc length */
+    double prof[4] = {0.0, 0.0, 1000.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 100.0, (rf_surface){{0.0, 0.0}, {1e3, 0.0}, {1e3, 0.0}});
+    rf_state s = mt_state(rf_v3(10.0, 50.0, 0.0), rf_v3(13.1, 0.0, 17.9));
+    mt_run r;
+    mt_simulate(&t, RF_MODEL_POINT, 1.0, RF_CONTACT_FULL, &s, 1, &r);
+    ENSURE(r.rec.reason == RF_END_REST);
+    double T = 2.0 * 17.9 / G;
+    ENSURE_REL(r.rec.duration_s, T, 1e-12);
+    ENSURE_REL(r.rec.stop.x, 10.0 + 13.1 * T, 1e-12);
+    /* numeric arc length by Simpson's rule */
+    int N = 20000;
+    double sum = 0;
+    for (int i = 0; i <= N; i++) {
+        double tt = T * i / N, vz = 17.9 - G * tt;
+        double f = hypot(13.1, vz);
+        sum += f * (i == 0 || i == N ? 1 : (i % 2 ? 4 : 2));
+    }
+    double len = sum * T / N / 3.0;
+    ENSURE_REL(r.rec.path_length_m, len, 1e-9);
+    ENSURE_REL(r.rec.max_energy_kj, 0.5 * (13.1 * 13.1 + 17.9 * 17.9) / 1000.0, 1e-12);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+}
+
+/* ---- the fixed-step baseline converges to the exact engine ------------------------- */
+
+static double fixed_vs_exact(rf_rock_model md, double dt, double *exact_x)
+{
+    /* a 35 degree slope 30 m long onto level ground; e = 0, mu = 0.3 */
+    double prof[6] = {0.0, 21.0, 30.0, 0.0, 200.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 3, 40.0, (rf_surface){{0.0, 0.0}, {0.3, 0.0}, {0.3, 0.0}});
+    rf_body b = rf_body_make(1500.0, 2650.0, md);
+    double rho = md == RF_MODEL_SPHERE ? b.radius : 0.0;
+    double theta = atan2(21.0, 30.0);
+    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    rf_state s = mt_state(rf_v3_madd(rf_v3(2.0, 20.0, 21.0 - 2.0 * 0.7), rho, n), rf_v3(0, 0, 0));
+    /* the baseline tests contact as the paper does (Eq. 6-7): compare with the exact
+     * engine's `centre` contact */
+    rf_simulation sim = mt_sim(md, RF_CONTACT_CENTRE, 60.0);
+    mt_run r;
+    mt_simulate_opts(&t, &sim, &b, &s, 5, 0.0, &r);
+    ENSURE(r.rec.reason == RF_END_REST);
+    *exact_x = r.rec.stop.x;
+    mt_run_free(&r);
+    sim.engine = RF_ENGINE_FIXED_STEP;
+    sim.dt = dt;
+    mt_simulate_opts(&t, &sim, &b, &s, 5, 0.0, &r);
+    ENSURE(r.rec.reason == RF_END_REST);
+    ENSURE(r.energy_gain_kj <= 0.0);
+    double err = fabs(r.rec.stop.x - *exact_x);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+    return err;
+}
+
+TEST(motion_fixed_step_converges_to_exact)
+{
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        double x, e1 = fixed_vs_exact(md, 1e-2, &x), e2 = fixed_vs_exact(md, 1e-3, &x),
+                  e3 = fixed_vs_exact(md, 1e-5, &x);
+        ENSURE_MSG(e3 < e1 && e2 < e1, "errors %.3g %.3g %.3g", e1, e2, e3);
+        ENSURE_MSG(e3 < 2e-6 * x, "error %.3g at dt = 1e-5", e3);
+    }
+}
+
+/* ---- helpers of sim.h ------------------------------------------------------------- */
+
+TEST(motion_body_and_energy)
+{
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
+    ENSURE_REL(4.0 / 3.0 * PI * pow(b.radius, 3) * 2650.0, 2385.0, 1e-14);
+    ENSURE_REL(b.inertia, 0.4 * 2385.0 * b.radius * b.radius, 1e-14);
+    rf_vec3 v = rf_v3(1.5, -2.0, 0.25), w = rf_v3(0.3, 0.1, -0.7);
+    ENSURE_REL(rf_kinetic_energy(&b, v, w),
+               0.5 * 2385.0 * rf_v3_norm2(v) + 0.5 * b.inertia * rf_v3_norm2(w), 1e-14);
+    rf_body p = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    ENSURE_REL(rf_kinetic_energy(&p, v, w), 0.5 * 2385.0 * rf_v3_norm2(v), 1e-14);
+}
+
+TEST(motion_draw_truncated)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 2385);
+    ENSURE(rf_draw_truncated(rng, (rf_dist){0.385, 0.0}, 0.0, 1.0) == 0.385);
+    ENSURE(rf_draw_truncated(rng, (rf_dist){1.7, 0.0}, 0.0, 1.0) == 1.0);
+    ENSURE(rf_draw_truncated(rng, (rf_dist){-0.2, 0.0}, 0.0, INFINITY) == 0.0);
+    double sum = 0;
+    for (int i = 0; i < 20000; i++) {
+        double x = rf_draw_truncated(rng, (rf_dist){0.9, 0.3}, 0.0, 1.0);
+        ENSURE(x >= 0.0 && x <= 1.0);
+        sum += x;
+    }
+    /* the mean of N(0.9, 0.3) cut to [0, 1] is below 0.9 */
+    ENSURE(sum / 20000 < 0.8 && sum / 20000 > 0.7);
+    /* far in the tail: no hang, the clamped mean */
+    double x = rf_draw_truncated(rng, (rf_dist){-50.0, 0.1}, 0.0, 1.0);
+    ENSURE(x == 0.0);
+    gsl_rng_free(rng);
+}
+
+/* ---- samples, max_time, centre contact ------------------------------------------------ */
+
+TEST(motion_samples_every_spacing)
+{
+    const double theta = 30.0 * PI / 180.0;
+    double prof[6] = {0.0, 60.0 * tan(theta), 60.0, 0.0, 200.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 3, 40.0, (rf_surface){{0.3, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(500.0, 2650.0, md);
+        rf_simulation sim = mt_sim(md, RF_CONTACT_FULL, 300.0);
+        rf_state s = mt_state(rf_v3(3.0, 20.0, 60.0 * tan(theta) + 2.0), rf_v3(1.0, 0.5, 0.0));
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, 3, 0.37, &r);
+        ENSURE(!r.nan_seen);
+        ENSURE(r.samples > 10);
+        ENSURE_MSG(r.max_sample_gap <= 0.37 * (1 + 1e-9), "gap %.17g", r.max_sample_gap);
+        double hd = hypot(r.rec.stop.x - 3.0, r.rec.stop.y - 20.0);
+        ENSURE(r.samples >= (long)(hd / 0.37));
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+TEST(motion_max_time_ends_a_trajectory)
+{
+    const double theta = 30.0 * PI / 180.0;
+    double prof[4] = {0.0, 500.0 * tan(theta), 500.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 40.0, (rf_surface){{0.3, 0.0}, {0.2, 0.0}, {0.1, 0.0}});
+    rf_state s = mt_state(rf_v3(3.0, 20.0, 497.0 * tan(theta) + 5.0), rf_v3(0, 0, 0));
+    mt_run r;
+    mt_simulate_t(&t, RF_MODEL_POINT, 100.0, RF_CONTACT_FULL, &s, 1, 2.385, &r);
+    ENSURE(r.rec.reason == RF_END_MAX_TIME);
+    ENSURE(r.rec.duration_s == 2.385);
+    ENSURE(r.last.t_s == 2.385);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+}
+
+TEST(motion_centre_contact_rolls_five_sevenths_on_a_plane)
+{
+    /* on one plane the paper's centre test and the full test agree */
+    const double theta = 24.1 * PI / 180.0, mu_r = 0.2, L = 200.0;
+    double prof[4] = {0.0, L * tan(theta), L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {0.9, 0.0}, {mu_r, 0.0}});
+    rf_body b = rf_body_make(900.0, 2650.0, RF_MODEL_SPHERE);
+    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    rf_state s = mt_state(rf_v3_madd(rf_v3(20.0, 30.0, (L - 20.0) * tan(theta)), b.radius, n),
+                          rf_v3(0, 0, 0));
+    for (int contact = 0; contact < 2; contact++) {
+        mt_run r;
+        mt_simulate_t(&t, RF_MODEL_SPHERE, 900.0, contact ? RF_CONTACT_CENTRE : RF_CONTACT_FULL,
+                      &s, 1, 3.0, &r);
+        double a = 5.0 / 7.0 * G * (sin(theta) - mu_r * cos(theta));
+        ENSURE_REL(r.last.speed_ms, a * 3.0, 1e-9);
+        ENSURE_REL(rf_v3_norm(rf_v3_sub(r.rec.stop, s.p)), 4.5 * a, 1e-9);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+TEST(motion_rolling_sphere_decelerates_to_rest)
+{
+    /* rolling on level ground: rest where the speed falls to stop_speed, v^2 - s^2 = 2 a d */
+    double prof[4] = {0.0, 0.0, 300.0, 0.0};
+    rf_terrain t;
+    const double mu_r = 0.13;
+    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {0.9, 0.0}, {mu_r, 0.0}});
+    rf_body b = rf_body_make(900.0, 2650.0, RF_MODEL_SPHERE);
+    rf_state s = mt_state(rf_v3(10.0, 30.0, b.radius), rf_v3(7.3, 0, 0));
+    s.w = rf_v3(0, 7.3 / b.radius, 0);
+    mt_run r;
+    mt_simulate(&t, RF_MODEL_SPHERE, 900.0, RF_CONTACT_FULL, &s, 1, &r);
+    ENSURE(r.rec.reason == RF_END_REST);
+    double a = 5.0 / 7.0 * G * mu_r, stop = 0.1;
+    ENSURE_REL(r.rec.stop.x - 10.0, (7.3 * 7.3 - stop * stop) / (2 * a), 1e-9);
+    ENSURE_REL(r.rec.duration_s, (7.3 - stop) / a, 1e-9);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+}
