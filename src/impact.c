@@ -33,12 +33,17 @@ void rf_support_draw(rf_motion *m, int32_t tri)
 
 double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n, double *mu_out)
 {
-    const rf_body *b = m->body;
     const rf_surface *s = surface_of(m, tri);
     double e = rf_draw_truncated(m->rng, s->restitution, 0.0, 1.0);
     double mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
     if (mu_out)
         *mu_out = mu;
+    return rf_impact_apply(m, n, e, mu);
+}
+
+double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu)
+{
+    const rf_body *b = m->body;
     rf_vec3 v = m->s.v, w = m->s.w;
     double vn = rf_v3_dot(v, n);
     if (vn >= 0.0)

@@ -41,8 +41,9 @@ static double segment_crossing(const double *A, const double *B, rf_vec3 p, rf_v
     return INFINITY;
 }
 
-int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
-                               rf_vec3 a, double t_after, double T, rf_crossing *c)
+int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
+                                rf_vec3 a, double t_after, double T, rf_crossing *out,
+                                int cap)
 {
     /* horizontal bounding box of the path over [t_after, T] */
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
@@ -58,27 +59,46 @@ int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec
         double x = p.x + v.x * t + 0.5 * a.x * t * t, y = p.y + v.y * t + 0.5 * a.y * t * t;
         xlo = fmin(xlo, x), xhi = fmax(xhi, x), ylo = fmin(ylo, y), yhi = fmax(yhi, y);
     }
-    int found = 0;
+    int count = 0;
     double best = INFINITY;
     for (size_t mi = 0; mi < n; mi++) {
         const rf_polyline *l = &ms[mi].line;
+        rf_crossing c = {(int)mi, 0, INFINITY, 0.0};
         for (size_t s = 0; s + 1 < l->n; s++) {
             const double *A = &l->xy[2 * s], *B = &l->xy[2 * s + 2];
             if (fmax(A[0], B[0]) < xlo || fmin(A[0], B[0]) > xhi || fmax(A[1], B[1]) < ylo ||
                 fmin(A[1], B[1]) > yhi)
                 continue;
             double u = 0.0, t = segment_crossing(A, B, p, v, a, t_after, T, &u);
-            if (t < best) { /* strictly earlier: a vertex crossing stays on its first segment */
-                best = t;
-                c->measure = (int)mi;
-                c->segment = s;
-                c->t = t;
-                c->u = u;
-                found = 1;
+            if (t < c.t) { /* strictly earlier: a vertex crossing stays on its first segment */
+                c.segment = s;
+                c.t = t;
+                c.u = u;
             }
         }
+        if (!(c.t <= T))
+            continue;
+        if (c.t < best - RF_CROSSING_EPS) { /* a new earliest time: drop the later ones */
+            best = c.t;
+            count = 0;
+        } else if (c.t > best + RF_CROSSING_EPS) {
+            continue;
+        }
+        if (count < cap)
+            out[count++] = c;
     }
-    return found;
+    /* the crossings kept must all be at the earliest time */
+    int k = 0;
+    for (int i = 0; i < count; i++)
+        if (out[i].t <= best + RF_CROSSING_EPS)
+            out[k++] = out[i];
+    return k;
+}
+
+int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
+                               rf_vec3 a, double t_after, double T, rf_crossing *c)
+{
+    return rf_measures_first_crossings(ms, n, p, v, a, t_after, T, c, 1) > 0;
 }
 
 double rf_measure_breaking_energy(const rf_measure *m)

@@ -31,6 +31,13 @@ typedef struct rf_crossing {
  * one. */
 int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
                                rf_vec3 a, double t_after, double T, rf_crossing *c);
+/* Every measure crossed at that earliest time (measures drawn on the same line are
+ * crossed together), one crossing per measure in the order of the measures, at most
+ * `cap`; returns how many. */
+#define RF_MAX_COINCIDENT_CROSSINGS 32
+int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
+                                rf_vec3 a, double t_after, double T, rf_crossing *out,
+                                int cap);
 
 /* The energy (kJ) above which a barrier or embankment breaks through: its last
  * limit state's capacity (a barrier's MEL; an embankment's largest capacity given).

@@ -5,10 +5,9 @@
  * the earliest of the events the current phase can meet (terrain contact, leaving a
  * face, leaving the terrain, max_time; the surface phase adds slip, stop and rest),
  * moves the state there along the exact path and handles the event.  The cost follows
- * the number of events, not the simulated time.  Two later modules plug in as more
- * candidate events per segment: tree collisions (the distance to the next tree event
- * along the horizontal path) and measure crossings (the time the horizontal path
- * crosses a polyline); rf_scene_horizon and rf_scene_event are where they belong. */
+ * the number of events, not the simulated time.  Tree collisions and measure
+ * crossings come in as more candidate events of every piece of motion through
+ * rf_scene_horizon and rf_scene_event (scene_events.c). */
 #include "motion_private.h"
 
 #include <gsl/gsl_randist.h>
@@ -108,6 +107,7 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
         return;
     }
     m->rec->path_length_m += rf_arc_length(arc->v, arc->a, T);
+    rf_scene_travel(m, arc, T);
     const rf_sink *sk = m->sink;
     if (sk && sk->sample && sk->sample_spacing > 0) {
         /* |v_h(t)|^2 is convex on an arc: its larger end bounds the horizontal speed */
@@ -147,22 +147,6 @@ void rf_motion_event(rf_motion *m)
 }
 
 /* ---- flight ------------------------------------------------------------------------ */
-
-/* ---- scene events (trees, measures) ---------------------------------------------- */
-
-double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
-{
-    (void)arc;
-    m->scene_pending = 0;
-    return T;
-}
-
-int rf_scene_event(rf_motion *m)
-{
-    m->scene_pending = 0;
-    rf_motion_event(m);
-    return -1;
-}
 
 /* One flight until its next event; returns -1 to go on, or the end reason. */
 static int flight_step(rf_motion *m)
@@ -349,6 +333,7 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     m.t_end = start->t + sim->max_time;
     memset(out, 0, sizeof *out);
     out->max_energy_kj = rf_motion_energy(&m) / 1000.0;
+    rf_scene_begin(&m);
     rf_motion_event(&m);
 
     int end = sim->engine == RF_ENGINE_FIXED_STEP ? rf_simulate_fixed_step(&m) : run_exact(&m);

@@ -14,6 +14,7 @@
 #include <stdint.h>
 
 #include "rockfall/sim.h"
+#include "measures.h"
 
 /* ---- tolerances (docs/engine.md) ------------------------------------------------- */
 #define RF_TIME_TOL 1e-13          /* root finding in time (s) */
@@ -117,10 +118,20 @@ typedef struct rf_motion {
     int stall;         /* events since */
     long rescues;
     double ode_h;      /* last step size of the in-plane integrator */
-    int scene_pending; /* rf_scene_horizon found an event (kind for the modules) */
+    int scene_pending; /* what rf_scene_horizon found: RF_SCENE_NONE, _MEASURE or _TREE */
 
     /* samples */
     double sample_acc; /* horizontal travel since the last sample */
+
+    /* scene events (scene_events.c): measure crossings and tree collisions */
+    rf_crossing crossings[RF_MAX_COINCIDENT_CROSSINGS]; /* the measures crossed, at once */
+    int ncrossings;
+    int tree_forest;         /* the forest of the tree collision found */
+    double tree_bound;       /* summed rate bound of the forests per metre; 0: none */
+    double phi_r;            /* rock diameter in Eq. 12 */
+    double odo;              /* horizontal distance travelled */
+    double tree_next;        /* odometer of the next candidate tree event (thinning) */
+    double tree_u;           /* its uniform acceptance draw */
 } rf_motion;
 
 /* ---- contact.c -------------------------------------------------------------------- */
@@ -155,6 +166,8 @@ int32_t rf_face_beyond(const rf_terrain *t, int32_t from, rf_vec3 q, rf_vec3 dir
 /* Draws e_n, mu for the zone of triangle tri and applies the impact (Eq. 8) with unit
  * normal n at the current state.  Returns the rebound normal speed. */
 double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n, double *mu_out);
+/* The impact law itself (Eq. 8) with given e_n and mu, for slope and tree impacts. */
+double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu);
 /* Draws the surface phase's mu and mu_r of triangle tri's zone into m->sup. */
 void rf_support_draw(rf_motion *m, int32_t tri);
 /* A slow sphere rolls over a convex edge or vertex at q onto face `to`: its centre
@@ -205,6 +218,11 @@ double rf_motion_energy(const rf_motion *m);
  * on or an end reason (RF_END_STOPPED). */
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T);
 int rf_scene_event(rf_motion *m);
+enum { RF_SCENE_NONE, RF_SCENE_MEASURE, RF_SCENE_TREE };
+/* Sets up the scene events of a new trajectory (draws the first tree candidate). */
+void rf_scene_begin(rf_motion *m);
+/* Accounts for horizontal travel along a taken arc over [0, T]. */
+void rf_scene_travel(rf_motion *m, const rf_arc *arc, double T);
 
 /* ---- fixed_step.c ----------------------------------------------------------------- */
 int rf_simulate_fixed_step(rf_motion *m);

@@ -163,3 +163,25 @@ TEST(measures_outcomes)
     rf_measure c = line_measure(xy, 2);
     ENSURE(rf_measure_outcome(&c, 0.5, 1e9) == RF_OUT_PASSED);
 }
+
+/* Measures drawn on the same line are crossed together, each once, in their order. */
+TEST(measures_coincident_lines_all_crossed)
+{
+    double a1[] = {20.0, -10.0, 20.0, 10.0}, a2[] = {20.0, 10.0, 20.0, -10.0},
+           a3[] = {25.0, -10.0, 25.0, 10.0};
+    rf_measure ms[3] = {line_measure(a3, 2), line_measure(a1, 2), line_measure(a2, 2)};
+    rf_crossing c[RF_MAX_COINCIDENT_CROSSINGS];
+    int k = rf_measures_first_crossings(ms, 3, rf_v3(0, 1.5, 0), rf_v3(4.0, 0, 0), rf_v3(0, 0, 0),
+                                        RF_CROSSING_EPS, 100.0, c, RF_MAX_COINCIDENT_CROSSINGS);
+    ENSURE(k == 2);
+    ENSURE(c[0].measure == 1 && c[1].measure == 2);
+    ENSURE_REL(c[0].t, 5.0, 1e-15);
+    ENSURE_REL(c[1].t, 5.0, 1e-15);
+    ENSURE_REL(c[0].u, 11.5 / 20.0, 1e-14);
+    ENSURE_REL(c[1].u, 8.5 / 20.0, 1e-14);
+    /* after them, the next one */
+    k = rf_measures_first_crossings(ms, 3, rf_v3(0, 1.5, 0), rf_v3(4.0, 0, 0), rf_v3(0, 0, 0),
+                                    5.0 + RF_CROSSING_EPS, 100.0, c, RF_MAX_COINCIDENT_CROSSINGS);
+    ENSURE(k == 1 && c[0].measure == 0);
+    ENSURE_REL(c[0].t, 6.25, 1e-15);
+}
