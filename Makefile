@@ -1,7 +1,7 @@
 # rockfall - design checks for rockfall protection measures.
 #
 #   make            build build/rockfall
-#   make demo       build and run the example project (projects/noto)
+#   make demo       build and run the example project (projects/noto) into noto.db, report/
 #   make test       build and run the tests (ends with "N passed, N failed")
 #   make test SANITIZE=1   the same under AddressSanitizer and UBSan
 #   make bench      speed against error of the motion engines
@@ -68,7 +68,11 @@ demo:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory all
 	rm -f noto.db noto.db-wal noto.db-shm
-	$(BUILD)/rockfall run projects/noto/noto.yaml -o noto.db
+	$(BUILD)/rockfall run projects/noto/noto-3.1-no-trees.yaml -o noto.db
+	$(BUILD)/rockfall run projects/noto/noto-3.1-trees.yaml -o noto.db
+	$(BUILD)/rockfall run projects/noto/noto-3.2.yaml -o noto.db
+	$(BUILD)/rockfall run projects/noto/noto-3.3.yaml -o noto.db
+	$(BUILD)/rockfall report noto.db --out report
 
 test:
 	@$(MAKE) --no-print-directory deps

@@ -71,6 +71,14 @@ static const char *TRAJ_SQL =
 static const char *HAZARD_SQL =
     "SELECT ix, iy, passes, reach_probability, energy_max_kj, energy_p95_kj, height_p95_m "
     "FROM hazard_cells ORDER BY ix, iy";
+static const char *ICPT_SQL =
+    "SELECT t.release_id, t.idx, i.measure_id, i.t_s, i.x, i.y, i.z, i.speed_ms, i.energy_kj, "
+    "i.energy_trans_kj, i.energy_rot_kj, i.passing_height_m, i.outcome FROM interceptions i "
+    "JOIN trajectories t ON t.id = i.trajectory_id ORDER BY t.release_id, t.idx, i.t_s";
+static const char *TREE_SQL =
+    "SELECT t.release_id, t.idx, h.t_s, h.x, h.y, h.z, h.speed_before_ms, h.speed_after_ms, "
+    "h.energy_lost_kj FROM tree_hits h JOIN trajectories t ON t.id = h.trajectory_id "
+    "ORDER BY t.release_id, t.idx, h.t_s";
 static const char *PATH_SQL =
     "SELECT t.idx, p.seq, p.t_s, p.x, p.y, p.z, p.speed_ms, p.energy_kj FROM path_points p "
     "JOIN trajectories t ON t.id = p.trajectory_id ORDER BY t.idx, p.seq";
@@ -81,9 +89,9 @@ TEST(run_same_seed_identical_rows_any_threads)
     snprintf(a, sizeof a, "%s/a.db", rf_test_tmpdir());
     snprintf(b, sizeof b, "%s/b.db", rf_test_tmpdir());
     snprintf(c, sizeof c, "%s/c.db", rf_test_tmpdir());
-    run_project("projects/noto/noto.yaml", a, 300, 1, -1);
-    run_project("projects/noto/noto.yaml", b, 300, 2, -1);
-    run_project("projects/noto/noto.yaml", c, 300, 1, 77);
+    run_project("projects/noto/noto-3.2.yaml", a, 60, 1, -1);
+    run_project("projects/noto/noto-3.2.yaml", b, 60, 2, -1);
+    run_project("projects/noto/noto-3.2.yaml", c, 60, 1, 77);
     long na, nb, nc;
     unsigned long long da = digest(a, TRAJ_SQL, &na), db = digest(b, TRAJ_SQL, &nb);
     ENSURE(na == 300 && nb == 300);
@@ -92,6 +100,11 @@ TEST(run_same_seed_identical_rows_any_threads)
     ENSURE(na > 0 && na == nb);
     ENSURE(digest(a, PATH_SQL, &na) == digest(b, PATH_SQL, &nb));
     ENSURE(na > 0 && na == nb);
+    /* the project has a road control line and a forest: both are sampled identically */
+    ENSURE(digest(a, ICPT_SQL, &na) == digest(b, ICPT_SQL, &nb));
+    ENSURE(na > 0 && na == nb);
+    ENSURE(digest(a, TREE_SQL, &na) == digest(b, TREE_SQL, &nb));
+    ENSURE(na > 0 && na == nb);
     ENSURE_MSG(digest(c, TRAJ_SQL, &nc) != da, "another seed gave the same trajectories");
 }
 
@@ -99,8 +112,8 @@ TEST(run_writes_complete_run_with_paths_and_hazard)
 {
     char a[600];
     snprintf(a, sizeof a, "%s/a.db", rf_test_tmpdir());
-    run_project("projects/noto/noto.yaml", a, 40, 1, -1);
-    run_project("projects/noto/noto.yaml", a, 30, 1, -1);
+    run_project("projects/noto/noto-3.1-no-trees.yaml", a, 40, 1, -1);
+    run_project("projects/noto/noto-3.1-no-trees.yaml", a, 30, 1, -1);
     sqlite3 *h;
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
     sqlite3_stmt *st;

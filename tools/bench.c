@@ -126,7 +126,7 @@ static double worst_closed(const row *r)
 
 int main(int argc, char **argv)
 {
-    const char *path = argc > 1 ? argv[1] : "projects/noto/noto.yaml";
+    const char *path = argc > 1 ? argv[1] : "projects/noto/noto-3.1-no-trees.yaml";
     rf_project p;
     rf_error err;
     if (rf_project_load(path, &p, &err)) {

@@ -1,0 +1,108 @@
+/* test_noto.c - the Noto case study end to end on a reduced run: the paper's
+ * qualitative findings (section 3.1, Fig. 10) and the layout check of section 3.3. */
+#include <math.h>
+#include <sqlite3.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "rockfall/montecarlo.h"
+#include "rockfall/project.h"
+#include "store.h"
+#include "test.h"
+
+static void run_into(const char *yaml, const char *db, long count)
+{
+    rf_project p;
+    rf_error err;
+    ENSURE_MSG(rf_project_load(yaml, &p, &err) == 0, "%s: %s", err.file, err.message);
+    for (size_t i = 0; i < p.nreleases; i++)
+        p.releases[i].count = count;
+    rf_store *s;
+    ENSURE(rf_store_open(db, &s, &err) == 0);
+    rf_run_options o = {.threads = 2};
+    rf_run_summary sum;
+    ENSURE_MSG(rf_montecarlo_run(&p, s, &o, &sum, &err) == 0, "%s", err.message);
+    rf_store_close(s);
+    rf_project_free(&p);
+}
+
+static double q1(sqlite3 *h, const char *sql)
+{
+    sqlite3_stmt *st;
+    ENSURE_MSG(sqlite3_prepare_v2(h, sql, -1, &st, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(h));
+    ENSURE(sqlite3_step(st) == SQLITE_ROW);
+    double v = sqlite3_column_double(st, 0);
+    sqlite3_finalize(st);
+    return v;
+}
+
+/* Arrivals at the road (first crossing of the control line per trajectory). */
+#define ARRIVALS                                                                        \
+    "(SELECT i.x AS x, i.speed_ms AS v FROM interceptions i JOIN measures m ON "        \
+    "m.id = i.measure_id WHERE m.name = 'road' AND i.t_s = (SELECT min(t_s) FROM "      \
+    "interceptions j WHERE j.trajectory_id = i.trajectory_id AND j.measure_id = i.measure_id))"
+
+TEST(noto_trees_widen_the_spread_and_slow_the_rocks)
+{
+    const long n = 60;
+    char a[600], b[600];
+    snprintf(a, sizeof a, "%s/no-trees.db", rf_test_tmpdir());
+    snprintf(b, sizeof b, "%s/trees.db", rf_test_tmpdir());
+    run_into("projects/noto/noto-3.1-no-trees.yaml", a, n);
+    run_into("projects/noto/noto-3.1-trees.yaml", b, n);
+    sqlite3 *ha, *hb;
+    ENSURE(sqlite3_open(a, &ha) == SQLITE_OK && sqlite3_open(b, &hb) == SQLITE_OK);
+    /* without trees every rockfall reaches the road, in a narrow band */
+    ENSURE(q1(ha, "SELECT count(*) FROM " ARRIVALS) == n);
+    double width0 = q1(ha, "SELECT max(x) - min(x) FROM " ARRIVALS);
+    ENSURE_MSG(width0 < 15.0, "arrival band %.1f m wide without trees", width0);
+    /* with trees: markedly wider spread, lower mean velocity */
+    double sd0 = q1(ha, "SELECT sqrt(avg(x * x) - avg(x) * avg(x)) FROM " ARRIVALS);
+    double sd1 = q1(hb, "SELECT sqrt(avg(x * x) - avg(x) * avg(x)) FROM " ARRIVALS);
+    double v0 = q1(ha, "SELECT avg(v) FROM " ARRIVALS), v1 = q1(hb, "SELECT avg(v) FROM " ARRIVALS);
+    ENSURE_MSG(sd1 > 3.0 * sd0, "spread sd %.2f m with trees vs %.2f m without", sd1, sd0);
+    ENSURE_MSG(v1 < 0.8 * v0, "mean speed %.1f m/s with trees vs %.1f m/s without", v1, v0);
+    ENSURE(q1(hb, "SELECT count(*) FROM tree_hits") > 0);
+    ENSURE(q1(hb, "SELECT sum(n_tree_hits) FROM trajectories") ==
+           q1(hb, "SELECT count(*) FROM tree_hits"));
+    /* the paper's crosscheck: no trees, max velocity near Eq. 1's 47 m/s, on the safe side */
+    double vmax = q1(ha, "SELECT max(v) FROM " ARRIVALS);
+    ENSURE_MSG(vmax > 30.0 && vmax < 50.0, "max arrival speed %.1f m/s", vmax);
+    sqlite3_close(ha);
+    sqlite3_close(hb);
+}
+
+TEST(noto_layout_checked_and_stored)
+{
+    char a[600];
+    snprintf(a, sizeof a, "%s/layout.db", rf_test_tmpdir());
+    run_into("projects/noto/noto-3.3.yaml", a, 40);
+    char cmd[1200], out[65536];
+    const char *bin = getenv("ROCKFALL_BIN");
+    snprintf(cmd, sizeof cmd, "%s check %s 2>&1", bin ? bin : "build/rockfall", a);
+    FILE *f = popen(cmd, "r");
+    ENSURE(f);
+    size_t k = fread(out, 1, sizeof out - 1, f);
+    out[k] = 0;
+    int st = pclose(f);
+    ENSURE_MSG(WIFEXITED(st) && WEXITSTATUS(st) <= 1, "%s", out);
+    sqlite3 *h;
+    ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
+    /* two checks for each of the barrier and the embankment; none for the control line */
+    ENSURE(q1(h, "SELECT count(*) FROM checks") == 4);
+    ENSURE(q1(h, "SELECT count(DISTINCT measure_id) FROM checks") == 2);
+    ENSURE(q1(h, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id "
+                 "WHERE m.kind = 'control'") == 0);
+    /* the exit status agrees with the stored verdicts */
+    double failed = q1(h, "SELECT count(*) FROM checks WHERE passed = 0");
+    ENSURE(WEXITSTATUS(st) == (failed > 0 ? 1 : 0));
+    /* the barrier stops what reaches it: nothing it stopped is seen downstream */
+    ENSURE(q1(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id = i.measure_id "
+                 "WHERE m.name = 'B1' AND i.outcome = 'stopped'") > 0);
+    ENSURE(q1(h, "SELECT count(*) FROM interceptions a JOIN measures m ON m.id = a.measure_id "
+                 "JOIN interceptions b ON b.trajectory_id = a.trajectory_id AND b.t_s > a.t_s "
+                 "WHERE a.outcome = 'stopped'") == 0);
+    sqlite3_close(h);
+}
