@@ -76,7 +76,7 @@ static void derivative(const double *c, int deg, double *d)
 /* Root of P in [lo, hi] where P(lo) and P(hi) have opposite signs (or one is 0). */
 static double bracketed_root(const double *c, int deg, double lo, double hi, double plo)
 {
-    double d[4];
+    double d[4] = {0, 0, 0, 0};
     derivative(c, deg, d);
     int rising = plo < 0;
     double t = 0.5 * (lo + hi);
@@ -103,7 +103,7 @@ static double bracketed_root(const double *c, int deg, double lo, double hi, dou
 static int critical_points(const double *c, int deg, double t0, double t1, double *cp)
 {
     int n = 0;
-    double d[4];
+    double d[4] = {0, 0, 0, 0};
     if (deg <= 1)
         return 0;
     derivative(c, deg, d);
@@ -155,7 +155,7 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
         deg--;
     if (!(t1 >= t0))
         return 0;
-    double d[4];
+    double d[4] = {0, 0, 0, 0};
     if (deg >= 1)
         derivative(c, deg, d);
     double p0 = rf_poly_eval(c, deg, t0);
