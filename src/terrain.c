@@ -209,7 +209,7 @@ static int32_t grid_locate_near(const rf_terrain *t, double x, double y, long ci
                 continue;
             for (int k = 0; k < 2; k++) {
                 int32_t idx = t->grid_tri[2 * ((size_t)j * (t->nx - 1) + (size_t)i) + (size_t)k];
-                double tt, ss;
+                double tt = 0.0, ss = 0.0;
                 if (idx >= 0 && rf_triangle_contains_xy(&t->tri[idx], x, y, LOCATE_TOL, &tt, &ss)) {
                     double zz = bary_z(&t->tri[idx], tt, ss);
                     if (zz > best_z)
@@ -241,7 +241,7 @@ static int32_t grid_locate(const rf_terrain *t, double x, double y, double *z)
         return grid_locate_near(t, x, y, (long)i, (long)j, z);
     if (z) {
         const rf_triangle *tri = &t->tri[idx];
-        double tt, ss;
+        double tt = 0.0, ss = 0.0;
         rf_triangle_contains_xy(tri, x, y, LOCATE_TOL, &tt, &ss);
         *z = bary_z(tri, tt, ss);
     }
@@ -274,7 +274,7 @@ static int32_t mesh_locate(const rf_terrain *t, double x, double y, double *z)
     for (uint32_t k = t->bucket_start[b]; k < t->bucket_start[b + 1]; k++) {
         int32_t idx = t->bucket_items[k];
         const rf_triangle *tri = &t->tri[idx];
-        double tt, ss;
+        double tt = 0.0, ss = 0.0;
         if (rf_triangle_contains_xy(tri, x, y, LOCATE_TOL, &tt, &ss)) {
             double zz = bary_z(tri, tt, ss);
             if (zz > best_z)
