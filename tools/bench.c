@@ -193,6 +193,7 @@ int main(int argc, char **argv)
         run_slope(&p, &rows[c].sim, 0, N_REFERENCE, &ref[c]);
     }
     stats noise;
+    memset(&noise, 0, sizeof noise);
     for (int i = 0; i < NROWS; i++) {
         row *r = &rows[i];
         const stats *rf = &ref[i == 0 ? 0 : 1];
