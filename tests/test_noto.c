@@ -106,3 +106,14 @@ TEST(noto_layout_checked_and_stored)
                  "WHERE a.outcome = 'stopped'") == 0);
     sqlite3_close(h);
 }
+
+/* The committed terrain is what its generator writes, byte for byte. */
+TEST(noto_terrain_is_reproducible)
+{
+    const char *tools = getenv("ROCKFALL_TOOLS");
+    char cmd[2400], out[600];
+    snprintf(out, sizeof out, "%s/terrain.asc", rf_test_tmpdir());
+    snprintf(cmd, sizeof cmd, "%s/mknoto > %s && cmp -s %s projects/noto/terrain.asc",
+             tools ? tools : "build/tools", out, out);
+    ENSURE_MSG(system(cmd) == 0, "'%s' differs from the committed terrain", cmd);
+}
