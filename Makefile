@@ -97,7 +97,7 @@ report-check:
 	$(BUILD)/rockfall report noto.db --out $(BUILD)/report
 	profile=$$(mktemp -d); \
 	timeout 300 chromium $(CHROMIUM_FLAGS) --user-data-dir=$$profile \
-	  --screenshot=$(BUILD)/report/screenshot.png file://$(CURDIR)/$(BUILD)/report/index.html; \
+	  --screenshot=$(BUILD)/report/screenshot.png file://$(abspath $(BUILD)/report/index.html); \
 	status=$$?; rm -rf $$profile; exit $$status
 	@test -s $(BUILD)/report/screenshot.png
 	@echo "report: $(BUILD)/report/index.html, screenshot: $(BUILD)/report/screenshot.png"
