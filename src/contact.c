@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
@@ -180,6 +181,10 @@ typedef struct search {
     double best;      /* earliest contact so far (exclusive bound) */
     int found;
     rf_contact *c;
+    /* a flight (no horizontal acceleration): the horizontal path is the straight line
+     * s0 + vh t along the unit direction (ux, uy), at perpendicular offset d0 */
+    int line;
+    double ux, uy, s0, d0, vh;
 } search;
 
 static void take(search *s, double t, int32_t idx, rf_feature kind, int index, rf_vec3 point)
@@ -438,8 +443,208 @@ static int coplanar_with_support(const rf_terrain *t, const rf_support *ex, cons
     return 0;
 }
 
-/* Tests candidates over [ta, tb]: faces first, then the edges and vertices of the
- * triangles whose planes are reached before the earliest contact found. */
+/* ---- shared edges and vertices --------------------------------------------------------
+ *
+ * Neighbouring triangles share edges and vertices (on a grid an edge belongs to two
+ * triangles and a vertex to up to six).  Each distinct feature is tested once per
+ * search, over the union of the windows the triangles holding it ask for (the earliest
+ * window start), in the order in which the triangles ask. */
+
+static inline uint64_t mix64(uint64_t h)
+{
+    h ^= h >> 33;
+    h *= 0xff51afd7ed558ccdULL;
+    h ^= h >> 33;
+    h *= 0xc4ceb9fe1a85ec53ULL;
+    h ^= h >> 33;
+    return h;
+}
+
+static inline uint64_t point_hash(rf_vec3 p)
+{
+    uint64_t a, b, c;
+    memcpy(&a, &p.x, 8);
+    memcpy(&b, &p.y, 8);
+    memcpy(&c, &p.z, 8);
+    return mix64(a ^ mix64(b ^ mix64(c)));
+}
+
+/* Key of a vertex: its node on grids, a hash of its coordinates on meshes (then
+ * confirmed by comparing the coordinates). */
+static inline uint64_t vertex_key(const rf_terrain *t, rf_vec3 q)
+{
+    if (t->is_grid) {
+        uint64_t i = (uint64_t)((q.x - t->x0) / t->cell + 0.5);
+        uint64_t j = (uint64_t)((q.y - t->y0) / t->cell + 0.5);
+        return j * t->nx + i;
+    }
+    return point_hash(q);
+}
+
+static inline unsigned slot_of(uint64_t key)
+{
+    return (unsigned)((key * 0x9E3779B97F4A7C15ULL) >> 40) & (RF_FEAT_SLOTS - 1);
+}
+
+/* Slot of vertex k of triangle idx (key vk) in the feature table; inserts it when new
+ * (*fresh = 1).  Vertex keys are even, edge keys odd. */
+static int feat_vertex(rf_workspace *ws, const rf_triangle *T, int32_t idx, int k, uint64_t vk,
+                       double w0, int *fresh)
+{
+    uint64_t key = vk << 1;
+    int grid = ws->terrain->is_grid;
+    for (unsigned h = slot_of(key);; h = (h + 1) & (RF_FEAT_SLOTS - 1)) {
+        rf_feat_slot *sl = &ws->feat[h];
+        if (sl->gen != ws->feat_gen) {
+            sl->gen = ws->feat_gen;
+            sl->key = key;
+            sl->tri = idx;
+            sl->k = k;
+            sl->w0 = w0;
+            *fresh = 1;
+            return (int)h;
+        }
+        if (sl->key == key &&
+            (grid || same_point(tri_vertex(T, k), tri_vertex(&ws->terrain->tri[sl->tri], sl->k)))) {
+            if (w0 < sl->w0)
+                sl->w0 = w0;
+            *fresh = 0;
+            return (int)h;
+        }
+    }
+}
+
+/* Slot of edge k (vertex k to k + 1) of triangle idx, with the keys of its ends; as
+ * feat_vertex.  Edge slots carry k | 4. */
+static int feat_edge(rf_workspace *ws, const rf_triangle *T, int32_t idx, int k, uint64_t ka,
+                     uint64_t kb, double w0, int *fresh)
+{
+    const rf_terrain *t = ws->terrain;
+    uint64_t lo = ka < kb ? ka : kb, hi = ka < kb ? kb : ka;
+    uint64_t key = t->is_grid ? ((lo * (uint64_t)t->nx * (uint64_t)t->ny + hi) << 1) | 1ULL
+                              : mix64(lo ^ mix64(hi)) | 1ULL;
+    for (unsigned h = slot_of(key);; h = (h + 1) & (RF_FEAT_SLOTS - 1)) {
+        rf_feat_slot *sl = &ws->feat[h];
+        if (sl->gen != ws->feat_gen) {
+            sl->gen = ws->feat_gen;
+            sl->key = key;
+            sl->tri = idx;
+            sl->k = k | 4;
+            sl->w0 = w0;
+            *fresh = 1;
+            return (int)h;
+        }
+        if (sl->key == key) {
+            int same = t->is_grid;
+            if (!same) {
+                rf_vec3 qa = tri_vertex(T, k), qb = tri_vertex(T, (k + 1) % 3);
+                const rf_triangle *S = &t->tri[sl->tri];
+                int j = sl->k & 3;
+                rf_vec3 sa = tri_vertex(S, j), sb = tri_vertex(S, (j + 1) % 3);
+                same = (same_point(sa, qa) && same_point(sb, qb)) ||
+                       (same_point(sa, qb) && same_point(sb, qa));
+            }
+            if (same) {
+                if (w0 < sl->w0)
+                    sl->w0 = w0;
+                *fresh = 0;
+                return (int)h;
+            }
+        }
+    }
+}
+
+/* A flight (s->line): narrows [*w0, *w1] to the times when the centre is horizontally
+ * within reach of the feature with ends q[0 .. nq-1] (a vertex or an edge); 0 when it
+ * is never within reach of it (also not in height: the feature lower than the
+ * centre's lowest point then minus the reach). */
+static int line_window(const search *s, const rf_vec3 *q, int nq, double reach, double *w0,
+                       double *w1)
+{
+    double pmin = INFINITY, pmax = -INFINITY, smin = INFINITY, smax = -INFINITY, zt = -INFINITY;
+    for (int i = 0; i < nq; i++) {
+        double pp = s->ux * q[i].y - s->uy * q[i].x - s->d0;
+        double ss = s->ux * q[i].x + s->uy * q[i].y - s->s0;
+        pmin = dmin(pmin, pp), pmax = dmax(pmax, pp);
+        smin = dmin(smin, ss), smax = dmax(smax, ss);
+        zt = dmax(zt, q[i].z);
+    }
+    if (pmin > reach || pmax < -reach)
+        return 0;
+    double tl = (smin - reach) / s->vh, th = (smax + reach) / s->vh;
+    if (tl > *w0)
+        *w0 = tl;
+    if (th < *w1)
+        *w1 = th;
+    if (!(*w0 <= *w1))
+        return 0;
+    const rf_arc *arc = s->arc;
+    double za = arc->p.z + *w0 * (arc->v.z + 0.5 * *w0 * arc->a.z);
+    double zb = arc->p.z + *w1 * (arc->v.z + 0.5 * *w1 * arc->a.z);
+    return zt >= dmin(za, zb) - reach;
+}
+
+/* The distinct edges and vertices of the pending triangles, each once. */
+static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_vec3 bhi)
+{
+    rf_motion *m = s->m;
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
+    if (++ws->feat_gen == 0) {
+        for (size_t i = 0; i < RF_FEAT_SLOTS; i++)
+            ws->feat[i].gen = 0;
+        ws->feat_gen = 1;
+    }
+    /* the order of the tests: edge k, then vertex k of each triangle in turn */
+    int16_t *order = ws->feat_order;
+    size_t nord = 0;
+    for (size_t p = 0; p < npend; p++) {
+        double w0 = ws->pend_w0[p];
+        if (!(w0 < s->best))
+            continue;
+        int32_t idx = ws->pend_idx[p];
+        const rf_triangle *T = &t->tri[idx];
+        int vs[3], fresh;
+        uint64_t vk[3] = {vertex_key(t, T->a), vertex_key(t, T->b), vertex_key(t, T->c)};
+        for (int k = 0; k < 3; k++) {
+            vs[k] = feat_vertex(ws, T, idx, k, vk[k], w0, &fresh);
+            if (fresh) {
+                rf_vec3 q = tri_vertex(T, k);
+                int x = excluded_vertex(t, s->ex, q) || (s->planar && below_support(m, q));
+                ws->feat[vs[k]].excl = x;
+            }
+        }
+        for (int k = 0; k < 3; k++) {
+            int e = feat_edge(ws, T, idx, k, vk[k], vk[(k + 1) % 3], w0, &fresh);
+            if (fresh) {
+                ws->feat[e].excl = ws->feat[vs[k]].excl && ws->feat[vs[(k + 1) % 3]].excl;
+                order[nord++] = (int16_t)e;
+            }
+            if (ws->feat[vs[k]].tri == idx && ws->feat[vs[k]].k == k)
+                order[nord++] = (int16_t)vs[k];
+        }
+    }
+    for (size_t i = 0; i < nord; i++) {
+        const rf_feat_slot *sl = &ws->feat[order[i]];
+        if (sl->excl || !(sl->w0 < s->best))
+            continue;
+        const rf_triangle *T = &t->tri[sl->tri];
+        double w0 = sl->w0, w1 = tb < s->best ? tb : s->best;
+        int k = sl->k & 3;
+        rf_vec3 q[2] = {tri_vertex(T, k), tri_vertex(T, (k + 1) % 3)};
+        int nq = (sl->k & 4) ? 2 : 1;
+        if (s->line && !line_window(s, q, nq, m->rho + 4 * m->tol_len, &w0, &w1))
+            continue;
+        if (nq == 2)
+            test_edge(s, sl->tri, k, q[0], q[1], w0, w1, blo, bhi);
+        else
+            test_vertex(s, sl->tri, k, q[0], w0, w1, blo, bhi);
+    }
+}
+
+/* Tests candidates over [ta, tb] (lo, hi: the arc's box over it): faces first, then
+ * the edges and vertices of the triangles whose planes are reached before the earliest
+ * contact found. */
 static void test_candidates(search *s, const int32_t *cand, size_t n, double ta, double tb,
                             rf_vec3 lo, rf_vec3 hi)
 {
@@ -448,6 +653,8 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
     const rf_terrain *t = m->terrain;
     const rf_support *ex = s->ex;
     double reach = m->rho + 4 * m->tol_len;
+    double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
+    double zl = lo.z - reach, zh = hi.z + reach;
     if (ws->pend_cap < n) {
         size_t cap = ws->pend_cap ? ws->pend_cap : 64;
         while (cap < n)
@@ -465,14 +672,55 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
     for (size_t k = 0; k < n; k++) {
         int32_t idx = cand[k];
         const rf_triangle *Tr = &t->tri[idx];
-        if (excluded_tri(ex, idx))
+        double near_lo = ta, near_hi = tb;
+        /* the triangle's box against the arc's box widened by the reach */
+        if ((Tr->a.x < xl && Tr->b.x < xl && Tr->c.x < xl) ||
+            (Tr->a.x > xh && Tr->b.x > xh && Tr->c.x > xh) ||
+            (Tr->a.y < yl && Tr->b.y < yl && Tr->c.y < yl) ||
+            (Tr->a.y > yh && Tr->b.y > yh && Tr->c.y > yh) ||
+            (Tr->a.z < zl && Tr->b.z < zl && Tr->c.z < zl) ||
+            (Tr->a.z > zh && Tr->b.z > zh && Tr->c.z > zh))
             continue;
-        double zlo = dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z));
-        double zhi = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
-        if (zhi < lo.z - reach || zlo > hi.z + reach)
+        if (s->line) {
+            /* a point of the triangle within reach of the centre: within reach of the
+             * horizontal line, the centre horizontally within reach of it meanwhile,
+             * and not lower than the centre's lowest height then minus the reach */
+            double pa = s->ux * Tr->a.y - s->uy * Tr->a.x - s->d0;
+            double pb = s->ux * Tr->b.y - s->uy * Tr->b.x - s->d0;
+            double pc = s->ux * Tr->c.y - s->uy * Tr->c.x - s->d0;
+            if ((pa > reach && pb > reach && pc > reach) || (pa < -reach && pb < -reach && pc < -reach))
+                continue;
+            double qa = s->ux * Tr->a.x + s->uy * Tr->a.y - s->s0;
+            double qb = s->ux * Tr->b.x + s->uy * Tr->b.y - s->s0;
+            double qc = s->ux * Tr->c.x + s->uy * Tr->c.y - s->s0;
+            double tl = (dmin(qa, dmin(qb, qc)) - reach) / s->vh;
+            double th = (dmax(qa, dmax(qb, qc)) + reach) / s->vh;
+            if (tl < ta)
+                tl = ta;
+            if (th > tb)
+                th = tb;
+            if (th > s->best)
+                th = s->best;
+            if (!(tl <= th))
+                continue;
+            const rf_arc *arc = s->arc;
+            double z_l = arc->p.z + tl * (arc->v.z + 0.5 * tl * arc->a.z);
+            double zh2 = arc->p.z + th * (arc->v.z + 0.5 * th * arc->a.z);
+            double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
+            if (zt < dmin(z_l, zh2) - reach)
+                continue;
+            near_lo = tl;
+            near_hi = th;
+        }
+        if (excluded_tri(ex, idx))
             continue;
         double w0;
         if (test_face(s, idx, ta, tb, &w0)) {
+            /* its edges and vertices only while the centre is horizontally near */
+            if (w0 < near_lo)
+                w0 = near_lo;
+            if (w0 > near_hi)
+                continue;
             if (npend < ws->pend_cap) {
                 ws->pend_idx[npend] = idx;
                 ws->pend_w0[npend] = w0;
@@ -482,7 +730,13 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
             }
         }
     }
-    for (size_t k = 0; k < npend; k++)
+    /* a feature table at most a third full */
+    size_t p0 = 0;
+    if (npend * 6 <= RF_FEAT_SLOTS / 3) {
+        test_features(s, npend, tb, lo, hi);
+        p0 = npend;
+    }
+    for (size_t k = p0; k < npend; k++)
         if (ws->pend_w0[k] < s->best)
             test_edges(s, ws->pend_idx[k], ws->pend_w0[k], tb);
 }
@@ -507,6 +761,15 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     search s = {m, arc, ex, 0, INFINITY, 0, c};
     if (!(T >= 0))
         return 0;
+    double vh0 = sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
+    if (!m->centre && arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->rho) {
+        s.line = 1;
+        s.ux = arc->v.x / vh0;
+        s.uy = arc->v.y / vh0;
+        s.vh = vh0;
+        s.s0 = s.ux * arc->p.x + s.uy * arc->p.y;
+        s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
+    }
     double reach = m->rho + 4 * m->tol_len;
     /* pieces of about a few cells of horizontal travel */
     double cell = t->is_grid ? t->cell : t->bsize;
@@ -538,6 +801,39 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     return 1;
 }
 
+/* The planes of the support faces, for below_support on many points. */
+typedef struct support_planes {
+    int n;
+    rf_vec3 nrm[2];
+    double d[2], tol;
+} support_planes;
+
+static void support_planes_set(const rf_motion *m, support_planes *sp)
+{
+    sp->n = 0;
+    for (int k = 0; k < m->sup.n && k < 2; k++) {
+        const rf_triangle *S = &m->terrain->tri[m->sup.tri[k]];
+        sp->nrm[sp->n] = S->n;
+        sp->d[sp->n] = S->d;
+        sp->n++;
+    }
+    sp->tol = m->tol_len;
+}
+
+/* 1 when every vertex of T is on or below one of the support planes (below_support). */
+static int vertices_below(const support_planes *sp, const rf_triangle *T)
+{
+    const rf_vec3 *v[3] = {&T->a, &T->b, &T->c};
+    for (int i = 0; i < 3; i++) {
+        int below = 0;
+        for (int k = 0; k < sp->n && !below; k++)
+            below = rf_v3_dot(sp->nrm[k], *v[i]) - sp->d[k] <= sp->tol;
+        if (!below)
+            return 0;
+    }
+    return 1;
+}
+
 size_t rf_gather_support(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
@@ -566,6 +862,8 @@ size_t rf_gather_support(rf_motion *m)
     }
     /* faces of the support, in its plane or wholly on or below a support plane are
      * out of reach for the whole segment */
+    support_planes sp;
+    support_planes_set(m, &sp);
     size_t kept = 0;
     for (size_t k = 0; k < n; k++) {
         int32_t idx = ws->cand[k];
@@ -575,7 +873,7 @@ size_t rf_gather_support(rf_motion *m)
         if (!m->centre && !m->point) {
             if (coplanar_with_support(t, &m->sup, Tr, m->tol_len))
                 continue;
-            if (below_support(m, Tr->a) && below_support(m, Tr->b) && below_support(m, Tr->c))
+            if (vertices_below(&sp, Tr))
                 continue;
         }
         ws->near[kept++] = idx;

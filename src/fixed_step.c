@@ -23,7 +23,7 @@ int rf_simulate_fixed_step(rf_motion *m)
     const double dt = m->scene->sim->dt > 0 ? m->scene->sim->dt : 1e-3;
     const double stop = m->scene->sim->stop_speed;
     const double tol = 1e-9;
-    int on = 0; /* on the surface of face m->sup.tri[0] */
+    int on = 0; /* on the surface of face m->sup.tri[0]; m->sup.n follows it (tree hits read it) */
     m->sup.n = 0;
     for (;;) {
         if (m->s.t >= m->t_end)
@@ -79,6 +79,7 @@ int rf_simulate_fixed_step(rf_motion *m)
             }
         } else {
             on = 0;
+            m->sup.n = 0;
             m->s.v.z -= RF_GRAVITY * h;
             m->s.p = rf_v3_madd(m->s.p, h, m->s.v);
         }
@@ -95,6 +96,7 @@ int rf_simulate_fixed_step(rf_motion *m)
             int end = rf_scene_event(m);
             if (end >= 0)
                 return end;
+            on = m->sup.n > 0; /* a tree may throw the rock up off the surface */
             continue;
         }
         rf_motion_advance(m, &arc, h);
@@ -132,6 +134,8 @@ int rf_simulate_fixed_step(rf_motion *m)
                     rf_vec3 u = in_plane(rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(T2->n, -m->rho))), T2->n);
                     m->sup.rolling = rf_v3_norm(u) <= RF_SLIP_EPS;
                 }
+            } else {
+                m->sup.n = 0;
             }
             if (!was_on || !on)
                 step_event(m);

@@ -47,7 +47,7 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
 {
     /* horizontal bounding box of the path over [t_after, T] */
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
-    double ts[4] = {t_after > 0 ? t_after : 0.0, T, -1.0, -1.0};
+    double ts[4] = {fmin(t_after, 0.0), T, -1.0, -1.0};
     if (a.x != 0.0)
         ts[2] = -v.x / a.x;
     if (a.y != 0.0)

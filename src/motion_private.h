@@ -80,6 +80,16 @@ typedef struct rf_support {
     double mu, mu_r;
 } rf_support;
 
+/* contact.c: a table of the distinct edges and vertices met in one search */
+#define RF_FEAT_SLOTS 1024
+typedef struct rf_feat_slot {
+    uint64_t key;
+    uint32_t gen;     /* slot in use when equal to rf_workspace.feat_gen */
+    int32_t tri, k;   /* first triangle holding it; vertex k, or edge (k & 3) | 4 */
+    int32_t excl;     /* excluded from the search */
+    double w0;        /* earliest window start */
+} rf_feat_slot;
+
 struct rf_workspace {
     const rf_terrain *terrain;
     int32_t *cand;    /* candidate triangles */
@@ -92,6 +102,10 @@ struct rf_workspace {
     int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
     double *pend_w0;
     size_t pend_cap;
+    /* contact.c: shared edges and vertices (zeroed by calloc; no allocation) */
+    uint32_t feat_gen;
+    rf_feat_slot feat[RF_FEAT_SLOTS];
+    int16_t feat_order[RF_FEAT_SLOTS];
 };
 
 typedef struct rf_motion {
@@ -126,6 +140,8 @@ typedef struct rf_motion {
     /* scene events (scene_events.c): measure crossings and tree collisions */
     rf_crossing crossings[RF_MAX_COINCIDENT_CROSSINGS]; /* the measures crossed, at once */
     int ncrossings;
+    rf_crossing recorded[RF_MAX_COINCIDENT_CROSSINGS]; /* the last ones recorded (t absolute) */
+    int nrecorded;
     int tree_forest;         /* the forest of the tree collision found */
     double tree_bound;       /* summed rate bound of the forests per metre; 0: none */
     double phi_r;            /* rock diameter in Eq. 12 */

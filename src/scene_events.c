@@ -28,7 +28,10 @@ void rf_scene_begin(rf_motion *m)
     m->scene_pending = RF_SCENE_NONE;
     m->odo = 0.0;
     m->phi_r = 2.0 * m->body->radius;
-    m->tree_bound = rf_vegetation_rate_bound(sc->forests, sc->nforests, m->phi_r);
+    const rf_terrain *t = m->terrain;
+    /* forests that cover no part of the terrain cost nothing */
+    int any = rf_vegetation_touches(sc->forests, sc->nforests, t->xmin, t->ymin, t->xmax, t->ymax);
+    m->tree_bound = any ? rf_vegetation_rate_bound(sc->forests, sc->nforests, m->phi_r) : 0.0;
     if (m->tree_bound > 0.0) {
         m->tree_next = draw_gap(m);
         m->tree_u = gsl_rng_uniform(m->rng);
@@ -67,17 +70,57 @@ static double tree_horizon(rf_motion *m, const rf_arc *arc, double T)
     return T;
 }
 
+/* Whether measure `which`'s crossing at p, at time t, is one recorded already: the
+ * same crossing seen again by the next piece of motion (which starts on the line, the
+ * crossing rounded to either side of its start), or the neighbouring segment's root of
+ * a crossing through a polyline vertex. */
+static int crossing_recorded(const rf_motion *m, int which, rf_vec3 p, double t)
+{
+    for (int i = 0; i < m->nrecorded; i++) {
+        const rf_crossing *c = &m->recorded[i];
+        if (c->measure != which)
+            continue;
+        if (fabs(c->t - t) <= 4.0 * RF_CROSSING_EPS)
+            return 1;
+        if (fabs(c->t - m->s.t) > 4.0 * RF_CROSSING_EPS)
+            continue; /* only the piece right after it can see it again */
+        const rf_measure *ms = &m->scene->measures[which];
+        const double *A = &ms->line.xy[2 * c->segment], *B = A + 2;
+        double x = A[0] + c->u * (B[0] - A[0]), y = A[1] + c->u * (B[1] - A[1]);
+        if (hypot(p.x - x, p.y - y) <= m->tol_len)
+            return 1;
+    }
+    return 0;
+}
+
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
     const rf_scene *sc = m->scene;
     m->scene_pending = RF_SCENE_NONE;
     double best = T;
     if (sc->nmeasures > 0) {
-        m->ncrossings = rf_measures_first_crossings(sc->measures, sc->nmeasures, arc->p, arc->v,
-                                                    arc->a, RF_CROSSING_EPS, T, m->crossings,
-                                                    RF_MAX_COINCIDENT_CROSSINGS);
+        /* from just before the start: a crossing at the very end of the previous piece
+         * that it left to this one (it ended on the line at another event) is found
+         * here; the ones already recorded are passed over */
+        double after = -RF_CROSSING_EPS;
+        for (;;) {
+            int k = rf_measures_first_crossings(sc->measures, sc->nmeasures, arc->p, arc->v,
+                                                arc->a, after, T, m->crossings,
+                                                RF_MAX_COINCIDENT_CROSSINGS);
+            double t0 = k > 0 ? m->crossings[0].t : INFINITY;
+            int kept = 0;
+            for (int i = 0; i < k; i++) {
+                rf_crossing c = m->crossings[i];
+                if (!crossing_recorded(m, c.measure, rf_arc_pos(arc, c.t), m->s.t + c.t))
+                    m->crossings[kept++] = c;
+            }
+            m->ncrossings = kept;
+            if (kept > 0 || k == 0)
+                break;
+            after = t0 + RF_CROSSING_EPS;
+        }
         if (m->ncrossings > 0) {
-            best = m->crossings[0].t;
+            best = fmax(m->crossings[0].t, 0.0);
             m->scene_pending = RF_SCENE_MEASURE;
         }
     }
@@ -131,9 +174,16 @@ static int cross_measure(rf_motion *m, int which)
  * is never seen by the next. */
 static int measure_event(rf_motion *m)
 {
-    for (int i = 0; i < m->ncrossings; i++)
+    if (m->nrecorded > 0 && fabs(m->recorded[0].t - m->s.t) > 4.0 * RF_CROSSING_EPS)
+        m->nrecorded = 0;
+    for (int i = 0; i < m->ncrossings; i++) {
+        if (m->nrecorded < RF_MAX_COINCIDENT_CROSSINGS) {
+            m->recorded[m->nrecorded] = m->crossings[i];
+            m->recorded[m->nrecorded++].t = m->s.t;
+        }
         if (cross_measure(m, m->crossings[i].measure) >= 0)
             return RF_END_STOPPED;
+    }
     rf_motion_event(m);
     return -1;
 }

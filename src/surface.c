@@ -27,6 +27,10 @@
 
 #define G_ACC RF_GRAVITY
 
+/* fmax and fmin (the other argument when one is NaN), inline */
+static inline double dmax(double a, double b) { return (a > b || b != b) ? a : b; }
+static inline double dmin(double a, double b) { return (a < b || b != b) ? a : b; }
+
 typedef enum ev_kind {
     EV_NONE, EV_MAX_TIME, EV_REST, EV_ZERO, EV_SLIP, EV_EXIT, EV_CONTACT, EV_SCENE
 } ev_kind;
@@ -206,7 +210,7 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
         p = rf_v3_madd(p, A->d + m->rho - rf_v3_dot(A->n, p), A->n);
         p = rf_v3_madd(p, B->d + m->rho - rf_v3_dot(B->n, p), B->n);
     }
-    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * fmax(m->rho, 0.01))
+    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * dmax(m->rho, 0.01))
         return -1;
     m->s.p = p;
     if (m->sup.n == 0 || m->sup.zone != B->zone)
@@ -260,10 +264,10 @@ static void go_flight(rf_motion *m, int32_t exclude)
 static void hop(rf_motion *m, rf_vec3 u)
 {
     double speed = rf_v3_norm(m->s.v);
-    double vn = fmin(speed, m->v_stay);
+    double vn = dmin(speed, m->v_stay);
     rf_vec3 vt = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, u), u);
     double vtl = rf_v3_norm(vt);
-    double st = sqrt(fmax(0.0, speed * speed - vn * vn));
+    double st = sqrt(dmax(0.0, speed * speed - vn * vn));
     m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
     go_flight(m, -1);
 }
@@ -413,12 +417,12 @@ static double exit_time(const rf_motion *m, const face_edges *fe, const rf_arc *
                        0.5 * rf_v3_dot(fe->m[k], arc->a)};
         double r[3], t = INFINITY;
         double tol = m->tol_len;
-        double fmaxv = fmax(f[0], f[0] + T * (f[1] + T * f[2]));
+        double fmaxv = dmax(f[0], f[0] + T * (f[1] + T * f[2]));
         if (f[2] < 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < T)
             fmaxv = f[0] - f[1] * f[1] / (4 * f[2]);
         if (f[0] < -tol && (f[1] <= RF_APPROACH_EPS || fmaxv <= tol)) {
             t = 0.0; /* already beyond the edge and not coming back */
-        } else if (rf_poly_entries(f, 2, 0.0, fmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
+        } else if (rf_poly_entries(f, 2, 0.0, dmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
             t = r[0];
         } else if (fabs(f[0]) <= tol && fabs(f[1]) <= RF_APPROACH_EPS && f[2] < -1e-12) {
             t = 0.0;
@@ -565,7 +569,7 @@ int rf_surface_holds(const rf_motion *m)
         if (c < 0)
             return 0; /* a slipping sphere first rolls */
         rf_vec3 n = t->tri[m->sup.tri[0]].n;
-        double G = G_ACC * sqrt(fmax(0.0, 1.0 - n.z * n.z));
+        double G = G_ACC * sqrt(dmax(0.0, 1.0 - n.z * n.z));
         return G <= c * G_ACC * n.z;
     }
     if (m->sup.n == 2) {
@@ -752,7 +756,7 @@ static double dp_step(const ode *o, const double *y, double h, double *out)
     double err = 0.0;
     for (int i = 0; i < o->dim; i++) {
         double ei = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
-        double sc = RF_ODE_TOL * (1.0 + fmax(fabs(y[i]), fabs(out[i])));
+        double sc = RF_ODE_TOL * (1.0 + dmax(fabs(y[i]), fabs(out[i])));
         double r = fabs(ei) / sc;
         if (r > err)
             err = r;
@@ -782,10 +786,49 @@ static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const
     }
 }
 
+/* Rate of change of the event function at a state (relative centre c + c0). */
+static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
+                         const face_edges *fe, rf_vec3 c0, const double *y)
+{
+    rf_vec3 v = y_v(y);
+    switch (kind) {
+    case EV_EXIT:
+        return rf_v3_dot(fe->m[ev->edge], v);
+    case EV_REST:
+    case EV_ZERO: {
+        double dy[9];
+        rhs(o, y, dy);
+        return 2.0 * (y[3] * dy[3] + y[4] * dy[4] + y[5] * dy[5]);
+    }
+    case EV_CONTACT: {
+        const rf_contact *c = &ev->con;
+        const rf_triangle *T = &m->terrain->tri[c->tri];
+        if (c->kind == RF_FEAT_FACE)
+            return rf_v3_dot(T->n, v);
+        rf_vec3 p = rf_v3_add(c0, y_c(y));
+        rf_vec3 q = tri_vertex(T, c->index);
+        if (c->kind == RF_FEAT_EDGE) {
+            rf_vec3 e = rf_v3_sub(tri_vertex(T, c->index + 1), q);
+            double l2 = rf_v3_norm2(e);
+            double sp = l2 > 0 ? rf_v3_dot(rf_v3_sub(p, q), e) / l2 : 0.0;
+            sp = sp < 0 ? 0 : (sp > 1 ? 1 : sp);
+            q = rf_v3_madd(q, sp, e);
+        }
+        rf_vec3 d = rf_v3_sub(p, q);
+        double dl = rf_v3_norm(d);
+        return dl > 0 ? rf_v3_dot(d, v) / dl : 0.0;
+    }
+    default:
+        return 0.0;
+    }
+}
+
 /* Time in (0, h] where the event function crosses zero on the integrated path, by
- * re-stepping from y; -1 when it does not (the step's parabola was only close). */
-static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                     const face_edges *fe, rf_vec3 c0, const double *y, double h, double guess)
+ * re-stepping from y (regula falsi, Illinois); -1 when it does not (the step's
+ * parabola was only close). */
+static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
+                             const face_edges *fe, rf_vec3 c0, const double *y, double h,
+                             double guess)
 {
     double tmp[9];
     double lo = 0.0, hi = h;
@@ -795,7 +838,7 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
     double fhi = 1.0;
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
-        hi = fmin(h, guess + 1e-6 * h + 1e-12);
+        hi = dmin(h, guess + 1e-6 * h + 1e-12);
         dp_step(o, y, hi, tmp);
         fhi = event_value(m, kind, ev, fe, c0, tmp);
     }
@@ -831,6 +874,58 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
     return hi; /* the event has happened at hi */
 }
 
+/* Time in [0, h] where the event function crosses zero on the integrated path, and in
+ * ye the integrated state there; -1 when it does not cross (the step's parabola was
+ * only close).  Newton's method on the re-stepped path from the parabola's estimate
+ * (the event function's rate is known at every state): the time returned is where the
+ * event has happened, within RF_TIME_TOL after the crossing; a bracketing regula falsi
+ * when Newton's method leaves the bracket. */
+static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
+                     const face_edges *fe, rf_vec3 c0, const double *y, double h, double guess,
+                     double *ye)
+{
+    double f0 = event_value(m, kind, ev, fe, c0, y);
+    if (f0 <= 0.0) {
+        memcpy(ye, y, 9 * sizeof *ye);
+        return 0.0;
+    }
+    if (guess > 0 && guess < h) {
+        double lo = 0.0, hi = -1.0, t = guess;
+        double tmp[9];
+        for (int it = 0; it < 8; it++) {
+            dp_step(o, y, t, tmp);
+            double ft = event_value(m, kind, ev, fe, c0, tmp);
+            double rate = event_rate(m, o, kind, ev, fe, c0, tmp);
+            if (ft <= 0.0) {
+                hi = t;
+                memcpy(ye, tmp, sizeof tmp);
+                /* past the crossing: done when it lies within the tolerance before */
+                if (rate < 0.0 && -ft / rate >= -0.5 * RF_TIME_TOL)
+                    return hi;
+            } else {
+                lo = t;
+            }
+            if (hi >= 0.0 && hi - lo <= RF_TIME_TOL)
+                return hi;
+            if (!(rate < 0.0))
+                break;
+            double dt = -ft / rate;
+            double tn = t + dt;
+            if (ft > 0.0 && dt < 0.25 * RF_TIME_TOL)
+                tn = t + 0.25 * RF_TIME_TOL; /* just past the crossing */
+            if (!(tn > lo && tn <= h && (hi < 0.0 || tn < hi)))
+                break;
+            t = tn;
+        }
+    }
+    double te = locate_bracket(m, o, kind, ev, fe, c0, y, h, guess);
+    if (te > 0.0)
+        dp_step(o, y, te, ye);
+    else if (te == 0.0)
+        memcpy(ye, y, 9 * sizeof *ye);
+    return te;
+}
+
 static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const face_edges *fe)
 {
     rf_support ex = segment_exclusion(m);
@@ -842,7 +937,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
     double yn[9];
     double t = 0.0, tcap = m->t_end - m->s.t;
     double speed = rf_v3_norm(m->s.v);
-    double h = m->ode_h > 0 ? m->ode_h : fmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
+    double h = m->ode_h > 0 ? m->ode_h : dmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
     int holds = rf_surface_holds(m);
     double stop = m->scene->sim->stop_speed;
     for (long steps = 0;; steps++) {
@@ -860,7 +955,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             rf_motion_event(m);
             return RF_SURF_CONTINUE;
         }
-        double hs = fmin(h, tcap - t);
+        double hs = dmin(h, tcap - t);
         if (f->mode == LAW_SLIDE) {
             rf_vec3 u = y_u(y);
             double ul = rf_v3_norm(u);
@@ -872,7 +967,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         }
         double err = dp_step(&o, y, hs, yn);
         if (err > 1.0 && hs > 1e-12) {
-            h = hs * fmax(0.2, 0.9 * pow(err, -0.2));
+            h = hs * dmax(0.2, 0.9 * pow(err, -0.2));
             continue;
         }
         /* accepted step [t, t + hs]: project back onto the plane */
@@ -909,7 +1004,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         }
         if (!m->point && !m->centre) {
             rf_contact con;
-            double tl = ev.kind == EV_NONE ? hs : fmin(hs, ev.t + 0.1 * hs);
+            double tl = ev.kind == EV_NONE ? hs : dmin(hs, ev.t + 0.1 * hs);
             if (rf_contact_search_near(m, &arc, tl, &ex, &con) && con.t <= ev.t) {
                 ev.kind = EV_CONTACT, ev.t = con.t, ev.con = con;
                 guess = con.t;
@@ -923,17 +1018,22 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             m->scene_pending = 0;
         }
         double te = -1.0;
+        double ye[9];
+        int have_ye = 0;
         if (ev.kind == EV_SCENE) {
             te = ts;
         } else if (ev.kind != EV_NONE) {
-            if (ev.kind == EV_EXIT && tx <= 0.0)
+            if (ev.kind == EV_EXIT && tx <= 0.0) {
                 te = 0.0;
-            else
-                te = locate(m, &o, ev.kind, &ev, fe, c0, y, hs, guess);
+            } else {
+                te = locate(m, &o, ev.kind, &ev, fe, c0, y, hs, guess, ye);
+                have_ye = 1;
+            }
         }
         if (te >= 0.0) {
-            double ye[9];
-            if (te > 0) {
+            if (have_ye) {
+                /* ye is the state at te */
+            } else if (te > 0) {
                 dp_step(&o, y, te, ye);
             } else {
                 memcpy(ye, y, sizeof ye);
@@ -964,7 +1064,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(yn) : rf_v3(0, 0, 0));
         memcpy(y, yn, sizeof y);
         t += hs;
-        h = hs * fmin(5.0, 0.9 * pow(fmax(err, 1e-10), -0.2));
+        h = hs * dmin(5.0, 0.9 * pow(dmax(err, 1e-10), -0.2));
         m->ode_h = h;
     }
 }
@@ -1067,7 +1167,7 @@ static rf_surface_end crease_step(rf_motion *m)
     }
     double as = k * (gl - c * N);
     rf_vec3 a = rf_v3_scale(l, as);
-    seg_event ev = {EV_MAX_TIME, fmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
+    seg_event ev = {EV_MAX_TIME, dmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
     if (as < 0 && s > 0) {
         if (holds)
             consider(&ev, EV_REST, (s - stop) / -as);

@@ -27,6 +27,26 @@ double rf_vegetation_rate_bound(const rf_forest *fs, size_t n, double phi_r)
     return b;
 }
 
+int rf_vegetation_touches(const rf_forest *fs, size_t n, double xmin, double ymin, double xmax,
+                          double ymax)
+{
+    for (size_t i = 0; i < n; i++) {
+        const rf_polyline *pg = &fs[i].polygon;
+        if (!(fs[i].density > 0.0))
+            continue;
+        if (pg->n == 0)
+            return 1;
+        double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+        for (size_t k = 0; k < pg->n; k++) {
+            x0 = fmin(x0, pg->xy[2 * k]), x1 = fmax(x1, pg->xy[2 * k]);
+            y0 = fmin(y0, pg->xy[2 * k + 1]), y1 = fmax(y1, pg->xy[2 * k + 1]);
+        }
+        if (x0 <= xmax && x1 >= xmin && y0 <= ymax && y1 >= ymin)
+            return 1;
+    }
+    return 0;
+}
+
 int rf_forest_covers(const rf_forest *f, double x, double y)
 {
     return f->polygon.n == 0 || rf_point_in_polygon(f->polygon.xy, f->polygon.n, x, y);

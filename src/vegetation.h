@@ -25,6 +25,11 @@ double rf_forest_density_above(const rf_forest *f, double h_r);
 double rf_forest_rate(const rf_forest *f, double h_r, double phi_r);
 /* Upper bound of the summed rate of all forests anywhere (for thinning). */
 double rf_vegetation_rate_bound(const rf_forest *fs, size_t n, double phi_r);
+/* 1 when some forest with trees (density > 0) may cover part of the box: it covers the
+ * whole terrain or its polygon's bounding box overlaps.  A scene whose forests all
+ * fail this has no tree events at all (no candidate, no random draw). */
+int rf_vegetation_touches(const rf_forest *fs, size_t n, double xmin, double ymin, double xmax,
+                          double ymax);
 /* 1 when forest f covers (x, y). */
 int rf_forest_covers(const rf_forest *f, double x, double y);
 /* Thinning: given u uniform in [0, 1), the forest whose share of the bound contains

@@ -55,7 +55,7 @@ typedef struct rf_sink {
     double sample_spacing;
     void (*interception)(void *ctx, const rf_interception_record *r);
     void (*tree_hit)(void *ctx, const rf_tree_hit_record *r);
-    /* At every impact on the terrain: time, total kinetic energy before and after (kJ)
+    /* At every impact on the terrain or a tree: time, total kinetic energy before and after (kJ)
      * and the normal approach speed (m/s).  For checks and diagnostics. */
     void (*impact)(void *ctx, double t_s, double energy_before_kj, double energy_after_kj,
                    double approach_ms);
