@@ -12,6 +12,7 @@
 
 #include "hazard.h"
 #include "store.h"
+#include "util.h"
 
 #define CHUNK_SIZE 256
 #define CHUNKS_AHEAD_PER_THREAD 4
@@ -96,22 +97,9 @@ DYNARRAY(rf_path_point, path_array)
 DYNARRAY(rf_interception_record, icpt_array)
 DYNARRAY(rf_tree_hit_record, tree_array)
 
-/* Appends one element, growing geometrically; returns 0 or -1 when out of memory. */
-static int grow(void **v, size_t *cap, size_t n, size_t elem)
-{
-    if (n < *cap)
-        return 0;
-    size_t nc = *cap ? 2 * *cap : 64;
-    void *nv = realloc(*v, nc * elem);
-    if (!nv)
-        return -1;
-    *v = nv;
-    *cap = nc;
-    return 0;
-}
 #define PUSH(arr, x, flag)                                                             \
     do {                                                                               \
-        if (grow((void **)&(arr).v, &(arr).cap, (arr).n, sizeof *(arr).v))             \
+        if (rf_grow((void **)&(arr).v, &(arr).cap, (arr).n + 1, sizeof *(arr).v))       \
             (flag) = 1;                                                                \
         else                                                                           \
             (arr).v[(arr).n++] = (x);                                                  \

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hazard.h"
+#include "util.h"
 
 static int db_error(sqlite3 *db, rf_error *err)
 {
@@ -54,14 +55,9 @@ static int read_column(sqlite3 *db, const char *col, int64_t measure_id, float *
     *n = 0;
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (*n == cap) {
-            cap = cap ? 2 * cap : 256;
-            float *nv = realloc(*out, cap * sizeof *nv);
-            if (!nv) {
-                sqlite3_finalize(st);
-                return rf_error_set(err, "", 0, 0, "out of memory");
-            }
-            *out = nv;
+        if (rf_grow((void **)out, &cap, *n + 1, sizeof **out)) {
+            sqlite3_finalize(st);
+            return rf_error_set(err, "", 0, 0, "out of memory");
         }
         (*out)[(*n)++] = (float)sqlite3_column_double(st, 0);
     }

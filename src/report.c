@@ -7,6 +7,7 @@
  * energy at each measure against its capacities.  Beside them the empirical
  * crosscheck: Eq. 1-2 velocity and the attainment width of Fig. 1b. */
 #include "report.h"
+#include "util.h"
 
 #include <errno.h>
 #include <math.h>
@@ -264,14 +265,9 @@ static int load_releases(report *r)
     size_t cap = 0;
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (r->nrel == cap) {
-            cap = cap ? 2 * cap : 8;
-            rep_release *nv = realloc(r->rel, cap * sizeof *nv);
-            if (!nv) {
-                sqlite3_finalize(st);
-                return oom(r);
-            }
-            r->rel = nv;
+        if (rf_grow((void **)&r->rel, &cap, r->nrel + 1, sizeof *r->rel)) {
+            sqlite3_finalize(st);
+            return oom(r);
         }
         rep_release *e = &r->rel[r->nrel++];
         *e = (rep_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
@@ -300,14 +296,9 @@ static int load_line(report *r, rep_measure *m)
     size_t cap = 0;
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (m->n == cap) {
-            cap = cap ? 2 * cap : 8;
-            double *nv = realloc(m->xy, 2 * cap * sizeof *nv);
-            if (!nv) {
-                sqlite3_finalize(st);
-                return oom(r);
-            }
-            m->xy = nv;
+        if (rf_grow((void **)&m->xy, &cap, m->n + 1, 2 * sizeof *m->xy)) {
+            sqlite3_finalize(st);
+            return oom(r);
         }
         m->xy[2 * m->n] = col_real(st, 0);
         m->xy[2 * m->n + 1] = col_real(st, 1);
@@ -332,14 +323,9 @@ static int load_measures(report *r)
     size_t cap = 0;
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (r->nmea == cap) {
-            cap = cap ? 2 * cap : 8;
-            rep_measure *nv = realloc(r->mea, cap * sizeof *nv);
-            if (!nv) {
-                sqlite3_finalize(st);
-                return oom(r);
-            }
-            r->mea = nv;
+        if (rf_grow((void **)&r->mea, &cap, r->nmea + 1, sizeof *r->mea)) {
+            sqlite3_finalize(st);
+            return oom(r);
         }
         rep_measure *m = &r->mea[r->nmea++];
         *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
@@ -868,14 +854,9 @@ static int load_arrivals(report *r, const rep_measure *m, road_stats *rs)
     rs->v_max = rs->e_max = -INFINITY;
     double vsum = 0;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rs->n == cap) {
-            cap = cap ? 2 * cap : 256;
-            rep_arrival *nv = realloc(rs->a, cap * sizeof *nv);
-            if (!nv) {
-                sqlite3_finalize(st);
-                return oom(r);
-            }
-            rs->a = nv;
+        if (rf_grow((void **)&rs->a, &cap, rs->n + 1, sizeof *rs->a)) {
+            sqlite3_finalize(st);
+            return oom(r);
         }
         rep_arrival *a = &rs->a[rs->n++];
         a->rel = release_index(r, sqlite3_column_int64(st, 0));

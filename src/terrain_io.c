@@ -1,5 +1,6 @@
 /* terrain_io.c - readers of terrain files: ESRI ASCII grids, STL and OBJ meshes. */
 #include "terrain_io.h"
+#include "util.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -9,48 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- whole-file reading ------------------------------------------------------ */
-
-/* Reads a file into a NUL-terminated buffer. */
-static int slurp(const char *path, char **buf_out, size_t *len_out, rf_error *err)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return rf_error_set(err, path, 0, 0, "cannot open '%s': %s", path, strerror(errno));
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap + 1);
-    if (!buf) {
-        fclose(f);
-        return rf_error_set(err, path, 0, 0, "out of memory reading '%s'", path);
-    }
-    for (;;) {
-        if (len == cap) {
-            char *nb = realloc(buf, 2 * cap + 1);
-            if (!nb) {
-                free(buf);
-                fclose(f);
-                return rf_error_set(err, path, 0, 0, "out of memory reading '%s'", path);
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    int bad = ferror(f);
-    int saved = errno;
-    fclose(f);
-    if (bad) {
-        free(buf);
-        return rf_error_set(err, path, 0, 0, "cannot read '%s': %s", path, strerror(saved));
-    }
-    buf[len] = '\0';
-    *buf_out = buf;
-    *len_out = len;
-    return 0;
-}
 
 /* ---- a text scanner that knows its line and column ------------------------------ */
 
@@ -249,7 +208,7 @@ int rf_asc_read(const char *path, rf_asc_grid *g, rf_error *err)
     memset(g, 0, sizeof *g);
     char *buf;
     size_t len;
-    if (slurp(path, &buf, &len, err))
+    if (rf_read_file(path, &buf, &len, err))
         return -1;
     scanner s;
     scan_init(&s, path, buf, len);
@@ -473,7 +432,7 @@ int rf_mesh_read(const char *path, char up, rf_tri_list *out, rf_error *err)
 {
     char *buf;
     size_t len;
-    if (slurp(path, &buf, &len, err))
+    if (rf_read_file(path, &buf, &len, err))
         return -1;
     size_t n_before = out->n;
     scanner s;

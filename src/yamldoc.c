@@ -1,5 +1,6 @@
 /* yamldoc.c - strict, typed access to a YAML document with file:line:column errors. */
 #include "yamldoc.h"
+#include "util.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -122,35 +123,10 @@ int rf_ydoc_load_text(rf_ydoc *d, const char *file, const char *text, size_t len
 int rf_ydoc_load_file(rf_ydoc *d, const char *path, rf_error *err)
 {
     memset(d, 0, sizeof *d);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return rf_error_set(err, path, 0, 0, "cannot open: %s", strerror(errno));
-    size_t cap = 4096, len = 0;
-    char *text = malloc(cap);
-    while (text) {
-        if (len == cap) {
-            char *grown = realloc(text, cap * 2);
-            if (!grown) {
-                free(text);
-                text = NULL;
-                break;
-            }
-            text = grown;
-            cap *= 2;
-        }
-        size_t got = fread(text + len, 1, cap - len, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    int read_error = ferror(f);
-    fclose(f);
-    if (!text)
-        return rf_error_set(err, path, 0, 0, "out of memory");
-    if (read_error) {
-        free(text);
-        return rf_error_set(err, path, 0, 0, "cannot read the file");
-    }
+    char *text;
+    size_t len;
+    if (rf_read_file(path, &text, &len, err))
+        return -1;
     int rc = rf_ydoc_load_text(d, path, text, len, err);
     free(text);
     return rc;

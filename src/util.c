@@ -1,0 +1,53 @@
+/* util.c - growing arrays and reading files (see util.h). */
+#include "util.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int rf_grow(void **v, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    size_t nc = *cap ? *cap : 16;
+    while (nc < need)
+        nc *= 2;
+    void *nv = realloc(*v, nc * elem);
+    if (!nv)
+        return -1;
+    *v = nv;
+    *cap = nc;
+    return 0;
+}
+
+int rf_read_file(const char *path, char **text, size_t *len, rf_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return rf_error_set(err, path, 0, 0, "cannot open '%s': %s", path, strerror(errno));
+    char *buf = NULL;
+    size_t cap = 0, n = 0;
+    int status = 0;
+    for (;;) {
+        if (rf_grow((void **)&buf, &cap, n + 65536 + 1, 1)) {
+            status = rf_error_set(err, path, 0, 0, "out of memory reading '%s'", path);
+            break;
+        }
+        size_t got = fread(buf + n, 1, cap - n - 1, f);
+        n += got;
+        if (got == 0)
+            break;
+    }
+    if (status == 0 && ferror(f))
+        status = rf_error_set(err, path, 0, 0, "cannot read '%s': %s", path, strerror(errno));
+    fclose(f);
+    if (status) {
+        free(buf);
+        return status;
+    }
+    buf[n] = '\0';
+    *text = buf;
+    *len = n;
+    return 0;
+}
