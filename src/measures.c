@@ -113,9 +113,12 @@ double rf_measure_breaking_energy(const rf_measure *m)
 
 rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, double energy_kj)
 {
-    if (m->kind == RF_CONTROL || m->behaviour == RF_COLLECT)
+    if (m->kind == RF_CONTROL)
         return RF_OUT_PASSED;
+    /* above the screen it overtops, whether the measure acts or only collects */
     if (passing_height_m >= m->height)
         return RF_OUT_OVERTOPPED;
+    if (m->behaviour == RF_COLLECT)
+        return RF_OUT_PASSED;
     return energy_kj <= rf_measure_breaking_energy(m) ? RF_OUT_STOPPED : RF_OUT_BROKE_THROUGH;
 }

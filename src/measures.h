@@ -45,9 +45,10 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
 double rf_measure_breaking_energy(const rf_measure *m);
 
 /* What measure m does to a rock whose centre passes at `passing_height_m` above the
- * ground with total kinetic energy `energy_kj`: control lines and `collect` measures
- * let it pass; a `stop` measure stops it below its height within its capacity, lets
- * it overtop above its height, and lets it break through above its capacity. */
+ * ground with total kinetic energy `energy_kj`: a control line lets it pass; above a
+ * barrier's or embankment's height it overtops; below it, a `collect` measure lets it
+ * pass, and a `stop` measure stops it within its capacity and lets it break through
+ * above.  Only `stopped` and `broke_through` change the rock. */
 rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, double energy_kj);
 
 #endif

@@ -410,7 +410,10 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     if (status == 0)
         status = rf_store_run_finish(s, "complete", (long)ctx.total, err);
     else
-        rf_store_run_finish(s, "failed", (long)ctx.total, NULL);
+        rf_store_run_finish(s, "failed",
+                            sum->by_reason[0] + sum->by_reason[1] + sum->by_reason[2] +
+                                sum->by_reason[3],
+                            NULL); /* the trajectories written */
 
 cleanup_sync:
     pthread_mutex_destroy(&ctx.mu);

@@ -4,6 +4,7 @@
  * then the terrain is built and each release is placed on it.  Every error names the
  * file, line and column of the offending YAML node. */
 #include "rockfall/project.h"
+#include "rockfall/sim.h"
 
 #include <errno.h>
 #include <math.h>
@@ -23,6 +24,7 @@ typedef struct loader {
     rf_error *err;
     rf_ynode **file_nodes;   /* YAML node of each terrain file path */
     rf_ynode **point_nodes;  /* YAML node of each release point */
+    rf_ynode **line_nodes;   /* YAML node of each measure line */
     int rolling_given;       /* the terrain surface sets rolling explicitly */
 } loader;
 
@@ -495,7 +497,7 @@ static int read_rock(loader *L, const rf_ynode *n, size_t i)
         rf_ydoc_opt_integer(&L->d, n, "action_level", RF_YR_BETWEEN(1, 3), &level, L->err))
         return -1;
     r->action_level = (int)level;
-    r->radius = cbrt(3.0 * r->mass / (4.0 * M_PI * r->density));
+    r->radius = rf_body_make(r->mass, r->density, RF_MODEL_SPHERE).radius;
     return 0;
 }
 
@@ -601,6 +603,10 @@ static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode
                                  "a barrier's %s capacity comes from '%s'; remove it from "
                                  "'capacity'",
                                  capacity_keys[s], s == RF_ULTIMATE ? "mel" : "sel");
+        if (m->kind == RF_BARRIER && s == RF_NEAR_COLLAPSE)
+            return rf_ydoc_error(&L->d, v, L->err,
+                                 "a barrier's last limit state is its MEL (ultimate); "
+                                 "'near_collapse' is for embankments");
         if (rf_ydoc_number(&L->d, v, capacity_keys[s], RF_YR_POSITIVE, &m->capacity[s],
                            L->err))
             return -1;
@@ -632,6 +638,7 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i)
         rf_ydoc_require(&L->d, n, "line", what, &line, L->err) ||
         read_polyline(L, line, "line", 2, &m->line))
         return -1;
+    L->line_nodes[i] = line;
     m->kind = (rf_measure_kind)k;
     int importance = RF_IMPORTANT, behaviour = RF_STOP;
     if (rf_ydoc_opt_enum(&L->d, n, "importance", importance_names, &importance, L->err))
@@ -794,6 +801,12 @@ static int read_document(loader *L)
         if (!L->point_nodes)
             return oom(L);
     }
+    rf_ynode *measures = rf_ydoc_get(&L->d, root, "measures");
+    if (measures && measures->type == YAML_SEQUENCE_NODE && rf_ydoc_seq_size(measures)) {
+        L->line_nodes = calloc(rf_ydoc_seq_size(measures), sizeof *L->line_nodes);
+        if (!L->line_nodes)
+            return oom(L);
+    }
     if (read_list(L, root, "releases", 1, (void **)&p->releases, sizeof *p->releases,
                   read_release) ||
         read_list(L, root, "measures", 0, (void **)&p->measures, sizeof *p->measures,
@@ -876,6 +889,52 @@ static int place_releases(loader *L)
     return 0;
 }
 
+/* 1 when the segment a-b meets the box [x0, x1] x [y0, y1] (Liang-Barsky clipping). */
+static int segment_meets_box(const double *a, const double *b, double x0, double x1, double y0,
+                             double y1)
+{
+    double t0 = 0.0, t1 = 1.0, d[2] = {b[0] - a[0], b[1] - a[1]};
+    double lo[2] = {x0, y0}, hi[2] = {x1, y1};
+    for (int k = 0; k < 2; k++) {
+        if (d[k] == 0.0) {
+            if (a[k] < lo[k] || a[k] > hi[k])
+                return 0;
+            continue;
+        }
+        double ta = (lo[k] - a[k]) / d[k], tb = (hi[k] - a[k]) / d[k];
+        if (ta > tb) {
+            double tmp = ta;
+            ta = tb;
+            tb = tmp;
+        }
+        t0 = fmax(t0, ta);
+        t1 = fmin(t1, tb);
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
+/* A measure is draped on the terrain: its line must reach the terrain somewhere. */
+static int check_measures_on_terrain(loader *L)
+{
+    const rf_project *p = L->p;
+    const rf_terrain *t = &p->terrain;
+    for (size_t i = 0; i < p->nmeasures; i++) {
+        const rf_polyline *l = &p->measures[i].line;
+        int meets = 0;
+        for (size_t k = 0; k + 1 < l->n && !meets; k++)
+            meets = segment_meets_box(&l->xy[2 * k], &l->xy[2 * k + 2], t->xmin, t->xmax,
+                                      t->ymin, t->ymax);
+        if (!meets)
+            return rf_ydoc_error(&L->d, L->line_nodes[i], L->err,
+                                 "measure '%s' line lies entirely off the terrain (x %g..%g, "
+                                 "y %g..%g)",
+                                 p->measures[i].name, t->xmin, t->xmax, t->ymin, t->ymax);
+    }
+    return 0;
+}
+
 static int set_paths(loader *L, const char *path)
 {
     rf_project *p = L->p;
@@ -923,8 +982,11 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err)
         rc = build_terrain(&L);
     if (rc == 0)
         rc = place_releases(&L);
+    if (rc == 0)
+        rc = check_measures_on_terrain(&L);
     free(L.file_nodes);
     free(L.point_nodes);
+    free(L.line_nodes);
     rf_ydoc_free(&L.d);
     if (rc)
         rf_project_free(p);

@@ -59,6 +59,8 @@ static int read_column(sqlite3 *db, const char *col, int64_t measure_id, float *
             sqlite3_finalize(st);
             return rf_error_set(err, "", 0, 0, "out of memory");
         }
+        if (sqlite3_column_type(st, 0) == SQLITE_NULL)
+            continue; /* e.g. a passing height over a hole */
         (*out)[(*n)++] = (float)sqlite3_column_double(st, 0);
     }
     sqlite3_finalize(st);
@@ -106,6 +108,31 @@ int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s,
     return 0;
 }
 
+/* A number of the statistics columns, "-" when there is none. */
+static void print_number(FILE *out, int width, int decimals, double v)
+{
+    if (isnan(v))
+        fprintf(out, " %*s", width, "-");
+    else
+        fprintf(out, " %*.*f", width, decimals, v);
+}
+
+void rf_query_print_stats_header(FILE *out)
+{
+    fprintf(out, " %7s %9s %9s %9s %9s %9s %8s\n", "count", "E50", "E90", "E95", "E99", "Emax",
+            "h95 (m)");
+}
+
+void rf_query_print_stats(FILE *out, const rf_measure_stats *s)
+{
+    fprintf(out, " %7ld", s->n);
+    double e[] = {s->energy_p50, s->energy_p90, s->energy_p95, s->energy_p99, s->energy_max};
+    for (int i = 0; i < 5; i++)
+        print_number(out, 9, 1, e[i]);
+    print_number(out, 8, 2, s->height_p95);
+    fputc('\n', out);
+}
+
 void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out)
 {
     sqlite3_stmt *st;
@@ -115,8 +142,8 @@ void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out)
     sqlite3_bind_int64(st, 1, run);
     fprintf(out, "run %lld: interceptions per measure (energies in kJ, nearest-rank percentiles)\n",
             (long long)run);
-    fprintf(out, "%-16s %-10s %7s %9s %9s %9s %9s %9s %8s\n", "measure", "kind", "count", "E50",
-            "E90", "E95", "E99", "Emax", "h95 (m)");
+    fprintf(out, "%-16s %-10s", "measure", "kind");
+    rf_query_print_stats_header(out);
     while (sqlite3_step(st) == SQLITE_ROW) {
         rf_measure_stats s;
         rf_error err;
@@ -124,10 +151,9 @@ void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out)
             rf_error_print(&err, stderr);
             break;
         }
-        fprintf(out, "%-16s %-10s %7ld %9.1f %9.1f %9.1f %9.1f %9.1f %8.2f\n",
-                (const char *)sqlite3_column_text(st, 1), (const char *)sqlite3_column_text(st, 2),
-                s.n, s.energy_p50, s.energy_p90, s.energy_p95, s.energy_p99, s.energy_max,
-                s.height_p95);
+        fprintf(out, "%-16s %-10s", (const char *)sqlite3_column_text(st, 1),
+                (const char *)sqlite3_column_text(st, 2));
+        rf_query_print_stats(out, &s);
     }
     sqlite3_finalize(st);
 }

@@ -22,6 +22,10 @@ typedef struct rf_measure_stats {
 
 int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *st,
                            rf_error *err);
+/* The statistics columns of a measure's row (count, E50, E90, E95, E99, Emax, h95;
+ * "-" where there is none) and their header, for every table that shows them. */
+void rf_query_print_stats_header(FILE *out);
+void rf_query_print_stats(FILE *out, const rf_measure_stats *s);
 /* A table of every measure of the run with its statistics. */
 void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out);
 

@@ -814,15 +814,6 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
     return 0;
 }
 
-/* A number of the statistics table, "-" when there is none. */
-static void print_number(FILE *out, int width, int decimals, double v)
-{
-    if (isnan(v))
-        fprintf(out, " %*s", width, "-");
-    else
-        fprintf(out, " %*.*f", width, decimals, v);
-}
-
 int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err)
 {
     sqlite3_stmt *runs = NULL, *measures = NULL, *checks = NULL;
@@ -846,8 +837,8 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
     const char *yaml = (const char *)sqlite3_column_text(runs, 1);
     fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run,
             (const char *)sqlite3_column_text(runs, 0), r->path, r->name);
-    fprintf(out, "%-16s %-10s %-14s %7s %9s %9s %9s %9s %9s %8s\n", "measure", "kind",
-            "importance", "count", "E50", "E90", "E95", "E99", "Emax", "h95 (m)");
+    fprintf(out, "%-16s %-10s %-14s", "measure", "kind", "importance");
+    rf_query_print_stats_header(out);
     sqlite3_bind_int64(measures, 1, run);
     while (sqlite3_step(measures) == SQLITE_ROW) {
         measure_row m;
@@ -855,13 +846,9 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
         if (read_measure_row(measures, r, yaml, &m, err) ||
             rf_query_measure_stats(db, m.id, &s, err))
             goto done;
-        fprintf(out, "%-16s %-10s %-14s %7ld", m.name, rf_measure_kind_name(m.kind),
-                importance_names[m.importance], s.n);
-        double e[] = {s.energy_p50, s.energy_p90, s.energy_p95, s.energy_p99, s.energy_max};
-        for (int i = 0; i < 5; i++)
-            print_number(out, 9, 1, e[i]);
-        print_number(out, 8, 2, s.height_p95);
-        fprintf(out, "\n");
+        fprintf(out, "%-16s %-10s %-14s", m.name, rf_measure_kind_name(m.kind),
+                importance_names[m.importance]);
+        rf_query_print_stats(out, &s);
     }
     fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
                  "maximum; h95: 95th-percentile passing height\n");

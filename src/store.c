@@ -465,19 +465,18 @@ static char *polyline_text(const rf_polyline *line)
 static int insert_run_row(rf_store *s, const rf_project *p, long n_trajectories, rf_error *err)
 {
     sqlite3_stmt *st = s->stmt[ST_RUN];
-    char seed_text[32];
     bind_text(st, 1, p->name);
-    bind_text(st, 2, p->path);
-    if (p->seed <= (uint64_t)INT64_MAX) {
-        bind_int(st, 3, (int64_t)p->seed);
-    } else {
-        snprintf(seed_text, sizeof seed_text, "%" PRIu64, p->seed);
-        bind_text(st, 3, seed_text);
-    }
+    /* absolute, so that check and report find the project from any folder */
+    char *abs_path = realpath(p->path, NULL);
+    bind_text(st, 2, abs_path ? abs_path : p->path);
+    assert(p->seed <= (uint64_t)INT64_MAX); /* the loader and --seed allow no more */
+    bind_int(st, 3, (int64_t)p->seed);
     bind_int(st, 4, n_trajectories);
     bind_text(st, 5, ROCKFALL_VERSION);
     bind_text(st, 6, p->yaml_text);
-    if (step_statement(s, ST_RUN, "writing the run", err))
+    int failed = step_statement(s, ST_RUN, "writing the run", err);
+    free(abs_path);
+    if (failed)
         return -1;
     s->run_id = sqlite3_last_insert_rowid(s->db);
     return 0;

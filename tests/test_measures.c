@@ -151,6 +151,8 @@ TEST(measures_outcomes)
     ENSURE(rf_measure_outcome(&b, 7.5, 1e6) == RF_OUT_OVERTOPPED);
     b.behaviour = RF_COLLECT;
     ENSURE(rf_measure_outcome(&b, 2.385, 1e6) == RF_OUT_PASSED);
+    /* an evaluation line still records a rock passing above the screen's height */
+    ENSURE(rf_measure_outcome(&b, 5.0, 10.0) == RF_OUT_OVERTOPPED);
     ENSURE(isinf(rf_measure_breaking_energy(&b)));
     rf_measure e = b;
     e.kind = RF_EMBANKMENT;

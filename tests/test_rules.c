@@ -74,10 +74,11 @@ TEST(rules_table3_layout)
     ENSURE(!strcmp(r.beyond_last, "collapse"));
     ENSURE(!strcmp(rf_rules_state_name(&r, 4), "collapse"));
     ENSURE(!strcmp(rf_rules_state_name(&r, RF_REACHED_OVERTOPPED), "overtopped"));
-    /* barrier: serviceability = SEL = MEL / 3, ultimate = MEL; nothing else */
+    /* barrier: serviceability = SEL = MEL / 3, restorability from the project when it
+     * gives one, ultimate = MEL; no near collapse */
     ENSURE(r.capacity[0][RF_SERVICEABILITY] == RF_CAP_SEL);
     ENSURE(r.capacity[0][RF_ULTIMATE] == RF_CAP_MEL);
-    ENSURE(r.capacity[0][RF_RESTORABILITY] == RF_CAP_NONE);
+    ENSURE(r.capacity[0][RF_RESTORABILITY] == RF_CAP_PROJECT);
     ENSURE(r.capacity[0][RF_NEAR_COLLAPSE] == RF_CAP_NONE);
     ENSURE(r.sel_divisor == 3.0);
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)

@@ -85,17 +85,22 @@ static const char *PATH_SQL =
 
 TEST(run_same_seed_identical_rows_any_threads)
 {
-    char a[600], b[600], c[600];
+    char a[600], b[600], c[600], d[600];
     snprintf(a, sizeof a, "%s/a.db", rf_test_tmpdir());
     snprintf(b, sizeof b, "%s/b.db", rf_test_tmpdir());
     snprintf(c, sizeof c, "%s/c.db", rf_test_tmpdir());
-    run_project("projects/noto/noto-3.2.yaml", a, 60, 1, -1);
-    run_project("projects/noto/noto-3.2.yaml", b, 60, 2, -1);
+    snprintf(d, sizeof d, "%s/d.db", rf_test_tmpdir());
+    /* 1 200 trajectories: several chunks per thread, finishing out of order */
+    run_project("projects/noto/noto-3.2.yaml", a, 240, 1, -1);
+    run_project("projects/noto/noto-3.2.yaml", b, 240, 3, -1);
+    run_project("projects/noto/noto-3.2.yaml", d, 240, 8, -1);
     run_project("projects/noto/noto-3.2.yaml", c, 60, 1, 77);
     long na, nb, nc;
     unsigned long long da = digest(a, TRAJ_SQL, &na), db = digest(b, TRAJ_SQL, &nb);
-    ENSURE(na == 300 && nb == 300);
-    ENSURE_MSG(da == db, "trajectories differ between 1 and 2 threads");
+    ENSURE(na == 1200 && nb == 1200);
+    ENSURE_MSG(da == db, "trajectories differ between 1 and 3 threads");
+    ENSURE_MSG(digest(d, TRAJ_SQL, &nb) == da, "trajectories differ between 1 and 8 threads");
+    ENSURE(digest(d, HAZARD_SQL, &nb) == digest(a, HAZARD_SQL, &na));
     ENSURE(digest(a, HAZARD_SQL, &na) == digest(b, HAZARD_SQL, &nb));
     ENSURE(na > 0 && na == nb);
     ENSURE(digest(a, PATH_SQL, &na) == digest(b, PATH_SQL, &nb));
