@@ -77,6 +77,9 @@ size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double yma
     }
 }
 
+/* Bit k: edge k of triangle idx can be met first (concave edges below). */
+static inline unsigned edge_live(rf_workspace *ws, int32_t idx);
+
 /* ---- triangle helpers ---------------------------------------------------------------- */
 
 static inline rf_vec3 tri_vertex(const rf_triangle *T, int i)
@@ -119,6 +122,19 @@ static double inside_margin(const rf_triangle *T, rf_vec3 q)
     double s1 = orient * rf_v3_dot(rf_v3_cross(bc, rf_v3_sub(q, T->b)), T->n) / rf_v3_norm(bc);
     double s2 = orient * rf_v3_dot(rf_v3_cross(ca, rf_v3_sub(q, T->c)), T->n) / rf_v3_norm(ca);
     return dmin(s0, dmin(s1, s2));
+}
+
+/* 1 when q (on the plane) lies on the inner side of all three edges or on them: the
+ * signs of inside_margin's three distances. */
+static int inside_closed(const rf_triangle *T, rf_vec3 q)
+{
+    rf_vec3 ab = rf_v3_sub(T->b, T->a), bc = rf_v3_sub(T->c, T->b), ca = rf_v3_sub(T->a, T->c);
+    double orient = rf_v3_dot(rf_v3_cross(ab, rf_v3_scale(ca, -1.0)), T->n) >= 0 ? 1.0 : -1.0;
+    if (!(orient * rf_v3_dot(rf_v3_cross(ab, rf_v3_sub(q, T->a)), T->n) >= 0.0))
+        return 0;
+    if (!(orient * rf_v3_dot(rf_v3_cross(bc, rf_v3_sub(q, T->b)), T->n) >= 0.0))
+        return 0;
+    return orient * rf_v3_dot(rf_v3_cross(ca, rf_v3_sub(q, T->c)), T->n) >= 0.0;
 }
 
 /* Bounding box of the arc over [t0, t1] (componentwise extremes). */
@@ -379,8 +395,7 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
     int has = face_entry(f, t0, t1, tol, &t_face);
     if (has) {
         rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t_face), -rho, T->n);
-        double tol_in = rho > 0 ? 0.0 : tol;
-        if (inside_margin(T, q) >= -tol_in) {
+        if (rho > 0 ? inside_closed(T, q) : inside_margin(T, q) >= -tol) {
             if (t_face < s->best)
                 take(s, t_face, idx, RF_FEAT_FACE, 0, q);
             if (f0 > tol)
@@ -423,7 +438,7 @@ static void test_edges(search *s, int32_t idx, double w0, double t1)
             xa = xa || below_support(m, va);
             xb = xb || below_support(m, vb);
         }
-        if (!(xa && xb))
+        if (!(xa && xb) && (edge_live(m->ws, idx) >> k & 1))
             test_edge(s, idx, k, va, vb, w0, w1 < s->best ? w1 : s->best, blo, bhi);
         if (!xa)
             test_vertex(s, idx, k, va, w0, w1 < s->best ? w1 : s->best, blo, bhi);
@@ -584,17 +599,35 @@ static int line_window(const search *s, const rf_vec3 *q, int nq, double reach, 
     return zt >= dmin(za, zb) - reach;
 }
 
-/* The distinct edges and vertices of the pending triangles, each once. */
-static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_vec3 bhi)
+/* Starts a new generation of the feature table (all slots free). */
+static void feat_reset(rf_workspace *ws)
 {
-    rf_motion *m = s->m;
-    rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
     if (++ws->feat_gen == 0) {
         for (size_t i = 0; i < RF_FEAT_SLOTS; i++)
             ws->feat[i].gen = 0;
         ws->feat_gen = 1;
     }
+    ws->feat_used = 0;
+}
+
+/* Queues slot sl for a test when it was never tested from its window start. */
+static inline void feat_queue(rf_workspace *ws, int sl, size_t *nord)
+{
+    rf_feat_slot *f = &ws->feat[sl];
+    if (!f->queued && f->w0 < f->tw0) {
+        f->queued = 1;
+        ws->feat_order[(*nord)++] = (int16_t)sl;
+    }
+}
+
+/* The distinct edges and vertices of the pending triangles, each once, up to tb.  The
+ * table keeps what earlier calls of the same generation tested (a flight's pieces):
+ * a feature is tested again only when a triangle asks for it from an earlier time. */
+static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_vec3 bhi)
+{
+    rf_motion *m = s->m;
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
     /* the order of the tests: edge k, then vertex k of each triangle in turn */
     int16_t *order = ws->feat_order;
     size_t nord = 0;
@@ -612,20 +645,28 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
                 rf_vec3 q = tri_vertex(T, k);
                 int x = excluded_vertex(t, s->ex, q) || (s->planar && below_support(m, q));
                 ws->feat[vs[k]].excl = x;
+                ws->feat[vs[k]].queued = 0;
+                ws->feat[vs[k]].tw0 = INFINITY;
+                ws->feat_used++;
             }
         }
         for (int k = 0; k < 3; k++) {
             int e = feat_edge(ws, T, idx, k, vk[k], vk[(k + 1) % 3], w0, &fresh);
             if (fresh) {
-                ws->feat[e].excl = ws->feat[vs[k]].excl && ws->feat[vs[(k + 1) % 3]].excl;
-                order[nord++] = (int16_t)e;
+                ws->feat[e].excl = (ws->feat[vs[k]].excl && ws->feat[vs[(k + 1) % 3]].excl) ||
+                                   !(edge_live(ws, idx) >> k & 1);
+                ws->feat[e].queued = 0;
+                ws->feat[e].tw0 = INFINITY;
+                ws->feat_used++;
             }
-            if (ws->feat[vs[k]].tri == idx && ws->feat[vs[k]].k == k)
-                order[nord++] = (int16_t)vs[k];
+            feat_queue(ws, e, &nord);
+            feat_queue(ws, vs[k], &nord);
         }
     }
     for (size_t i = 0; i < nord; i++) {
-        const rf_feat_slot *sl = &ws->feat[order[i]];
+        rf_feat_slot *sl = &ws->feat[order[i]];
+        sl->queued = 0;
+        sl->tw0 = sl->w0;
         if (sl->excl || !(sl->w0 < s->best))
             continue;
         const rf_triangle *T = &t->tri[sl->tri];
@@ -633,13 +674,114 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
         int k = sl->k & 3;
         rf_vec3 q[2] = {tri_vertex(T, k), tri_vertex(T, (k + 1) % 3)};
         int nq = (sl->k & 4) ? 2 : 1;
-        if (s->line && !line_window(s, q, nq, m->rho + 4 * m->tol_len, &w0, &w1))
-            continue;
+        rf_vec3 lo = blo, hi = bhi;
+        if (s->line) {
+            if (!line_window(s, q, nq, m->rho + 4 * m->tol_len, &w0, &w1))
+                continue;
+            arc_box(s->arc, w0, w1, &lo, &hi);
+        }
         if (nq == 2)
-            test_edge(s, sl->tri, k, q[0], q[1], w0, w1, blo, bhi);
+            test_edge(s, sl->tri, k, q[0], q[1], w0, w1, lo, hi);
         else
-            test_vertex(s, sl->tri, k, q[0], w0, w1, blo, bhi);
+            test_vertex(s, sl->tri, k, q[0], w0, w1, lo, hi);
     }
+}
+
+/* Room for the pending triangles of n candidates. */
+static void pend_reserve(rf_workspace *ws, size_t n)
+{
+    if (ws->pend_cap < n) {
+        size_t cap = ws->pend_cap ? ws->pend_cap : 64;
+        while (cap < n)
+            cap *= 2;
+        int32_t *pi = realloc(ws->pend_idx, cap * sizeof *pi);
+        if (pi)
+            ws->pend_idx = pi;
+        double *pw = realloc(ws->pend_w0, cap * sizeof *pw);
+        if (pw)
+            ws->pend_w0 = pw;
+        if (pi && pw)
+            ws->pend_cap = cap;
+    }
+}
+
+/* A flight (s->line) over [0, T]: the candidates not yet tested in this search, each
+ * over the whole time it is within reach of the centre (so once per search); faces
+ * first, then the edges and vertices of the triangles whose planes are reached before
+ * the earliest contact found. */
+static void test_line_candidates(search *s, const int32_t *cand, size_t n, double T)
+{
+    rf_motion *m = s->m;
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
+    const rf_arc *arc = s->arc;
+    double reach = m->rho + 4 * m->tol_len;
+    uint32_t mark = ws->test_epoch;
+    pend_reserve(ws, n);
+    size_t npend = 0;
+    for (size_t k = 0; k < n; k++) {
+        int32_t idx = cand[k];
+        if (ws->tested[idx] == mark)
+            continue;
+        ws->tested[idx] = mark;
+        const rf_triangle *Tr = &t->tri[idx];
+        /* a point of the triangle within reach of the centre: within reach of the
+         * horizontal line, the centre horizontally within reach of it meanwhile, and
+         * not lower than the centre's lowest height then minus the reach */
+        double pa = s->ux * Tr->a.y - s->uy * Tr->a.x - s->d0;
+        double pb = s->ux * Tr->b.y - s->uy * Tr->b.x - s->d0;
+        double pc = s->ux * Tr->c.y - s->uy * Tr->c.x - s->d0;
+        if ((pa > reach && pb > reach && pc > reach) || (pa < -reach && pb < -reach && pc < -reach))
+            continue;
+        double qa = s->ux * Tr->a.x + s->uy * Tr->a.y - s->s0;
+        double qb = s->ux * Tr->b.x + s->uy * Tr->b.y - s->s0;
+        double qc = s->ux * Tr->c.x + s->uy * Tr->c.y - s->s0;
+        double tl = (dmin(qa, dmin(qb, qc)) - reach) / s->vh;
+        double th = (dmax(qa, dmax(qb, qc)) + reach) / s->vh;
+        if (tl < 0.0)
+            tl = 0.0;
+        if (th > T)
+            th = T;
+        if (th > s->best)
+            th = s->best;
+        if (!(tl <= th))
+            continue;
+        double z_l = arc->p.z + tl * (arc->v.z + 0.5 * tl * arc->a.z);
+        double z_h = arc->p.z + th * (arc->v.z + 0.5 * th * arc->a.z);
+        double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
+        if (zt < dmin(z_l, z_h) - reach)
+            continue;
+        if (excluded_tri(s->ex, idx))
+            continue;
+        double w0;
+        if (test_face(s, idx, tl, th, &w0)) {
+            if (w0 < tl)
+                w0 = tl;
+            if (w0 > th)
+                continue;
+            if (npend < ws->pend_cap) {
+                ws->pend_idx[npend] = idx;
+                ws->pend_w0[npend] = w0;
+                npend++;
+            } else {
+                test_edges(s, idx, w0, T);
+            }
+        }
+    }
+    if (npend == 0)
+        return;
+    size_t p0 = 0;
+    if (npend * 6 <= RF_FEAT_SLOTS / 3) {
+        /* a feature table at most a third full */
+        if (ws->feat_used + npend * 6 > RF_FEAT_SLOTS / 3)
+            feat_reset(ws);
+        rf_vec3 z = rf_v3(0, 0, 0);
+        test_features(s, npend, T, z, z);
+        p0 = npend;
+    }
+    for (size_t k = p0; k < npend; k++)
+        if (ws->pend_w0[k] < s->best)
+            test_edges(s, ws->pend_idx[k], ws->pend_w0[k], T);
 }
 
 /* Tests candidates over [ta, tb] (lo, hi: the arc's box over it): faces first, then
@@ -655,24 +797,11 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
     double reach = m->rho + 4 * m->tol_len;
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
     double zl = lo.z - reach, zh = hi.z + reach;
-    if (ws->pend_cap < n) {
-        size_t cap = ws->pend_cap ? ws->pend_cap : 64;
-        while (cap < n)
-            cap *= 2;
-        int32_t *pi = realloc(ws->pend_idx, cap * sizeof *pi);
-        if (pi)
-            ws->pend_idx = pi;
-        double *pw = realloc(ws->pend_w0, cap * sizeof *pw);
-        if (pw)
-            ws->pend_w0 = pw;
-        if (pi && pw)
-            ws->pend_cap = cap;
-    }
+    pend_reserve(ws, n);
     size_t npend = 0;
     for (size_t k = 0; k < n; k++) {
         int32_t idx = cand[k];
         const rf_triangle *Tr = &t->tri[idx];
-        double near_lo = ta, near_hi = tb;
         /* the triangle's box against the arc's box widened by the reach */
         if ((Tr->a.x < xl && Tr->b.x < xl && Tr->c.x < xl) ||
             (Tr->a.x > xh && Tr->b.x > xh && Tr->c.x > xh) ||
@@ -681,46 +810,10 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
             (Tr->a.z < zl && Tr->b.z < zl && Tr->c.z < zl) ||
             (Tr->a.z > zh && Tr->b.z > zh && Tr->c.z > zh))
             continue;
-        if (s->line) {
-            /* a point of the triangle within reach of the centre: within reach of the
-             * horizontal line, the centre horizontally within reach of it meanwhile,
-             * and not lower than the centre's lowest height then minus the reach */
-            double pa = s->ux * Tr->a.y - s->uy * Tr->a.x - s->d0;
-            double pb = s->ux * Tr->b.y - s->uy * Tr->b.x - s->d0;
-            double pc = s->ux * Tr->c.y - s->uy * Tr->c.x - s->d0;
-            if ((pa > reach && pb > reach && pc > reach) || (pa < -reach && pb < -reach && pc < -reach))
-                continue;
-            double qa = s->ux * Tr->a.x + s->uy * Tr->a.y - s->s0;
-            double qb = s->ux * Tr->b.x + s->uy * Tr->b.y - s->s0;
-            double qc = s->ux * Tr->c.x + s->uy * Tr->c.y - s->s0;
-            double tl = (dmin(qa, dmin(qb, qc)) - reach) / s->vh;
-            double th = (dmax(qa, dmax(qb, qc)) + reach) / s->vh;
-            if (tl < ta)
-                tl = ta;
-            if (th > tb)
-                th = tb;
-            if (th > s->best)
-                th = s->best;
-            if (!(tl <= th))
-                continue;
-            const rf_arc *arc = s->arc;
-            double z_l = arc->p.z + tl * (arc->v.z + 0.5 * tl * arc->a.z);
-            double zh2 = arc->p.z + th * (arc->v.z + 0.5 * th * arc->a.z);
-            double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
-            if (zt < dmin(z_l, zh2) - reach)
-                continue;
-            near_lo = tl;
-            near_hi = th;
-        }
         if (excluded_tri(ex, idx))
             continue;
         double w0;
         if (test_face(s, idx, ta, tb, &w0)) {
-            /* its edges and vertices only while the centre is horizontally near */
-            if (w0 < near_lo)
-                w0 = near_lo;
-            if (w0 > near_hi)
-                continue;
             if (npend < ws->pend_cap) {
                 ws->pend_idx[npend] = idx;
                 ws->pend_w0[npend] = w0;
@@ -733,6 +826,7 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
     /* a feature table at most a third full */
     size_t p0 = 0;
     if (npend * 6 <= RF_FEAT_SLOTS / 3) {
+        feat_reset(ws);
         test_features(s, npend, tb, lo, hi);
         p0 = npend;
     }
@@ -771,29 +865,61 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
     }
     double reach = m->rho + 4 * m->tol_len;
-    /* pieces of about a few cells of horizontal travel */
     double cell = t->is_grid ? t->cell : t->bsize;
-    double piece = dmax(4.0 * cell, 2.0 * m->rho);
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
     double hlen = vh * T;
-    long npieces = (long)ceil(hlen / piece);
-    if (npieces < 1)
-        npieces = 1;
-    if (npieces > 1000000)
-        npieces = 1000000;
-    for (long i = 0; i < npieces; i++) {
-        double ta = T * (double)i / (double)npieces;
-        double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
-        if (ta >= s.best)
-            break;
-        rf_vec3 lo, hi;
-        arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
-        if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
-            continue;
-        size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
-        test_candidates(&s, m->ws->cand, n, ta, tb, lo, hi);
-        if (s.found && s.best <= tb)
-            break;
+    rf_workspace *ws = m->ws;
+    if (s.line) {
+        /* pieces of about a cell of travel, in order; each triangle is tested once
+         * (over all the time it is within reach), so the search stops at the first
+         * piece that ends after the earliest contact found */
+        if (++ws->test_epoch == 0) {
+            memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
+            ws->test_epoch = 1;
+        }
+        feat_reset(ws);
+        double piece = t->is_grid ? cell : 2.0 * cell;
+        long npieces = (long)ceil(hlen / piece);
+        if (npieces < 1)
+            npieces = 1;
+        if (npieces > 1000000)
+            npieces = 1000000;
+        for (long i = 0; i < npieces; i++) {
+            double ta = T * (double)i / (double)npieces;
+            double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
+            if (ta >= s.best)
+                break;
+            rf_vec3 lo, hi;
+            arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
+            if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
+                continue;
+            size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
+            test_line_candidates(&s, ws->cand, n, T);
+            if (s.found && s.best <= tb)
+                break;
+        }
+    } else {
+        /* pieces of about a few cells of horizontal travel */
+        double piece = dmax(4.0 * cell, 2.0 * m->rho);
+        long npieces = (long)ceil(hlen / piece);
+        if (npieces < 1)
+            npieces = 1;
+        if (npieces > 1000000)
+            npieces = 1000000;
+        for (long i = 0; i < npieces; i++) {
+            double ta = T * (double)i / (double)npieces;
+            double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
+            if (ta >= s.best)
+                break;
+            rf_vec3 lo, hi;
+            arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
+            if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
+                continue;
+            size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
+            test_candidates(&s, ws->cand, n, ta, tb, lo, hi);
+            if (s.found && s.best <= tb)
+                break;
+        }
     }
     if (!s.found)
         return 0;
@@ -834,52 +960,29 @@ static int vertices_below(const support_planes *sp, const rf_triangle *T)
     return 1;
 }
 
-size_t rf_gather_support(rf_motion *m)
+static inline float float_down(double x)
 {
-    const rf_terrain *t = m->terrain;
-    rf_workspace *ws = m->ws;
-    double xmin = INFINITY, ymin = INFINITY, xmax = -INFINITY, ymax = -INFINITY;
-    for (int k = 0; k < m->sup.n && k < 2; k++) {
-        const rf_triangle *S = &t->tri[m->sup.tri[k]];
-        xmin = dmin(xmin, dmin(S->a.x, dmin(S->b.x, S->c.x)));
-        xmax = dmax(xmax, dmax(S->a.x, dmax(S->b.x, S->c.x)));
-        ymin = dmin(ymin, dmin(S->a.y, dmin(S->b.y, S->c.y)));
-        ymax = dmax(ymax, dmax(S->a.y, dmax(S->b.y, S->c.y)));
+    float f = (float)x;
+    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+}
+
+static inline float float_up(double x)
+{
+    float f = (float)x;
+    return (double)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+void rf_tri_box_build(const rf_terrain *t, float *box)
+{
+    for (size_t i = 0; i < t->ntri; i++, box += 6) {
+        const rf_triangle *T = &t->tri[i];
+        box[0] = float_down(dmin(T->a.x, dmin(T->b.x, T->c.x)));
+        box[1] = float_up(dmax(T->a.x, dmax(T->b.x, T->c.x)));
+        box[2] = float_down(dmin(T->a.y, dmin(T->b.y, T->c.y)));
+        box[3] = float_up(dmax(T->a.y, dmax(T->b.y, T->c.y)));
+        box[4] = float_down(dmin(T->a.z, dmin(T->b.z, T->c.z)));
+        box[5] = float_up(dmax(T->a.z, dmax(T->b.z, T->c.z)));
     }
-    /* the contact point stays on the support: the centre within r of it, and what it
-     * touches within r of the centre */
-    double reach = 2.0 * m->rho + 4 * m->tol_len;
-    size_t n = rf_gather(m, xmin - reach, ymin - reach, xmax + reach, ymax + reach);
-    if (ws->near_cap < n) {
-        size_t cap = ws->near_cap ? ws->near_cap : 64;
-        while (cap < n)
-            cap *= 2;
-        int32_t *p = realloc(ws->near, cap * sizeof *p);
-        if (!p)
-            return 0;
-        ws->near = p;
-        ws->near_cap = cap;
-    }
-    /* faces of the support, in its plane or wholly on or below a support plane are
-     * out of reach for the whole segment */
-    support_planes sp;
-    support_planes_set(m, &sp);
-    size_t kept = 0;
-    for (size_t k = 0; k < n; k++) {
-        int32_t idx = ws->cand[k];
-        const rf_triangle *Tr = &t->tri[idx];
-        if (excluded_tri(&m->sup, idx))
-            continue;
-        if (!m->centre && !m->point) {
-            if (coplanar_with_support(t, &m->sup, Tr, m->tol_len))
-                continue;
-            if (vertices_below(&sp, Tr))
-                continue;
-        }
-        ws->near[kept++] = idx;
-    }
-    ws->nnear = kept;
-    return kept;
 }
 
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
@@ -890,11 +993,184 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
         return 0;
     rf_vec3 lo, hi;
     arc_box(arc, 0.0, T, &lo, &hi);
-    test_candidates(&s, m->ws->near, m->ws->nnear, 0.0, T, lo, hi);
+    /* the candidates whose boxes meet the arc's box widened by the reach */
+    rf_workspace *ws = m->ws;
+    double reach = m->rho + 4 * m->tol_len;
+    double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
+    double zl = lo.z - reach, zh = hi.z + reach;
+    size_t nhit = 0;
+    const float *box = ws->tri_box;
+    const rf_terrain *t = m->terrain;
+    int filter = !m->centre && !m->point;
+    support_planes sp;
+    support_planes_set(m, &sp);
+    size_t n = rf_gather(m, xl, yl, xh, yh);
+    if (ws->near_cap < n) {
+        size_t cap = ws->near_cap ? ws->near_cap : 64;
+        while (cap < n)
+            cap *= 2;
+        int32_t *h = realloc(ws->near_hit, cap * sizeof *h);
+        if (!h)
+            return 0;
+        ws->near_hit = h;
+        ws->near_cap = cap;
+    }
+    for (size_t k = 0; k < n; k++) {
+        int32_t idx = ws->cand[k];
+        const float *b = box + 6 * (size_t)idx;
+        if (b[1] < xl || b[0] > xh || b[3] < yl || b[2] > yh || b[5] < zl || b[4] > zh)
+            continue;
+        if (excluded_tri(&m->sup, idx))
+            continue;
+        if (filter) {
+            /* faces in a support's plane or wholly on or below a support plane are out
+             * of reach for the whole segment */
+            const rf_triangle *Tr = &t->tri[idx];
+            if (coplanar_with_support(t, &m->sup, Tr, m->tol_len) || vertices_below(&sp, Tr))
+                continue;
+        }
+        ws->near_hit[nhit++] = idx;
+    }
+    if (nhit == 0)
+        return 0;
+    test_candidates(&s, ws->near_hit, nhit, 0.0, T, lo, hi);
     if (!s.found)
         return 0;
     finish(m, arc, c);
     return 1;
+}
+
+/* ---- concave edges ---------------------------------------------------------------------
+ *
+ * The point of the terrain closest to a centre above it is never inside a strictly
+ * concave edge (there the two faces rise from the edge: the centre would have to be
+ * below them), so a rock from above meets such an edge only together with a face,
+ * another edge or a vertex, which the search finds.  Its edge test is skipped.  Edges
+ * on the border, shared by other than two triangles, or whose faces are within about
+ * 1e-6 rad of one plane are always tested. */
+
+#define CONCAVE_MIN_ANGLE 1e-6
+
+/* 1 when the edge va-vb of triangle A is strictly concave with triangle B, whose
+ * vertex off the edge is ob (oa: A's vertex off the edge). */
+static int edge_concave(const rf_triangle *A, const rf_triangle *B, rf_vec3 va, rf_vec3 vb,
+                        rf_vec3 oa, rf_vec3 ob)
+{
+    rf_vec3 e = rf_v3_sub(vb, va);
+    double el = rf_v3_norm(e);
+    if (!(el > 0))
+        return 0;
+    /* heights of each off vertex above the other face's plane, against its distance
+     * from the edge line */
+    double hb = rf_v3_dot(A->n, ob) - A->d, ha = rf_v3_dot(B->n, oa) - B->d;
+    double db = rf_v3_norm(rf_v3_cross(e, rf_v3_sub(ob, va))) / el;
+    double da = rf_v3_norm(rf_v3_cross(e, rf_v3_sub(oa, va))) / el;
+    return hb > CONCAVE_MIN_ANGLE * db && ha > CONCAVE_MIN_ANGLE * da && db > 0 && da > 0;
+}
+
+/* Clears bit ka of triangle a's flags when its edge ka, shared with triangle b, is
+ * strictly concave (b's own flag bit too, when b's flags are set). */
+static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int32_t b)
+{
+    if (a < 0 || b < 0)
+        return;
+    const rf_triangle *A = &t->tri[a], *B = &t->tri[b];
+    rf_vec3 va = tri_vertex(A, ka), vb = tri_vertex(A, (ka + 1) % 3), oa = tri_vertex(A, (ka + 2) % 3);
+    int kb = -1;
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 p = tri_vertex(B, k), q = tri_vertex(B, (k + 1) % 3);
+        if ((same_point(p, va) && same_point(q, vb)) || (same_point(p, vb) && same_point(q, va)))
+            kb = k;
+    }
+    if (kb < 0)
+        return;
+    rf_vec3 ob = tri_vertex(B, (kb + 2) % 3);
+    if (edge_concave(A, B, va, vb, oa, ob))
+        live[a] &= (uint8_t)~(1u << ka);
+}
+
+/* Grids: the flags of triangle idx, from its neighbours by cell arithmetic (cell (i, j)
+ * holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a is SW in both). */
+static void grid_edge_live(const rf_terrain *t, uint8_t *live, int32_t idx)
+{
+    const rf_triangle *T = &t->tri[idx];
+    live[idx] = 8 | 7;
+    size_t ncx = t->nx - 1, ncy = t->ny - 1;
+    size_t i = (size_t)((T->a.x - t->x0) / t->cell + 0.5);
+    size_t j = (size_t)((T->a.y - t->y0) / t->cell + 0.5);
+    if (i >= ncx || j >= ncy)
+        return;
+    const int32_t *g = t->grid_tri + 2 * (j * ncx + i);
+    if (g[0] == idx) {
+        if (j > 0)
+            mark_pair(t, live, idx, 0, t->grid_tri[2 * ((j - 1) * ncx + i) + 1]); /* south */
+        if (i + 1 < ncx)
+            mark_pair(t, live, idx, 1, g[3]);                                      /* east */
+        mark_pair(t, live, idx, 2, g[1]);                                          /* diagonal */
+    } else if (g[1] == idx) {
+        mark_pair(t, live, idx, 0, g[0]);                                          /* diagonal */
+        if (j + 1 < ncy)
+            mark_pair(t, live, idx, 1, t->grid_tri[2 * ((j + 1) * ncx + i)]);     /* north */
+        if (i > 0)
+            mark_pair(t, live, idx, 2, g[-2]);                                     /* west */
+    }
+}
+
+/* Bit k: edge k of triangle idx can be met first. */
+static inline unsigned edge_live(rf_workspace *ws, int32_t idx)
+{
+    if (!(ws->edge_live[idx] & 8))
+        grid_edge_live(ws->terrain, ws->edge_live, idx);
+    return ws->edge_live[idx];
+}
+
+typedef struct edge_ref {
+    uint64_t key;
+    int32_t tri;
+    int32_t k;
+} edge_ref;
+
+static int edge_ref_cmp(const void *x, const void *y)
+{
+    const edge_ref *a = x, *b = y;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    if (a->tri != b->tri)
+        return a->tri < b->tri ? -1 : 1;
+    return (a->k > b->k) - (a->k < b->k);
+}
+
+int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
+{
+    if (t->is_grid) {
+        memset(live, 0, t->ntri ? t->ntri : 1); /* found when first asked for */
+        return 0;
+    }
+    memset(live, 8 | 7, t->ntri ? t->ntri : 1);
+    size_t n = 3 * t->ntri;
+    edge_ref *r = malloc((n ? n : 1) * sizeof *r);
+    if (!r)
+        return -1;
+    for (size_t i = 0; i < t->ntri; i++)
+        for (int k = 0; k < 3; k++) {
+            rf_vec3 a = tri_vertex(&t->tri[i], k), b = tri_vertex(&t->tri[i], (k + 1) % 3);
+            uint64_t ha = point_hash(a), hb = point_hash(b);
+            uint64_t lo = ha < hb ? ha : hb, hi = ha < hb ? hb : ha;
+            r[3 * i + (size_t)k] = (edge_ref){mix64(lo ^ mix64(hi)), (int32_t)i, k};
+        }
+    qsort(r, n, sizeof *r, edge_ref_cmp);
+    for (size_t i = 0; i < n;) {
+        size_t j = i + 1;
+        while (j < n && r[j].key == r[i].key)
+            j++;
+        if (j - i == 2) {
+            mark_pair(t, live, r[i].tri, r[i].k, r[i + 1].tri);
+            mark_pair(t, live, r[i + 1].tri, r[i + 1].k, r[i].tri);
+        }
+        i = j;
+    }
+    free(r);
+    return 0;
 }
 
 /* ---- leaving the terrain -------------------------------------------------------------- */

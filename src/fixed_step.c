@@ -1,148 +1,637 @@
 /* fixed_step.c - the fixed-step baseline: the paper's successive integration over time.
  *
- * The same rock, the same impact law (Eq. 8) and the same surface laws as the exact
- * engine, advanced with semi-implicit Euler steps of dt.  Contact is detected per step
- * as the paper does (Eq. 6-7): the face under the centre, penetration of its plane by
- * the sphere.  A penetrating rock is put back on the plane; an approaching one gets an
- * impact, and a rebound below the stay threshold leaves it on the surface, where the
- * next steps slide or roll it.  It converges to the exact engine as dt -> 0 with
- * first-order error, and its cost grows with the simulated time: it is the reference
- * for the speed-against-error report. */
+ * The same model as the exact engine with `centre` contact (the paper's Eq. 6-7: only
+ * the face under the centre counts), advanced with semi-implicit Euler steps of dt
+ * instead of closed forms and root finding:
+ *
+ *   flight   v += g h, p += h v.  A step whose centre moves into another face's column,
+ *            or below a face's offset plane, is tested as the exact engine tests a
+ *            flight (the centre enters a column already within reach of its plane, or
+ *            reaches the plane over the column) to find the contact on the step's
+ *            straight piece; the exact engine's impact, lift and landing rules
+ *            (rf_contact_resolve) handle it.
+ *   surface  one face or a crease of two: v += h a with the surface laws (rf_surface_accel,
+ *            the crease's line law), the slip integrated alongside for a slipping
+ *            sphere.  A step ends early where the centre leaves its face's column (the
+ *            exact engine's face exit: same plane, convex edge, concave edge, or off
+ *            the terrain), or where the slip vanishes.
+ *
+ * Rest, rolling against slipping, coefficient draws and the stay threshold are those
+ * of the exact engine, so the trajectories converge to it as dt -> 0 (first order);
+ * the cost grows as 1/dt.  It is the reference for the speed-against-error report. */
 #include "motion_private.h"
 
 #include <math.h>
+#include <string.h>
 
 static rf_vec3 in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
 
-/* Path point and bookkeeping at an event of the stepping. */
-static void step_event(rf_motion *m) { rf_motion_event(m); }
+/* Slip of the contact point on a face with normal n: u = v + w x (-r n), in the plane. */
+static rf_vec3 slip_of(const rf_motion *m, rf_vec3 n)
+{
+    return in_plane(rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(n, -m->rho))), n);
+}
+
+/* Spin from v and the slip u on a face (w . n kept): w_t = n x (v - u) / r. */
+static void set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
+{
+    if (m->point)
+        return;
+    double wn = rf_v3_dot(m->s.w, n);
+    rf_vec3 wt = rf_v3_scale(rf_v3_cross(n, rf_v3_sub(m->s.v, u)), 1.0 / m->rho);
+    m->s.w = rf_v3_madd(wt, wn, n);
+}
+
+/* m / (m + I / r^2): 5/7 for the solid sphere */
+static double roll_factor(const rf_motion *m)
+{
+    return 1.0 / (1.0 + m->body->inertia / (m->body->mass * m->rho * m->rho));
+}
+
+static int coplanar(const rf_motion *m, int32_t a, int32_t b)
+{
+    const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
+    return rf_v3_norm(rf_v3_sub(A->n, B->n)) <= RF_COPLANAR_EPS && fabs(A->d - B->d) <= m->tol_len;
+}
+
+/* ---- the column of a face (its xy projection) ------------------------------------- */
+
+typedef struct column {
+    rf_vec3 m[3]; /* inward horizontal unit normals of the edges */
+    double o[3];
+} column;
+
+static void column_setup(const rf_triangle *T, column *c)
+{
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
+    double sg = orient >= 0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 A = P[k], B = P[(k + 1) % 3];
+        double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
+        c->m[k] = el > 0 ? rf_v3(-sg * ey / el, sg * ex / el, 0.0) : rf_v3(0, 0, 0);
+        c->o[k] = rf_v3_dot(c->m[k], A);
+    }
+}
+
+/* First time in [0, T] at which the centre p + v t leaves the column (INFINITY when
+ * it does not); *edge receives the edge crossed. */
+static double column_exit(const rf_motion *m, const column *c, rf_vec3 p, rf_vec3 v, double T,
+                          int *edge)
+{
+    double best = INFINITY, tol = m->tol_len;
+    for (int k = 0; k < 3; k++) {
+        double e0 = rf_v3_dot(c->m[k], p) - c->o[k], e1 = rf_v3_dot(c->m[k], v);
+        double t = INFINITY;
+        if (e0 < -tol && (e1 <= RF_APPROACH_EPS || e0 + T * e1 <= tol))
+            t = 0.0; /* already beyond the edge and not coming back */
+        else if (e1 < -RF_APPROACH_EPS && e0 >= -RF_TOUCH_BAND * tol)
+            t = e0 > 0 ? -e0 / e1 : 0.0;
+        if (t <= T && t < best) {
+            best = t;
+            *edge = k;
+        }
+    }
+    return best;
+}
+
+static rf_vec3 tri_vertex(const rf_triangle *T, int i)
+{
+    i %= 3;
+    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
+}
+
+/* The face the centre enters when it leaves face `from` over edge `edge` (-1: none). */
+static int32_t face_after(const rf_motion *m, int32_t from, int edge, const column *c, rf_vec3 acc)
+{
+    const rf_terrain *t = m->terrain;
+    rf_vec3 dir = m->s.v;
+    if (rf_v3_norm(dir) < 1e-9)
+        dir = acc;
+    if (rf_v3_hnorm(dir) < 1e-12)
+        dir = rf_v3_scale(c->m[edge], -1.0);
+    int32_t to = rf_face_beyond(t, from, m->s.p, dir);
+    if (to == from) {
+        /* numerically still inside: step over the middle of the edge */
+        const rf_triangle *F = &t->tri[from];
+        rf_vec3 mid = rf_v3_scale(rf_v3_add(tri_vertex(F, edge), tri_vertex(F, edge + 1)), 0.5);
+        to = rf_face_beyond(t, from, mid, rf_v3_scale(c->m[edge], -1.0));
+        if (to == from)
+            to = -1;
+    }
+    return to;
+}
+
+/* ---- supports ---------------------------------------------------------------------- */
+
+/* On face tri alone, on its offset plane with a tangent velocity; the coefficients are
+ * drawn when the zone changes. */
+static void support_single(rf_motion *m, int32_t tri)
+{
+    const rf_triangle *T = &m->terrain->tri[tri];
+    if (m->sup.n == 0 || m->sup.zone != T->zone)
+        rf_support_draw(m, tri);
+    m->sup.n = 1;
+    m->sup.tri[0] = tri;
+    m->sup.tri[1] = -1;
+    m->sup.left = -1;
+    m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
+    m->s.v = in_plane(m->s.v, T->n);
+    m->sup.rolling = 0;
+    if (!m->point) {
+        m->sup.rolling = rf_v3_norm(slip_of(m, T->n)) <= RF_SLIP_EPS;
+        if (m->sup.rolling)
+            set_spin(m, T->n, rf_v3(0, 0, 0));
+    }
+}
+
+static void go_flight(rf_motion *m, int32_t exclude)
+{
+    m->sup.n = 0;
+    m->flight_ex.n = exclude >= 0 ? 1 : 0;
+    m->flight_ex.tri[0] = exclude;
+}
+
+/* The centre has reached edge `edge` of its single face: the next face is on the same
+ * plane, rises (an impact on it; in centre mode also when the centre is below its
+ * offset plane, which lifts it), or falls away (flight).  Returns -1 or an end. */
+static int leave_face(rf_motion *m, int edge, const column *c, rf_vec3 acc)
+{
+    const rf_terrain *t = m->terrain;
+    int32_t from = m->sup.tri[0];
+    int32_t to = face_after(m, from, edge, c, acc);
+    if (to < 0)
+        return RF_END_EXITED; /* a point or a centre over no face has left the terrain */
+    const rf_triangle *Tn = &t->tri[to];
+    if (coplanar(m, from, to)) {
+        support_single(m, to);
+        m->sup.left = from;
+        return -1;
+    }
+    double vn = rf_v3_dot(m->s.v, Tn->n);
+    if (fabs(vn) <= RF_APPROACH_EPS) {
+        /* moving along the edge: the acceleration decides */
+        double an = rf_v3_dot(acc, Tn->n);
+        if (fabs(an) > 1e-9)
+            vn = an > 0 ? INFINITY : -INFINITY;
+    }
+    if (m->centre) {
+        double gap = rf_v3_dot(Tn->n, m->s.p) - Tn->d - m->rho;
+        if (gap > m->tol_len) {
+            go_flight(m, from);
+            return -1;
+        }
+        if (gap < -m->tol_len)
+            vn = -INFINITY;
+    }
+    if (vn < -RF_APPROACH_EPS) {
+        rf_contact con;
+        memset(&con, 0, sizeof con);
+        con.tri = to;
+        con.kind = RF_FEAT_FACE;
+        con.n = Tn->n;
+        con.point = rf_v3_madd(m->s.p, -(rf_v3_dot(Tn->n, m->s.p) - Tn->d), Tn->n);
+        if (m->point)
+            m->s.p = con.point;
+        rf_contact_resolve(m, &con);
+        return -1;
+    }
+    if (vn <= RF_APPROACH_EPS) {
+        support_single(m, to);
+        m->sup.left = from;
+        return -1;
+    }
+    go_flight(m, from); /* convex: the next face falls away */
+    return -1;
+}
+
+/* Normal pressures (per unit mass) of the two faces of a crease and its direction. */
+static int crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
+{
+    rf_vec3 c = rf_v3_cross(nA, nB);
+    double cl = rf_v3_norm(c);
+    if (!(cl > 1e-6))
+        return -1;
+    *l = rf_v3_scale(c, 1.0 / cl);
+    double bA = RF_GRAVITY * nA.z, bB = RF_GRAVITY * nB.z, nab = rf_v3_dot(nA, nB);
+    double den = 1.0 - nab * nab;
+    *xA = (bA - nab * bB) / den;
+    *xB = (bB - nab * bA) / den;
+    return 0;
+}
+
+/* ---- one step of each phase: -1 to go on, or an end reason ------------------------- */
+
+/* Moves along the step's straight piece {p, ve} to te (<= the step h), offering it to
+ * the scene events first; the velocity there is interpolated between v and ve.
+ * Returns 1 when a scene event cut the piece: the state is at the event, which the
+ * caller hands to rf_scene_event. */
+static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h)
+{
+    rf_arc arc = {m->s.p, ve, rf_v3(0, 0, 0)};
+    rf_vec3 v0 = m->s.v;
+    double ts = rf_scene_horizon(m, &arc, te);
+    int scene = m->scene_pending && ts < te;
+    double tt = scene ? ts : te;
+    rf_motion_advance(m, &arc, tt);
+    m->s.v = h > 0 ? rf_v3_add(v0, rf_v3_scale(rf_v3_sub(ve, v0), tt / h)) : ve;
+    if (!scene)
+        m->scene_pending = RF_SCENE_NONE;
+    return scene;
+}
+
+/* Eq. 6-7 along a flight step's straight piece p + v t, t in [0, T], for face idx, as
+ * the exact engine tests it: the centre moves over the face's column already within
+ * reach of its plane, or it reaches the plane while over the column.  Returns the
+ * time, or INFINITY. */
+static double centre_contact(const rf_motion *m, int32_t idx, rf_vec3 p, rf_vec3 v, double T)
+{
+    const rf_triangle *Tr = &m->terrain->tri[idx];
+    const double tol = m->tol_len;
+    column col;
+    column_setup(Tr, &col);
+    double lo = 0.0, hi = T;
+    for (int k = 0; k < 3; k++) {
+        double alpha = rf_v3_dot(col.m[k], p) - col.o[k], beta = rf_v3_dot(col.m[k], v);
+        if (beta > 0)
+            lo = fmax(lo, (-tol - alpha) / beta);
+        else if (beta < 0)
+            hi = fmin(hi, (-tol - alpha) / beta);
+        else if (alpha < -tol)
+            return INFINITY;
+    }
+    if (!(lo <= hi))
+        return INFINITY;
+    double f0 = rf_v3_dot(Tr->n, p) - Tr->d - m->rho, f1 = rf_v3_dot(Tr->n, v);
+    double flo = f0 + lo * f1;
+    if (lo > 0 && (flo < -tol || (flo <= tol && f1 < -RF_APPROACH_EPS)))
+        return lo; /* the centre moves over a face already within reach of its plane */
+    if (!(f1 < -RF_APPROACH_EPS))
+        return INFINITY;
+    if (flo <= tol)
+        return flo >= -RF_TOUCH_BAND * tol ? lo : INFINITY; /* touching and approaching */
+    double x = -f0 / f1;
+    return x > lo && x <= hi ? x : INFINITY;
+}
+
+/* The first centre contact along the piece over [0, T] (faces in flight_ex ignored). */
+static int piece_contact(rf_motion *m, rf_vec3 p, rf_vec3 v, double T, rf_contact *c)
+{
+    rf_vec3 q = rf_v3_madd(p, T, v);
+    const double pad = 1e-6;
+    size_t n = rf_gather(m, fmin(p.x, q.x) - pad, fmin(p.y, q.y) - pad, fmax(p.x, q.x) + pad,
+                         fmax(p.y, q.y) + pad);
+    double best = INFINITY;
+    int32_t hit = -1;
+    for (size_t k = 0; k < n; k++) {
+        int32_t idx = m->ws->cand[k];
+        int skip = 0;
+        for (int j = 0; j < m->flight_ex.n; j++)
+            skip |= m->flight_ex.tri[j] == idx;
+        if (skip)
+            continue;
+        double t = centre_contact(m, idx, p, v, T);
+        if (t < best)
+            best = t, hit = idx;
+    }
+    if (hit < 0)
+        return 0;
+    const rf_triangle *Tr = &m->terrain->tri[hit];
+    rf_vec3 at = rf_v3_madd(p, best, v);
+    memset(c, 0, sizeof *c);
+    c->t = best;
+    c->tri = hit;
+    c->kind = RF_FEAT_FACE;
+    c->n = Tr->n;
+    c->point = rf_v3_madd(at, -(rf_v3_dot(Tr->n, at) - Tr->d), Tr->n);
+    return 1;
+}
+
+static int flight_step(rf_motion *m, double h)
+{
+    const rf_terrain *t = m->terrain;
+    rf_vec3 p0 = m->s.p;
+    rf_vec3 ve = m->s.v;
+    ve.z -= RF_GRAVITY * h;
+    rf_vec3 pe = rf_v3_madd(p0, h, ve);
+    /* Eq. 6-7: a contact needs the centre in another face's column or below the offset
+     * plane of the face under it at the step's end */
+    int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y), tri1 = rf_terrain_locate(t, pe.x, pe.y);
+    double te = h;
+    int hit = 0, out = 0;
+    rf_contact c;
+    if (tri1 != tri0 || tri1 < 0 ||
+        rf_v3_dot(t->tri[tri1].n, pe) - t->tri[tri1].d - m->rho < m->tol_len) {
+        double tx = h;
+        if (tri1 < 0) {
+            rf_arc piece = {p0, ve, rf_v3(0, 0, 0)};
+            tx = rf_terrain_exit_time(m, &piece, h);
+        }
+        hit = piece_contact(m, p0, ve, tx, &c);
+        te = hit ? c.t : tx;
+        out = !hit && tri1 < 0;
+    }
+    if (!hit && pe.z < t->zmin - m->rho - 1.0)
+        out = 1; /* below every face */
+    if (advance_piece(m, ve, te, h))
+        return rf_scene_event(m);
+    if (hit) {
+        /* the velocity at the contact is v + g t; when that leaves the face but the
+         * step's velocity meets it, the rock made a hop shorter than the step and is
+         * back on the face with the step's velocity */
+        if (rf_v3_dot(m->s.v, c.n) >= 0 && rf_v3_dot(ve, c.n) < 0)
+            m->s.v = ve;
+        m->flight_ex.n = 0;
+        rf_contact_resolve(m, &c);
+        rf_motion_event(m);
+        return -1;
+    }
+    return out ? RF_END_EXITED : -1;
+}
+
+/* *fresh: the first step after an event, where a segment of the exact engine starts;
+ * whether a rolling sphere can keep rolling is decided there. */
+static int face_step(rf_motion *m, double h, int *fresh)
+{
+    int seg_start = *fresh;
+    *fresh = 1;
+    int32_t tri = m->sup.tri[0];
+    const rf_triangle *T = &m->terrain->tri[tri];
+    rf_vec3 n = T->n;
+    m->s.v = in_plane(m->s.v, n);
+    rf_vec3 u = rf_v3(0, 0, 0);
+    if (!m->point) {
+        u = slip_of(m, n);
+        if (!m->sup.rolling && rf_v3_norm(u) <= RF_SLIP_EPS) {
+            m->sup.rolling = 1;
+            set_spin(m, n, rf_v3(0, 0, 0));
+        }
+        if (m->sup.rolling && seg_start) {
+            u = rf_v3(0, 0, 0);
+            /* rolling needs the friction 2/7 m g_t (and the resistance) <= mu m g_n */
+            double kr = roll_factor(m), gn = RF_GRAVITY * n.z;
+            rf_vec3 gt = rf_v3(gn * n.x, gn * n.y, gn * n.z - RF_GRAVITY);
+            double vl = rf_v3_norm(m->s.v);
+            rf_vec3 dirv = vl > 0 ? rf_v3_scale(m->s.v, 1.0 / vl) : rf_v3(0, 0, 0);
+            if (!(vl > 0) && rf_v3_norm(gt) > 1e-12)
+                dirv = rf_v3_unit(gt);
+            rf_vec3 need = rf_v3_madd(rf_v3_scale(gt, 1.0 - kr), -kr * m->sup.mu_r * gn, dirv);
+            if (rf_v3_norm(need) > m->sup.mu * gn * (1 + 1e-12) && vl > 0)
+                m->sup.rolling = 0;
+        } else if (m->sup.rolling) {
+            u = rf_v3(0, 0, 0);
+        }
+    }
+    double speed = rf_v3_norm(m->s.v);
+    if (speed <= m->scene->sim->stop_speed && (m->point || m->sup.rolling) && rf_surface_holds(m))
+        return RF_END_REST;
+    int slide = !m->point && !m->sup.rolling;
+    rf_vec3 du;
+    rf_vec3 a = rf_surface_accel(m, n, m->s.v, u, &du);
+    /* a slipping sphere's step ends where the slip vanishes; it can only vanish where
+     * friction K mu g_n exceeds the gravity component g_t, else it turns down the
+     * fall line and grows */
+    double hs = h;
+    int slip_end = 0, can_stick = 0;
+    if (slide) {
+        double K = 1.0 + m->body->mass * m->rho * m->rho / m->body->inertia;
+        can_stick = K * m->sup.mu * RF_GRAVITY * n.z > RF_GRAVITY * sqrt(fmax(0.0, 1.0 - n.z * n.z));
+        double ul = rf_v3_norm(u);
+        double dus = ul > 0 ? rf_v3_dot(du, u) / ul : 0.0;
+        if (can_stick && ul > 0 && dus < 0 && ul <= -dus * hs) {
+            hs = ul / -dus;
+            slip_end = 1;
+        }
+    }
+    rf_vec3 v1 = rf_v3_madd(m->s.v, hs, a);
+    int zero = 0;
+    if (!slide && speed > 0 && rf_v3_dot(v1, m->s.v) < 0) {
+        v1 = rf_v3(0, 0, 0); /* friction stops the rock, it does not push it back */
+        zero = 1;
+    }
+    rf_vec3 ve = in_plane(v1, n);
+    rf_vec3 u1 = rf_v3(0, 0, 0);
+    if (slide && !slip_end) {
+        u1 = rf_v3_madd(u, hs, du);
+        if (can_stick && rf_v3_norm(u) > 0 && rf_v3_dot(u1, u) <= 0) {
+            u1 = rf_v3(0, 0, 0);
+            slip_end = 1;
+        }
+    }
+    column col;
+    column_setup(T, &col);
+    int edge = 0;
+    double tx = column_exit(m, &col, m->s.p, ve, hs, &edge);
+    double te = tx < hs ? tx : hs;
+    int scene = advance_piece(m, ve, te, hs);
+    if (!m->point)
+        set_spin(m, n, rf_v3_add(u, rf_v3_scale(rf_v3_sub(u1, u), hs > 0 ? te / hs : 1.0)));
+    if (scene)
+        return rf_scene_event(m);
+    if (tx <= hs) {
+        int end = leave_face(m, edge, &col, a);
+        rf_motion_event(m);
+        return end;
+    }
+    if (slip_end) {
+        m->sup.rolling = 1;
+        set_spin(m, n, rf_v3(0, 0, 0));
+        rf_motion_event(m);
+    } else if (zero) {
+        m->s.v = rf_v3(0, 0, 0);
+        if (m->sup.rolling)
+            m->s.w = rf_v3(0, 0, 0);
+        rf_motion_event(m);
+    } else {
+        *fresh = 0;
+    }
+    return -1;
+}
+
+/* A crease: the centre moves on the line where the two offset planes meet, with the
+ * normal forces of both faces. */
+static int crease_step(rf_motion *m, double h)
+{
+    const rf_terrain *t = m->terrain;
+    const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
+    double xA = 0.0, xB = 0.0;
+    rf_vec3 l;
+    if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
+        int32_t keep = m->sup.tri[xA < 0 ? 1 : 0];
+        m->sup.n = 1;
+        m->sup.tri[0] = keep;
+        m->sup.tri[1] = -1;
+        return -1;
+    }
+    double s = rf_v3_dot(m->s.v, l);
+    if (s < 0) {
+        l = rf_v3_scale(l, -1.0);
+        s = -s;
+    }
+    m->s.v = rf_v3_scale(l, s);
+    double gl = -RF_GRAVITY * l.z, N = xA + xB;
+    int rolling = !m->point && m->sup.rolling;
+    if (rolling && (1.0 - roll_factor(m)) * fabs(RF_GRAVITY * l.z) > m->sup.mu * N)
+        m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
+    double k = rolling ? roll_factor(m) : 1.0;
+    double cf = rolling ? m->sup.mu_r : m->sup.mu;
+    int holds = fabs(gl) <= cf * N;
+    if (s <= m->scene->sim->stop_speed && holds)
+        return RF_END_REST;
+    if (s == 0.0 && gl < 0) {
+        l = rf_v3_scale(l, -1.0);
+        gl = -gl;
+    }
+    double as = k * (gl - cf * N);
+    double s1 = s + h * as;
+    int zero = 0;
+    if (s1 < 0) {
+        s1 = 0.0;
+        zero = 1;
+    }
+    rf_vec3 ve = rf_v3_scale(l, s1);
+    column col[2];
+    int edge = 0, slot = 0;
+    double tx = INFINITY;
+    for (int k2 = 0; k2 < 2; k2++) {
+        column_setup(k2 == 0 ? A : B, &col[k2]);
+        int e2 = 0;
+        double t2 = column_exit(m, &col[k2], m->s.p, ve, h, &e2);
+        if (t2 < tx)
+            tx = t2, edge = e2, slot = k2;
+    }
+    double te = tx < h ? tx : h;
+    int scene = advance_piece(m, ve, te, h);
+    if (rolling) {
+        rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
+        m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
+    }
+    if (scene)
+        return rf_scene_event(m);
+    if (tx <= h) {
+        /* the centre leaves one face's column: the crease goes on with the next face
+         * on the same plane, or ends on the other face */
+        int32_t from = m->sup.tri[slot], other = m->sup.tri[1 - slot];
+        int32_t to = face_after(m, from, edge, &col[slot], rf_v3_scale(l, as));
+        rf_motion_event(m);
+        if (to >= 0 && coplanar(m, from, to)) {
+            m->sup.tri[slot] = to;
+            m->sup.left = from;
+            return -1;
+        }
+        if (to < 0)
+            return RF_END_EXITED;
+        m->sup.n = 1;
+        m->sup.tri[0] = other;
+        m->sup.tri[1] = -1;
+        m->sup.left = from;
+        return -1;
+    }
+    if (zero) {
+        m->s.v = rf_v3(0, 0, 0);
+        if (rolling)
+            m->s.w = rf_v3(0, 0, 0);
+        rf_motion_event(m);
+    }
+    return -1;
+}
+
+/* ---- start, rescue and the loop ---------------------------------------------------- */
+
+/* The start as in the exact engine: on the face under the centre when it touches it
+ * (landing, or an impact when it moves into it), else in flight.  Returns -1 or an end. */
+static int start_phase(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+    if (tri < 0)
+        return RF_END_EXITED;
+    m->sup.n = 0;
+    m->sup.left = -1;
+    m->flight_ex.n = 0;
+    const rf_triangle *T = &t->tri[tri];
+    double dist = rf_v3_dot(T->n, m->s.p) - T->d;
+    rf_contact c;
+    memset(&c, 0, sizeof c);
+    c.tri = tri;
+    c.kind = RF_FEAT_FACE;
+    c.n = T->n;
+    c.point = rf_v3_madd(m->s.p, -dist, T->n);
+    if (m->point && T->n.z > 0)
+        dist = (m->s.p.z - rf_triangle_z_at(T, m->s.p.x, m->s.p.y)) * T->n.z;
+    if (!(dist <= m->rho + 1e-6))
+        return -1; /* in the air */
+    if (m->point && T->n.z > 0)
+        m->s.p.z = rf_triangle_z_at(T, m->s.p.x, m->s.p.y);
+    else
+        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, T->n);
+    double vn = rf_v3_dot(m->s.v, T->n);
+    if (vn > m->v_stay)
+        return -1; /* launched off the ground */
+    if (vn > -m->v_stay)
+        rf_surface_enter(m, tri);
+    else
+        rf_contact_resolve(m, &c);
+    return -1;
+}
+
+/* A rock caught between features without moving in time moves free for a moment and
+ * is put back on or above the face under it. */
+static void unstall(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    rf_motion_advance(m, &arc, RF_UNSTALL_TIME);
+    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+    if (tri >= 0) {
+        const rf_triangle *T = &t->tri[tri];
+        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
+        if (dp < m->rho + m->tol_len)
+            m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
+        double vn = rf_v3_dot(m->s.v, T->n);
+        if (vn < 0)
+            m->s.v = rf_v3_madd(m->s.v, -vn, T->n);
+    }
+    m->sup.n = 0;
+    m->flight_ex.n = 0;
+}
 
 int rf_simulate_fixed_step(rf_motion *m)
 {
-    const rf_terrain *t = m->terrain;
     const double dt = m->scene->sim->dt > 0 ? m->scene->sim->dt : 1e-3;
-    const double stop = m->scene->sim->stop_speed;
-    const double tol = 1e-9;
-    int on = 0; /* on the surface of face m->sup.tri[0]; m->sup.n follows it (tree hits read it) */
-    m->sup.n = 0;
+    /* the paper's contact test (Eq. 6-7) whatever the project's contact option */
+    m->centre = !m->point;
+    int end = start_phase(m);
+    if (end >= 0)
+        return end;
+    double stall_t = m->s.t;
+    int stall = 0, fresh = 1;
+    long rescues = 0;
     for (;;) {
         if (m->s.t >= m->t_end)
             return RF_END_MAX_TIME;
-        double h = fmin(dt, m->t_end - m->s.t);
-        /* Eq. 6: the face under the centre */
-        int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-        if (tri < 0)
-            return RF_END_EXITED;
-        const rf_triangle *T = &t->tri[tri];
-        double gap = rf_v3_dot(T->n, m->s.p) - T->d - m->rho; /* Eq. 7 */
-        rf_vec3 p0 = m->s.p, v0 = m->s.v;
-        if (on && gap <= tol) {
-            if (m->sup.tri[0] != tri) {
-                if (T->zone != m->sup.zone)
-                    rf_support_draw(m, tri);
-                m->sup.tri[0] = tri;
-                m->s.v = in_plane(m->s.v, T->n);
-            }
-            rf_vec3 n = T->n;
-            rf_vec3 u = rf_v3(0, 0, 0);
-            if (!m->point) {
-                u = in_plane(rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(n, -m->rho))), n);
-                if (!m->sup.rolling && rf_v3_norm(u) <= RF_SLIP_EPS)
-                    m->sup.rolling = 1;
-                if (m->sup.rolling)
-                    u = rf_v3(0, 0, 0);
-            }
-            double speed = rf_v3_norm(m->s.v);
-            if (speed <= stop && (m->point || m->sup.rolling) && rf_surface_holds(m))
+        if (m->s.t > stall_t + RF_TIME_TOL * 10) {
+            stall_t = m->s.t;
+            stall = 0;
+        } else if (++stall > RF_STALL_EVENTS) {
+            /* no progress in time: a rock wedged between features */
+            if (rf_v3_norm(m->s.v) <= m->scene->sim->stop_speed)
                 return RF_END_REST;
-            rf_vec3 du;
-            rf_vec3 a = rf_surface_accel(m, n, m->s.v, u, &du);
-            rf_vec3 v1 = rf_v3_madd(m->s.v, h, a);
-            if (m->point || m->sup.rolling) {
-                /* friction stops the rock, it does not push it back */
-                if (speed > 0 && rf_v3_dot(v1, m->s.v) < 0)
-                    v1 = rf_v3(0, 0, 0);
-            } else {
-                rf_vec3 u1 = rf_v3_madd(u, h, du);
-                if (rf_v3_dot(u1, u) <= 0) {
-                    u1 = rf_v3(0, 0, 0);
-                    m->sup.rolling = 1;
-                }
-                u = u1;
-            }
-            m->s.v = in_plane(v1, n);
-            m->s.p = rf_v3_madd(m->s.p, h, m->s.v);
-            if (!m->point) {
-                double wn = rf_v3_dot(m->s.w, n);
-                rf_vec3 wt = rf_v3_scale(rf_v3_cross(n, rf_v3_sub(m->s.v, u)), 1.0 / m->rho);
-                m->s.w = rf_v3_madd(wt, wn, n);
-            }
+            if (++rescues > RF_MAX_RESCUES)
+                return RF_END_MAX_TIME;
+            unstall(m);
+            fresh = 1;
+            stall_t = m->s.t;
+            stall = 0;
+        }
+        double h = fmin(dt, m->t_end - m->s.t);
+        if (m->sup.n == 1) {
+            end = face_step(m, h, &fresh);
         } else {
-            on = 0;
-            m->sup.n = 0;
-            m->s.v.z -= RF_GRAVITY * h;
-            m->s.p = rf_v3_madd(m->s.p, h, m->s.v);
+            end = m->sup.n == 0 ? flight_step(m, h) : crease_step(m, h);
+            fresh = 1;
         }
-        m->s.t += h;
-        /* records along the step */
-        rf_arc arc = {p0, v0, rf_v3_scale(rf_v3_sub(m->s.v, v0), 1.0 / h)};
-        rf_vec3 pe = m->s.p, ve = m->s.v;
-        m->s.p = p0;
-        m->s.v = v0;
-        m->s.t -= h;
-        double ts = rf_scene_horizon(m, &arc, h);
-        if (m->scene_pending && ts < h) {
-            rf_motion_advance(m, &arc, ts);
-            int end = rf_scene_event(m);
-            if (end >= 0)
-                return end;
-            on = m->sup.n > 0; /* a tree may throw the rock up off the surface */
-            continue;
-        }
-        rf_motion_advance(m, &arc, h);
-        m->s.p = pe;
-        m->s.v = ve;
-        /* Eq. 6-7 at the new position: penetration, then impact or contact */
-        int32_t tri2 = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-        if (tri2 < 0) {
-            step_event(m);
-            return RF_END_EXITED;
-        }
-        const rf_triangle *T2 = &t->tri[tri2];
-        double gap2 = rf_v3_dot(T2->n, m->s.p) - T2->d - m->rho;
-        if (gap2 < 0) {
-            m->s.p = rf_v3_madd(m->s.p, -gap2, T2->n);
-            double vn = rf_v3_dot(m->s.v, T2->n);
-            int was_on = on;
-            if (vn < -RF_APPROACH_EPS) {
-                double e0 = rf_motion_energy(m);
-                double rebound = rf_impact(m, tri2, T2->n, NULL);
-                m->rec->n_impacts++;
-                if (m->sink && m->sink->impact)
-                    m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, -vn);
-                on = rebound < m->v_stay;
-            } else {
-                on = 1;
-            }
-            if (on) {
-                m->s.v = in_plane(m->s.v, T2->n);
-                if (!was_on || T2->zone != m->sup.zone)
-                    rf_support_draw(m, tri2);
-                m->sup.n = 1;
-                m->sup.tri[0] = tri2;
-                if (!m->point) {
-                    rf_vec3 u = in_plane(rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(T2->n, -m->rho))), T2->n);
-                    m->sup.rolling = rf_v3_norm(u) <= RF_SLIP_EPS;
-                }
-            } else {
-                m->sup.n = 0;
-            }
-            if (!was_on || !on)
-                step_event(m);
-        } else if (on && gap2 > tol) {
-            on = 0; /* the face fell away: flight */
-            m->sup.n = 0;
-            step_event(m);
-        }
+        if (end >= 0)
+            return end;
     }
 }

@@ -59,10 +59,15 @@ rf_workspace *rf_workspace_alloc(const rf_terrain *t)
     ws->cap = 256;
     ws->cand = malloc(ws->cap * sizeof *ws->cand);
     ws->stamp = calloc(t->ntri ? t->ntri : 1, sizeof *ws->stamp);
-    if (!ws->cand || !ws->stamp) {
+    ws->tested = calloc(t->ntri ? t->ntri : 1, sizeof *ws->tested);
+    ws->edge_live = malloc(t->ntri ? t->ntri : 1);
+    ws->tri_box = malloc(6 * (t->ntri ? t->ntri : 1) * sizeof *ws->tri_box);
+    if (!ws->cand || !ws->stamp || !ws->tested || !ws->edge_live || !ws->tri_box ||
+        rf_edge_live_build(t, ws->edge_live)) {
         rf_workspace_free(ws);
         return NULL;
     }
+    rf_tri_box_build(t, ws->tri_box);
     if (t->is_grid) {
         size_t ncell = 2 * (t->nx - 1) * (t->ny - 1);
         for (size_t i = 0; i < ncell && !ws->grid_has_holes; i++)
@@ -77,7 +82,10 @@ void rf_workspace_free(rf_workspace *ws)
         return;
     free(ws->cand);
     free(ws->stamp);
-    free(ws->near);
+    free(ws->tested);
+    free(ws->edge_live);
+    free(ws->tri_box);
+    free(ws->near_hit);
     free(ws->pend_idx);
     free(ws->pend_w0);
     free(ws);

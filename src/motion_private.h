@@ -87,7 +87,9 @@ typedef struct rf_feat_slot {
     uint32_t gen;     /* slot in use when equal to rf_workspace.feat_gen */
     int32_t tri, k;   /* first triangle holding it; vertex k, or edge (k & 3) | 4 */
     int32_t excl;     /* excluded from the search */
-    double w0;        /* earliest window start */
+    int32_t queued;   /* waiting in the test order */
+    double w0;        /* earliest window start asked for */
+    double tw0;       /* window start it was tested from (INFINITY: not yet) */
 } rf_feat_slot;
 
 struct rf_workspace {
@@ -97,13 +99,20 @@ struct rf_workspace {
     uint32_t *stamp;  /* query stamps, one per triangle */
     uint32_t epoch;
     int grid_has_holes;
-    int32_t *near;    /* candidates of the current surface segment */
-    size_t near_cap, nnear;
+    int32_t *near_hit; /* candidates of a surface segment */
+    float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
+                         outwards) */
+    size_t near_cap;
     int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
     double *pend_w0;
     size_t pend_cap;
+    uint8_t *edge_live; /* per triangle, bit k: edge k can be met first (not strictly
+                           concave: convex, nearly flat, or on the border) */
+    uint32_t *tested; /* flights: triangles tested in the current search (== test_epoch) */
+    uint32_t test_epoch;
     /* contact.c: shared edges and vertices (zeroed by calloc; no allocation) */
     uint32_t feat_gen;
+    size_t feat_used; /* slots in use in the current generation */
     rf_feat_slot feat[RF_FEAT_SLOTS];
     int16_t feat_order[RF_FEAT_SLOTS];
 };
@@ -151,6 +160,11 @@ typedef struct rf_motion {
 } rf_motion;
 
 /* ---- contact.c -------------------------------------------------------------------- */
+/* Prepares ws->edge_live for terrain t (meshes: all flags; grids: each triangle's when
+ * first asked for); 0, or -1 out of memory. */
+int rf_edge_live_build(const rf_terrain *t, uint8_t *live);
+/* Fills ws->tri_box for terrain t. */
+void rf_tri_box_build(const rf_terrain *t, float *box);
 /* Gathers the triangles whose xy box overlaps the box into ws->cand; returns count. */
 size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax);
 /* Earliest contact along `arc` over [0, T] of the rock (contact radius m->rho; centre
@@ -158,11 +172,8 @@ size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double yma
  * support triangles in `ex` are ignored.  Returns 1 and fills *c when there is one. */
 int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                       rf_contact *c);
-/* Gathers the triangles a rock on its support (m->sup) can meet while its contact
- * point stays on the support faces (into ws->near); returns their number. */
-size_t rf_gather_support(rf_motion *m);
-/* rf_contact_search for a surface segment: the arc lies on the support planes, the
- * candidates are those of rf_gather_support, and features on or below a support plane
+/* rf_contact_search for a surface segment: the arc lies on the support planes (m->sup),
+ * the support faces, faces in their planes and features on or below a support plane
  * are skipped (a centre r above the plane cannot reach them). */
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                            rf_contact *c);

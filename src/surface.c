@@ -198,7 +198,7 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
         return -1;
     if (rf_v3_dot(m->s.v, A->n) > m->v_stay)
         return -1; /* leaving A */
-    double xA, xB;
+    double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
         return -1;
@@ -575,7 +575,7 @@ int rf_surface_holds(const rf_motion *m)
     if (m->sup.n == 2) {
         if (c < 0)
             c = m->sup.mu;
-        double xA, xB;
+        double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
         rf_vec3 l;
         if (crease_forces(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n, &xA, &xB, &l))
             return 0;
@@ -644,8 +644,6 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
                                   const face_edges *fe)
 {
     rf_support ex = segment_exclusion(m);
-    if (!m->point && !m->centre)
-        rf_gather_support(m);
     rf_vec3 a = law_accel(f, dir);
     double speed = rf_v3_norm(m->s.v);
     seg_event ev = {EV_MAX_TIME, m->t_end - m->s.t, 0, 0, {0}, 0.0};
@@ -732,8 +730,10 @@ static double dp_step(const ode *o, const double *y, double h, double *out)
                         b6 = 11.0 / 84, e1 = 71.0 / 57600, e3 = -71.0 / 16695,
                         e4 = 71.0 / 1920, e5 = -17253.0 / 339200, e6 = 22.0 / 525,
                         e7 = -1.0 / 40;
-    const int n = 9;
+    const int n = o->dim;
     double k1[9], k2[9], k3[9], k4[9], k5[9], k6[9], k7[9], tmp[9];
+    for (int i = n; i < 9; i++)
+        out[i] = tmp[i] = y[i];
     rhs(o, y, k1);
     for (int i = 0; i < n; i++)
         tmp[i] = y[i] + h * c21 * k1[i];
@@ -754,7 +754,7 @@ static double dp_step(const ode *o, const double *y, double h, double *out)
         out[i] = y[i] + h * (b1 * k1[i] + b3 * k3[i] + b4 * k4[i] + b5 * k5[i] + b6 * k6[i]);
     rhs(o, out, k7);
     double err = 0.0;
-    for (int i = 0; i < o->dim; i++) {
+    for (int i = 0; i < n; i++) {
         double ei = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
         double sc = RF_ODE_TOL * (1.0 + dmax(fabs(y[i]), fabs(out[i])));
         double r = fabs(ei) / sc;
@@ -929,8 +929,6 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
 static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const face_edges *fe)
 {
     rf_support ex = segment_exclusion(m);
-    if (!m->point && !m->centre)
-        rf_gather_support(m);
     ode o = {f, f->mode == LAW_SLIDE ? 9 : 6};
     rf_vec3 c0 = m->s.p;
     double y[9] = {0, 0, 0, m->s.v.x, m->s.v.y, m->s.v.z, u0.x, u0.y, u0.z};
@@ -1130,7 +1128,7 @@ static rf_surface_end crease_step(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
-    double xA, xB;
+    double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
         int keep = (xA < 0) ? 1 : 0;
@@ -1141,8 +1139,6 @@ static rf_surface_end crease_step(rf_motion *m)
         return RF_SURF_CONTINUE;
     }
     rf_support ex = segment_exclusion(m);
-    if (!m->point && !m->centre)
-        rf_gather_support(m);
     double s = rf_v3_dot(m->s.v, l);
     if (s < 0) {
         l = rf_v3_scale(l, -1.0);
