@@ -807,8 +807,12 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
             (Tr->a.x > xh && Tr->b.x > xh && Tr->c.x > xh) ||
             (Tr->a.y < yl && Tr->b.y < yl && Tr->c.y < yl) ||
             (Tr->a.y > yh && Tr->b.y > yh && Tr->c.y > yh) ||
-            (Tr->a.z < zl && Tr->b.z < zl && Tr->c.z < zl) ||
             (Tr->a.z > zh && Tr->b.z > zh && Tr->c.z > zh))
+            continue;
+        /* below: in centre mode the centre meets a face r / n.z above its plane,
+         * more than r above its vertices on a steep face */
+        double zlow = m->centre ? lo.z - reach / dmax(Tr->n.z, 1e-12) : zl;
+        if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
         if (excluded_tri(ex, idx))
             continue;

@@ -460,3 +460,36 @@ TEST(hard_same_seed_bit_identical_records)
     gsl_rng_free(rng);
     rf_terrain_free(&t);
 }
+
+/* The paper's centre-only contact meets a face when the centre is r / cos(theta) above
+ * its plane - more than r above the vertices of a small steep face.  A rock dropped on
+ * an 80 degree slope of 1 m cells lands exactly there and does not fall through. */
+TEST(hard_centre_contact_on_steep_small_faces)
+{
+    const double theta = 80.0 * M_PI / 180.0;
+    char text[8192];
+    int n = snprintf(text, sizeof text,
+                     "ncols 11\nnrows 11\nxllcenter 0\nyllcenter 0\ncellsize 1\n");
+    for (int j = 0; j < 11; j++) {
+        for (int i = 0; i < 11; i++)
+            n += snprintf(text + n, sizeof text - (size_t)n, "%.17g ", tan(theta) * i);
+        n += snprintf(text + n, sizeof text - (size_t)n, "\n");
+    }
+    rf_surface s = {{0.3, 0.0}, {0.3, 0.0}, {0.1, 0.0}};
+    rf_terrain t;
+    mt_dem_text(&t, "steep80.asc", text, s);
+    rf_body b = rf_body_make(4500.0, 2650.0, RF_MODEL_SPHERE);
+    const double xs[3] = {5.3, 5.85, 4.05};
+    for (int k = 0; k < 3; k++) {
+        double zp = tan(theta) * xs[k];
+        rf_state s0 = mt_state(rf_v3(xs[k], 5.2, zp + 20.0), rf_v3(0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, RF_MODEL_SPHERE, 4500.0, RF_CONTACT_CENTRE, &s0, 7, &r);
+        const rf_path_point *imp = mt_first_impact(&r);
+        ENSURE_MSG(imp != NULL, "x %.2f: no impact (%s)", xs[k], rf_stop_reason_name(r.rec.reason));
+        ENSURE_REL(imp->p.x, xs[k], 1e-9);
+        ENSURE_REL(imp->p.z, zp + b.radius / cos(theta), 1e-6);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
