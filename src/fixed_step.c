@@ -205,20 +205,6 @@ static int leave_face(rf_motion *m, int edge, const column *c, rf_vec3 acc)
     return -1;
 }
 
-/* Normal pressures (per unit mass) of the two faces of a crease and its direction. */
-static int crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
-{
-    rf_vec3 c = rf_v3_cross(nA, nB);
-    double cl = rf_v3_norm(c);
-    if (!(cl > 1e-6))
-        return -1;
-    *l = rf_v3_scale(c, 1.0 / cl);
-    double bA = RF_GRAVITY * nA.z, bB = RF_GRAVITY * nB.z, nab = rf_v3_dot(nA, nB);
-    double den = 1.0 - nab * nab;
-    *xA = (bA - nab * bB) / den;
-    *xB = (bB - nab * bA) / den;
-    return 0;
-}
 
 /* ---- one step of each phase: -1 to go on, or an end reason ------------------------- */
 
@@ -456,7 +442,7 @@ static int crease_step(rf_motion *m, double h)
     const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
     double xA = 0.0, xB = 0.0;
     rf_vec3 l;
-    if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
+    if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
         int32_t keep = m->sup.tri[xA < 0 ? 1 : 0];
         m->sup.n = 1;
         m->sup.tri[0] = keep;
@@ -575,26 +561,6 @@ static int start_phase(rf_motion *m)
     return -1;
 }
 
-/* A rock caught between features without moving in time moves free for a moment and
- * is put back on or above the face under it. */
-static void unstall(rf_motion *m)
-{
-    const rf_terrain *t = m->terrain;
-    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    rf_motion_advance(m, &arc, RF_UNSTALL_TIME);
-    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-    if (tri >= 0) {
-        const rf_triangle *T = &t->tri[tri];
-        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
-        if (dp < m->rho + m->tol_len)
-            m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
-        double vn = rf_v3_dot(m->s.v, T->n);
-        if (vn < 0)
-            m->s.v = rf_v3_madd(m->s.v, -vn, T->n);
-    }
-    m->sup.n = 0;
-    m->flight_ex.n = 0;
-}
 
 int rf_simulate_fixed_step(rf_motion *m)
 {
@@ -619,7 +585,7 @@ int rf_simulate_fixed_step(rf_motion *m)
                 return RF_END_REST;
             if (++rescues > RF_MAX_RESCUES)
                 return RF_END_MAX_TIME;
-            unstall(m);
+            rf_unstall(m);
             fresh = 1;
             stall_t = m->s.t;
             stall = 0;

@@ -247,9 +247,7 @@ static int start_phase(rf_motion *m)
 
 /* ---- the exact engine ------------------------------------------------------------- */
 
-/* A rock that meets events without moving (degenerate contact geometry) moves free for
- * a moment and is put back on or above the surface under it. */
-static void unstall(rf_motion *m)
+void rf_unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
@@ -288,7 +286,7 @@ static int run_exact(rf_motion *m)
                 return RF_END_REST;
             if (++m->rescues > RF_MAX_RESCUES)
                 return RF_END_MAX_TIME;
-            unstall(m);
+            rf_unstall(m);
         }
         if (m->s.t >= m->t_end)
             return RF_END_MAX_TIME;

@@ -215,6 +215,9 @@ typedef enum rf_surface_end {
 /* Handles a contact found by the search (or a concave face change): impact (Eq. 8),
  * then flight, landing on a face or in a crease, or a roll over an edge or vertex. */
 void rf_contact_resolve(rf_motion *m, const rf_contact *c);
+/* Normal pressures (per unit mass) of the two faces of a crease with normals nA, nB,
+ * and its direction l; -1 when the faces are (nearly) parallel. */
+int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);
 /* Puts the rock onto face tri after a landing or at the start (velocity made tangent,
@@ -235,6 +238,9 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T);
 void rf_motion_event(rf_motion *m);
 /* Total kinetic energy of the current state (J). */
 double rf_motion_energy(const rf_motion *m);
+/* A rock that meets events without moving (degenerate contact geometry) moves free for
+ * a moment (RF_UNSTALL_TIME) and is put back on or above the surface under it. */
+void rf_unstall(rf_motion *m);
 
 /* Events of the scene beyond the terrain (tree collisions, measure crossings): the
  * extension point of the vegetation and measures modules.  Every piece of exact motion

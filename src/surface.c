@@ -175,8 +175,7 @@ static void support_single(rf_motion *m, int32_t tri, int fresh)
 
 void rf_surface_enter(rf_motion *m, int32_t tri) { support_single(m, tri, 1); }
 
-/* Normal pressures (per unit mass) of the two faces of a crease, l its direction. */
-static int crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
+int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
 {
     rf_vec3 c = rf_v3_cross(nA, nB);
     double cl = rf_v3_norm(c);
@@ -200,7 +199,7 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
         return -1; /* leaving A */
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
-    if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
+    if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
         return -1;
     /* both faces touched: the centre lies on both offset planes */
     double s = rf_v3_dot(m->s.v, l);
@@ -577,7 +576,7 @@ int rf_surface_holds(const rf_motion *m)
             c = m->sup.mu;
         double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
         rf_vec3 l;
-        if (crease_forces(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n, &xA, &xB, &l))
+        if (rf_crease_forces(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n, &xA, &xB, &l))
             return 0;
         return fabs(G_ACC * l.z) <= c * (xA + xB);
     }
@@ -1130,7 +1129,7 @@ static rf_surface_end crease_step(rf_motion *m)
     const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
-    if (crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
+    if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
         int keep = (xA < 0) ? 1 : 0;
         int32_t tri = m->sup.tri[keep];
         m->sup.n = 1;
