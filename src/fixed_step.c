@@ -157,49 +157,25 @@ static void go_flight(rf_motion *m, int32_t exclude)
  * offset plane, which lifts it), or falls away (flight).  Returns -1 or an end. */
 static int leave_face(rf_motion *m, int edge, const column *c, rf_vec3 acc)
 {
-    const rf_terrain *t = m->terrain;
     int32_t from = m->sup.tri[0];
     int32_t to = face_after(m, from, edge, c, acc);
     if (to < 0)
         return RF_END_EXITED; /* a point or a centre over no face has left the terrain */
-    const rf_triangle *Tn = &t->tri[to];
     if (coplanar(m, from, to)) {
         support_single(m, to);
         m->sup.left = from;
         return -1;
     }
-    double vn = rf_v3_dot(m->s.v, Tn->n);
-    if (fabs(vn) <= RF_APPROACH_EPS) {
-        /* moving along the edge: the acceleration decides */
-        double an = rf_v3_dot(acc, Tn->n);
-        if (fabs(an) > 1e-9)
-            vn = an > 0 ? INFINITY : -INFINITY;
-    }
-    if (m->centre) {
-        double gap = rf_v3_dot(Tn->n, m->s.p) - Tn->d - m->rho;
-        if (gap > m->tol_len) {
-            go_flight(m, from);
-            return -1;
-        }
-        if (gap < -m->tol_len)
-            vn = -INFINITY;
-    }
-    if (vn < -RF_APPROACH_EPS) {
-        rf_contact con;
-        memset(&con, 0, sizeof con);
-        con.tri = to;
-        con.kind = RF_FEAT_FACE;
-        con.n = Tn->n;
-        con.point = rf_v3_madd(m->s.p, -(rf_v3_dot(Tn->n, m->s.p) - Tn->d), Tn->n);
-        if (m->point)
-            m->s.p = con.point;
-        rf_contact_resolve(m, &con);
+    switch (rf_next_face(m, to, acc)) {
+    case RF_NEXT_IMPACT:
+        rf_impact_on_face(m, to);
         return -1;
-    }
-    if (vn <= RF_APPROACH_EPS) {
+    case RF_NEXT_ON:
         support_single(m, to);
         m->sup.left = from;
         return -1;
+    case RF_NEXT_AWAY:
+        break;
     }
     go_flight(m, from); /* convex: the next face falls away */
     return -1;

@@ -218,6 +218,15 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c);
 /* Normal pressures (per unit mass) of the two faces of a crease with normals nA, nB,
  * and its direction l; -1 when the faces are (nearly) parallel. */
 int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l);
+/* How a rock that reaches the edge of its face meets the next face `to` (not coplanar
+ * with it): it rises into it (an impact; in centre mode also when the centre is below
+ * its offset plane), the path goes on along it, or it falls away (in centre mode also
+ * when the centre is above its offset plane).  Along the edge the acceleration acc
+ * decides.  Shared by both engines. */
+typedef enum rf_next_kind { RF_NEXT_IMPACT, RF_NEXT_ON, RF_NEXT_AWAY } rf_next_kind;
+rf_next_kind rf_next_face(const rf_motion *m, int32_t to, rf_vec3 acc);
+/* The impact on the next face at a concave edge (the point model is put on it). */
+void rf_impact_on_face(rf_motion *m, int32_t to);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);
 /* Puts the rock onto face tri after a landing or at the start (velocity made tangent,

@@ -434,6 +434,43 @@ static double exit_time(const rf_motion *m, const face_edges *fe, const rf_arc *
     return best < T ? best : T;
 }
 
+rf_next_kind rf_next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
+{
+    const rf_triangle *Tn = &m->terrain->tri[to];
+    double vn = rf_v3_dot(m->s.v, Tn->n);
+    if (fabs(vn) <= RF_APPROACH_EPS) {
+        /* moving along the edge: the acceleration decides */
+        double an = rf_v3_dot(acc, Tn->n);
+        if (fabs(an) > 1e-9)
+            vn = an > 0 ? INFINITY : -INFINITY;
+    }
+    if (m->centre) {
+        /* over the next face the centre is above, on or below its offset plane */
+        double gap = rf_v3_dot(Tn->n, m->s.p) - Tn->d - m->rho;
+        if (gap > m->tol_len)
+            return RF_NEXT_AWAY;
+        if (gap < -m->tol_len)
+            return RF_NEXT_IMPACT;
+    }
+    if (vn < -RF_APPROACH_EPS)
+        return RF_NEXT_IMPACT;
+    return vn <= RF_APPROACH_EPS ? RF_NEXT_ON : RF_NEXT_AWAY;
+}
+
+void rf_impact_on_face(rf_motion *m, int32_t to)
+{
+    const rf_triangle *Tn = &m->terrain->tri[to];
+    rf_contact c;
+    memset(&c, 0, sizeof c);
+    c.tri = to;
+    c.kind = RF_FEAT_FACE;
+    c.n = Tn->n;
+    c.point = rf_v3_madd(m->s.p, -(rf_v3_dot(Tn->n, m->s.p) - Tn->d), Tn->n);
+    if (m->point)
+        m->s.p = c.point;
+    rf_contact_resolve(m, &c);
+}
+
 /* The contact point crossed edge `edge` of the support face at the current state. */
 static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_edges *fe,
                                  rf_vec3 acc)
@@ -492,40 +529,16 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
         m->sup.left = from;
         return RF_SURF_CONTINUE;
     }
-    double vn = rf_v3_dot(m->s.v, Tn->n);
-    if (fabs(vn) <= RF_APPROACH_EPS) {
-        /* moving along the edge: the acceleration decides */
-        double an = rf_v3_dot(acc, Tn->n);
-        if (fabs(an) > 1e-9)
-            vn = an > 0 ? INFINITY : -INFINITY;
-    }
-    if (m->centre) {
-        /* over the next face the centre is above, on or below its offset plane */
-        double gap = rf_v3_dot(Tn->n, m->s.p) - Tn->d - m->rho;
-        if (gap > m->tol_len) {
-            go_flight(m, from);
-            return RF_SURF_FLIGHT;
-        }
-        if (gap < -m->tol_len)
-            vn = -INFINITY;
-    }
-    if (vn < -RF_APPROACH_EPS) {
-        /* concave: an impact on the next face */
-        rf_contact c = {0};
-        c.t = 0;
-        c.tri = to;
-        c.kind = RF_FEAT_FACE;
-        c.n = Tn->n;
-        c.point = rf_v3_madd(m->s.p, -(rf_v3_dot(Tn->n, m->s.p) - Tn->d), Tn->n);
-        if (m->point)
-            m->s.p = c.point;
-        rf_contact_resolve(m, &c);
+    switch (rf_next_face(m, to, acc)) {
+    case RF_NEXT_IMPACT:
+        rf_impact_on_face(m, to);
         return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
-    }
-    if (vn <= RF_APPROACH_EPS) {
+    case RF_NEXT_ON:
         support_single(m, to, 0); /* tangent: the path continues on the next face */
         m->sup.left = from;
         return RF_SURF_CONTINUE;
+    case RF_NEXT_AWAY:
+        break;
     }
     /* convex: the next face falls away */
     if (m->point || m->centre) {
