@@ -873,6 +873,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
     double hlen = vh * T;
     rf_workspace *ws = m->ws;
+    double piece;
     if (s.line) {
         /* pieces of about a cell of travel, in order; each triangle is tested once
          * (over all the time it is within reach), so the search stops at the first
@@ -882,48 +883,32 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
             ws->test_epoch = 1;
         }
         feat_reset(ws);
-        double piece = t->is_grid ? cell : 2.0 * cell;
-        long npieces = (long)ceil(hlen / piece);
-        if (npieces < 1)
-            npieces = 1;
-        if (npieces > 1000000)
-            npieces = 1000000;
-        for (long i = 0; i < npieces; i++) {
-            double ta = T * (double)i / (double)npieces;
-            double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
-            if (ta >= s.best)
-                break;
-            rf_vec3 lo, hi;
-            arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
-            if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
-                continue;
-            size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
-            test_line_candidates(&s, ws->cand, n, T);
-            if (s.found && s.best <= tb)
-                break;
-        }
+        piece = t->is_grid ? cell : 2.0 * cell;
     } else {
         /* pieces of about a few cells of horizontal travel */
-        double piece = dmax(4.0 * cell, 2.0 * m->rho);
-        long npieces = (long)ceil(hlen / piece);
-        if (npieces < 1)
-            npieces = 1;
-        if (npieces > 1000000)
-            npieces = 1000000;
-        for (long i = 0; i < npieces; i++) {
-            double ta = T * (double)i / (double)npieces;
-            double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
-            if (ta >= s.best)
-                break;
-            rf_vec3 lo, hi;
-            arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
-            if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
-                continue;
-            size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
+        piece = dmax(4.0 * cell, 2.0 * m->rho);
+    }
+    long npieces = (long)ceil(hlen / piece);
+    if (npieces < 1)
+        npieces = 1;
+    if (npieces > 1000000)
+        npieces = 1000000;
+    for (long i = 0; i < npieces; i++) {
+        double ta = T * (double)i / (double)npieces;
+        double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
+        if (ta >= s.best)
+            break;
+        rf_vec3 lo, hi;
+        arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
+        if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
+            continue;
+        size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
+        if (s.line)
+            test_line_candidates(&s, ws->cand, n, T);
+        else
             test_candidates(&s, ws->cand, n, ta, tb, lo, hi);
-            if (s.found && s.best <= tb)
-                break;
-        }
+        if (s.found && s.best <= tb)
+            break;
     }
     if (!s.found)
         return 0;
