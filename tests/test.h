@@ -4,6 +4,7 @@
 #define ROCKFALL_TEST_H
 
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 
 typedef void (*rf_test_fn)(void);
@@ -12,6 +13,9 @@ void rf_test_fail(const char *file, int line, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Path of a file under ../shared (the shared folder beside the repository). */
 const char *rf_test_shared(const char *rel);
+/* Runs the rockfall binary ($ROCKFALL_BIN, else build/rockfall) with `args`; returns
+ * its exit status, with its stdout and stderr together in out (NUL-terminated). */
+int rf_test_rockfall(const char *args, char *out, size_t cap);
 /* A fresh temporary directory for this case (removed by nobody: under /tmp). */
 const char *rf_test_tmpdir(void);
 

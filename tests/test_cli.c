@@ -9,34 +9,19 @@
 #include "rockfall/empirical.h"
 #include "test.h"
 
-/* Runs the rockfall binary with `args`; returns its exit status and its stdout and
- * stderr together in out. */
-static int rockfall(const char *args, char *out, size_t cap)
-{
-    const char *bin = getenv("ROCKFALL_BIN");
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s %s 2>&1", bin ? bin : "build/rockfall", args);
-    FILE *f = popen(cmd, "r");
-    ENSURE(f != NULL);
-    size_t n = fread(out, 1, cap - 1, f);
-    out[n] = 0;
-    int st = pclose(f);
-    ENSURE_MSG(WIFEXITED(st), "'%s' did not exit normally", cmd);
-    return WEXITSTATUS(st);
-}
 
 TEST(cli_version_and_help)
 {
     char out[8192];
-    ENSURE(rockfall("--version", out, sizeof out) == 0);
+    ENSURE(rf_test_rockfall("--version", out, sizeof out) == 0);
     ENSURE(strstr(out, "rockfall ") == out);
-    ENSURE(rockfall("--help", out, sizeof out) == 0);
+    ENSURE(rf_test_rockfall("--help", out, sizeof out) == 0);
     ENSURE(strstr(out, "usage: rockfall COMMAND"));
     const char *cmds[] = {"run", "check", "report", "empirical"};
     for (int i = 0; i < 4; i++) {
         char args[64];
         snprintf(args, sizeof args, "%s --help", cmds[i]);
-        ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s --help", cmds[i]);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s --help", cmds[i]);
         char want[64];
         snprintf(want, sizeof want, "usage: rockfall %s", cmds[i]);
         ENSURE_MSG(strstr(out, want), "%s --help says: %s", cmds[i], out);
@@ -46,30 +31,30 @@ TEST(cli_version_and_help)
 TEST(cli_bad_usage_exits_2)
 {
     char out[8192];
-    ENSURE(rockfall("", out, sizeof out) == 2);
-    ENSURE(rockfall("frobnicate", out, sizeof out) == 2);
-    ENSURE(rockfall("run", out, sizeof out) == 2);
-    ENSURE(rockfall("run a.yaml b.yaml", out, sizeof out) == 2);
-    ENSURE(rockfall("run projects/noto/noto-3.1-no-trees.yaml --count 0", out, sizeof out) == 2);
-    ENSURE(rockfall("check", out, sizeof out) == 2);
-    ENSURE(rockfall("check /nonexistent/results.db", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("frobnicate", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("run", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("run a.yaml b.yaml", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("run projects/noto/noto-3.1-no-trees.yaml --count 0", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("check", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("check /nonexistent/results.db", out, sizeof out) == 2);
     ENSURE(strstr(out, "/nonexistent/results.db"));
-    ENSURE(rockfall("report x.db", out, sizeof out) == 2); /* --out missing */
-    ENSURE(rockfall("empirical --height 175 --slope 45", out, sizeof out) == 2);
-    ENSURE(rockfall("empirical --height 175 --slope 45 --mu 0.3 --class D", out, sizeof out) == 2);
-    ENSURE(rockfall("empirical --height -1 --slope 45 --mu 0.3", out, sizeof out) == 2);
-    ENSURE(rockfall("empirical --height 175 --slope 95 --mu 0.3", out, sizeof out) == 2);
-    ENSURE(rockfall("empirical --height 175 --slope 45 --class E", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("report x.db", out, sizeof out) == 2); /* --out missing */
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --mu 0.3 --class D", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height -1 --slope 45 --mu 0.3", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 95 --mu 0.3", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --class E", out, sizeof out) == 2);
 }
 
 /* The paper's crosscheck (section 3.1): H = 175 m, 45 degrees, mu = 0.35 -> 47.2 m/s. */
 TEST(cli_empirical_paper_crosscheck)
 {
     char out[8192];
-    ENSURE(rockfall("empirical --height 175 --slope 45 --mu 0.35", out, sizeof out) == 0);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --mu 0.35", out, sizeof out) == 0);
     ENSURE_MSG(strstr(out, "47.2 m/s"), "output: %s", out);
     /* Table 2 class D is the paper's 0.35 */
-    ENSURE(rockfall("empirical --height 175 --slope 45 --class D", out, sizeof out) == 0);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --class D", out, sizeof out) == 0);
     ENSURE_MSG(strstr(out, "47.2 m/s"), "output: %s", out);
     ENSURE(strstr(out, "class D"));
     /* attainment width: 2 L tan(45) with L = 175 / tan(45) */
@@ -100,7 +85,7 @@ TEST(cli_bad_project_touches_no_database)
           f);
     fclose(f);
     snprintf(args, sizeof args, "run %s -o %s", yaml, db);
-    ENSURE(rockfall(args, out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall(args, out, sizeof out) == 2);
     char want[700];
     snprintf(want, sizeof want, "%s:3:", yaml);
     ENSURE_MSG(strstr(out, want), "message: %s", out);

@@ -49,6 +49,20 @@ const char *rf_test_shared(const char *rel)
     return buf;
 }
 
+int rf_test_rockfall(const char *args, char *out, size_t cap)
+{
+    const char *bin = getenv("ROCKFALL_BIN");
+    char cmd[8192];
+    snprintf(cmd, sizeof cmd, "%s %s 2>&1", bin ? bin : "build/rockfall", args);
+    FILE *f = popen(cmd, "r");
+    ENSURE(f != NULL);
+    size_t n = fread(out, 1, cap - 1, f);
+    out[n] = 0;
+    int st = pclose(f);
+    ENSURE_MSG(WIFEXITED(st), "'%s' did not exit normally", cmd);
+    return WEXITSTATUS(st);
+}
+
 const char *rf_test_tmpdir(void)
 {
     static char dir[256];

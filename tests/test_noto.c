@@ -79,16 +79,12 @@ TEST(noto_layout_checked_and_stored)
     char a[600];
     snprintf(a, sizeof a, "%s/layout.db", rf_test_tmpdir());
     run_into("projects/noto/noto-3.3.yaml", a, 40);
-    char cmd[1200], out[65536];
-    const char *bin = getenv("ROCKFALL_BIN");
-    snprintf(cmd, sizeof cmd, "%s check %s 2>&1", bin ? bin : "build/rockfall", a);
-    FILE *f = popen(cmd, "r");
-    ENSURE(f);
-    size_t k = fread(out, 1, sizeof out - 1, f);
-    out[k] = 0;
-    int st = pclose(f);
+    static char out[65536];
+    char args[700];
+    snprintf(args, sizeof args, "check %s", a);
+    int status = rf_test_rockfall(args, out, sizeof out);
     /* the layout of projects/noto passes: what the README reports */
-    ENSURE_MSG(WIFEXITED(st) && WEXITSTATUS(st) == 0, "%s", out);
+    ENSURE_MSG(status == 0, "%s", out);
     ENSURE_MSG(strstr(out, "verdict: PASS"), "%s", out);
     sqlite3 *h;
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
@@ -99,7 +95,7 @@ TEST(noto_layout_checked_and_stored)
                  "WHERE m.kind = 'control'") == 0);
     /* the exit status agrees with the stored verdicts */
     double failed = q1(h, "SELECT count(*) FROM checks WHERE passed = 0");
-    ENSURE(WEXITSTATUS(st) == (failed > 0 ? 1 : 0));
+    ENSURE(status == (failed > 0 ? 1 : 0));
     /* the barrier stops what reaches it: nothing it stopped is seen downstream */
     ENSURE(q1(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id = i.measure_id "
                  "WHERE m.name = 'B1' AND i.outcome = 'stopped'") > 0);

@@ -641,19 +641,6 @@ TEST(rules_path_of_run)
 
 /* ---- the command line -------------------------------------------------------------- */
 
-static int rockfall(const char *args, char *out, size_t cap)
-{
-    const char *bin = getenv("ROCKFALL_BIN");
-    char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s %s 2>&1", bin ? bin : "build/rockfall", args);
-    FILE *f = popen(cmd, "r");
-    ENSURE(f != NULL);
-    size_t n = fread(out, 1, cap - 1, f);
-    out[n] = 0;
-    int st = pclose(f);
-    ENSURE_MSG(WIFEXITED(st), "'%s' did not exit normally", cmd);
-    return WEXITSTATUS(st);
-}
 
 /* The exit status of `rockfall check` agrees with the stored checks. */
 TEST(rules_cli_check_exit_status)
@@ -677,16 +664,16 @@ TEST(rules_cli_check_exit_status)
     rf_store_close(t.s);
 
     snprintf(args, sizeof args, "check %s --rules " TABLE3, pass_db);
-    ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
     ENSURE_MSG(strstr(out, "verdict: PASS"), "%s", out);
     ENSURE(strstr(out, "E50") && strstr(out, "h95") && strstr(out, "serviceability 96.0 %"));
     snprintf(args, sizeof args, "check %s --rules " TABLE3, fail_db);
-    ENSURE_MSG(rockfall(args, out, sizeof out) == 1, "%s", out);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out);
     ENSURE_MSG(strstr(out, "FAIL serviceability_share") && strstr(out, "0.8000 >= 0.9"), "%s",
                out);
     ENSURE(strstr(out, "verdict: FAIL (1 of 8 checks failed)"));
     /* again: same verdict, same rows */
-    ENSURE(rockfall(args, out, sizeof out) == 1);
+    ENSURE(rf_test_rockfall(args, out, sizeof out) == 1);
     sqlite3 *db;
     ENSURE(sqlite3_open(fail_db, &db) == SQLITE_OK);
     ENSURE(query_real(db, "SELECT count(*) FROM checks") == 8.0);
@@ -694,11 +681,11 @@ TEST(rules_cli_check_exit_status)
     sqlite3_close(db);
     /* no --rules and no rules in the project; a bad rule file: bad input */
     snprintf(args, sizeof args, "check %s", pass_db);
-    ENSURE(rockfall(args, out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall(args, out, sizeof out) == 2);
     ENSURE_MSG(strstr(out, "--rules"), "%s", out);
     snprintf(args, sizeof args, "check %s --rules tests/bad_rules/threshold_above_one.yaml",
              pass_db);
-    ENSURE(rockfall(args, out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall(args, out, sizeof out) == 2);
     ENSURE_MSG(strstr(out, "threshold_above_one.yaml:24:16"), "%s", out);
 }
 
@@ -735,7 +722,7 @@ TEST(rules_end_to_end_simulated_scene)
     fprintf(f, fmt, 1e7, 1e7, cwd);
     fclose(f);
     snprintf(args, sizeof args, "run %s -o %s -q", project, db);
-    ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
 
     /* The energies at the line, to place the MELs. */
     sqlite3 *h;
@@ -759,7 +746,7 @@ TEST(rules_end_to_end_simulated_scene)
     fprintf(f, fmt, mel_high, mel_low, cwd);
     fclose(f);
     snprintf(args, sizeof args, "run %s -o %s", project, db);
-    ENSURE_MSG(rockfall(args, out, sizeof out) == 1, "%s", out);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out);
     ENSURE_MSG(strstr(out, "verdict: FAIL"), "%s", out);
 
     ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
@@ -781,7 +768,7 @@ TEST(rules_end_to_end_simulated_scene)
 
     /* check agrees: by default with the project's rules, and for the first run */
     snprintf(args, sizeof args, "check %s", db);
-    ENSURE_MSG(rockfall(args, out, sizeof out) == 1, "%s", out);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out);
     snprintf(args, sizeof args, "check %s --run 1", db);
-    ENSURE_MSG(rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
 }
