@@ -244,14 +244,33 @@ static int cmd_run(int argc, char **argv)
 
 /* ---- check and report ----------------------------------------------------------- */
 
-/* Shared by check and report: parses "DB [--run ID] [extra options]". */
+/* The arguments of check and report: "DB [--run ID] [--out DIR | --rules FILE]". */
 typedef struct db_args {
     const char *db;
     long run;
     const char *out, *rules;
 } db_args;
 
-static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int want_out)
+/* Opens the database and resolves the run (the newest complete one by default). */
+static int open_run(const db_args *a, rf_store **s, int64_t *run)
+{
+    rf_error err;
+    if (rf_store_open(a->db, s, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    if (rf_query_resolve_run(rf_store_db(*s), a->run, run, &err)) {
+        rf_error_print(&err, stderr);
+        rf_store_close(*s);
+        return EXIT_BAD_INPUT;
+    }
+    return EXIT_OK;
+}
+
+/* Shared by check and report: parses their arguments, opens the database and resolves
+ * the run.  Returns EXIT_OK with *s open, or an exit status. */
+static int begin_db_command(const char *cmd, int argc, char **argv, db_args *a, int want_out,
+                            rf_store **s, int64_t *run)
 {
     static const struct option opts[] = {{"run", required_argument, 0, 'r'},
                                          {"out", required_argument, 0, 'o'},
@@ -289,24 +308,9 @@ static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int
         fprintf(stderr, "%s: error: cannot open results database: %s\n", a->db, strerror(errno));
         return EXIT_BAD_INPUT;
     }
-    return EXIT_OK;
+    return open_run(a, s, run);
 }
 
-/* Opens the database and resolves the run (the newest complete one by default). */
-static int open_run(const db_args *a, rf_store **s, int64_t *run)
-{
-    rf_error err;
-    if (rf_store_open(a->db, s, &err)) {
-        rf_error_print(&err, stderr);
-        return EXIT_BAD_INPUT;
-    }
-    if (rf_query_resolve_run(rf_store_db(*s), a->run, run, &err)) {
-        rf_error_print(&err, stderr);
-        rf_store_close(*s);
-        return EXIT_BAD_INPUT;
-    }
-    return EXIT_OK;
-}
 
 static int cmd_check(int argc, char **argv)
 {
@@ -315,12 +319,10 @@ static int cmd_check(int argc, char **argv)
         return EXIT_OK;
     }
     db_args a;
-    int rc = parse_db_args("check", argc, argv, &a, 0);
-    if (rc)
-        return rc;
     rf_store *s;
     int64_t run;
-    if ((rc = open_run(&a, &s, &run)))
+    int rc = begin_db_command("check", argc, argv, &a, 0, &s, &run);
+    if (rc)
         return rc;
     rf_error err;
     char *path = NULL;
@@ -346,12 +348,10 @@ static int cmd_report(int argc, char **argv)
         return EXIT_OK;
     }
     db_args a;
-    int rc = parse_db_args("report", argc, argv, &a, 1);
-    if (rc)
-        return rc;
     rf_store *s;
     int64_t run;
-    if ((rc = open_run(&a, &s, &run)))
+    int rc = begin_db_command("report", argc, argv, &a, 1, &s, &run);
+    if (rc)
         return rc;
     rf_error err;
     rc = rf_report_write(rf_store_db(s), run, a.out, &err);
