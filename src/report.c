@@ -42,8 +42,6 @@ static const char *const OUTCOME_LABELS[N_OUTCOMES] = {"stopped", "passed", "ove
 static const char *const OUTCOME_COLOURS[N_OUTCOMES] = {"#4daf4a", "#9ecae1", "#ff7f0e",
                                                         "#d62728"};
 
-/* Table 2, class D: the equivalent friction the paper uses for its crosscheck. */
-#define CLASS_D_FRICTION 0.35
 /* Fig. 1b: the largest empirical spreading angle. */
 #define ATTAINMENT_BETA_DEG 45.0
 /* The paper's headline check: serviceability kept for over 90 % of the rockfalls. */
@@ -926,7 +924,9 @@ static void crosscheck_release(report *r, const rep_measure *m, const road_stats
     c->theta = c->L > 0 ? atan2(c->H, c->L) : NAN;
     double mu = r->have_project ? r->proj.terrain_spec.surface.friction.mean : NAN;
     c->v_project = c->H > 0 && isfinite(mu) ? rf_empirical_velocity(c->H, c->theta, mu) : NAN;
-    c->v_class_d = c->H > 0 ? rf_empirical_velocity(c->H, c->theta, CLASS_D_FRICTION) : NAN;
+    /* the paper's crosscheck uses Table 2 class D */
+    double mu_d = rf_table2_friction('D');
+    c->v_class_d = c->H > 0 ? rf_empirical_velocity(c->H, c->theta, mu_d) : NAN;
     c->width = rf_empirical_attainment_width(c->L, ATTAINMENT_BETA_DEG * M_PI / 180.0);
 }
 
