@@ -12,7 +12,8 @@
  * or a level face) the acceleration is constant and every event time is the root of
  * a quadratic.  Otherwise the in-plane equations are integrated with an embedded
  * Runge-Kutta method (Dormand-Prince 5(4)) under error control, and events inside a
- * step are located by re-stepping from its start to ~1e-13 s.
+ * step are located to ~1e-13 s on the step's continuous extension (no evaluation of
+ * the equations).
  *
  * Events: the contact point leaves the face (over a convex edge: flight or a roll
  * over the edge; a concave edge: impact on the next face; the same plane: carry on),
@@ -730,8 +731,15 @@ static void rhs(const ode *o, const double *y, double *dy)
     dy[3] = a.x, dy[4] = a.y, dy[5] = a.z;
 }
 
-/* One Dormand-Prince step of size h; returns the scaled error norm (<= 1 accepts). */
-static double dp_step(const ode *o, const double *y, double h, double *out)
+/* The stages of a step, for its continuous extension. */
+typedef struct dp_stages {
+    double k[7][9];
+    double h;
+} dp_stages;
+
+/* One Dormand-Prince step of size h; returns the scaled error norm (<= 1 accepts).
+ * With st, keeps the stages for dp_dense. */
+static double dp_step(const ode *o, const double *y, double h, double *out, dp_stages *st)
 {
     static const double c21 = 1.0 / 5, c31 = 3.0 / 40, c32 = 9.0 / 40, c41 = 44.0 / 45,
                         c42 = -56.0 / 15, c43 = 32.0 / 9, c51 = 19372.0 / 6561,
@@ -773,7 +781,35 @@ static double dp_step(const ode *o, const double *y, double h, double *out)
         if (r > err)
             err = r;
     }
+    if (st) {
+        const double *ks[7] = {k1, k2, k3, k4, k5, k6, k7};
+        for (int j = 0; j < 7; j++)
+            memcpy(st->k[j], ks[j], sizeof st->k[j]);
+        st->h = h;
+    }
     return err;
+}
+
+/* The state at time t in [0, h] of the step of size h from y to y1 with stages st:
+ * the method's continuous extension (4th order; Hairer, Norsett and Wanner, dopri5),
+ * which costs no evaluation of the equations.  Events inside a step are located on it. */
+static void dp_dense(const ode *o, const double *y, const double *y1, const dp_stages *st,
+                     double t, double *out)
+{
+    static const double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
+                        d4 = -10690763975.0 / 1880347072.0, d5 = 701980252875.0 / 199316789632.0,
+                        d6 = -1453857185.0 / 822651844.0, d7 = 69997945.0 / 29380423.0;
+    double h = st->h, th = h > 0 ? t / h : 0.0, th1 = 1.0 - th;
+    for (int i = 0; i < 9; i++)
+        out[i] = y[i];
+    for (int i = 0; i < o->dim; i++) {
+        double r2 = y1[i] - y[i];
+        double r3 = h * st->k[0][i] - r2;
+        double r4 = r2 - h * st->k[6][i] - r3;
+        double r5 = h * (d1 * st->k[0][i] + d3 * st->k[2][i] + d4 * st->k[3][i] +
+                         d5 * st->k[4][i] + d6 * st->k[5][i] + d7 * st->k[6][i]);
+        out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)));
+    }
 }
 
 static rf_vec3 y_c(const double *y) { return rf_v3(y[0], y[1], y[2]); }
@@ -835,12 +871,12 @@ static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_eve
     }
 }
 
-/* Time in (0, h] where the event function crosses zero on the integrated path, by
- * re-stepping from y (regula falsi, Illinois); -1 when it does not (the step's
+/* Time in (0, h] where the event function crosses zero on the step from y to y1, on
+ * its continuous extension (regula falsi, Illinois); -1 when it does not (the step's
  * parabola was only close). */
 static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                             const face_edges *fe, rf_vec3 c0, const double *y, double h,
-                             double guess)
+                             const face_edges *fe, rf_vec3 c0, const double *y,
+                             const double *y1, const dp_stages *st, double h, double guess)
 {
     double tmp[9];
     double lo = 0.0, hi = h;
@@ -851,12 +887,12 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
         hi = dmin(h, guess + 1e-6 * h + 1e-12);
-        dp_step(o, y, hi, tmp);
+        dp_dense(o, y, y1, st, hi, tmp);
         fhi = event_value(m, kind, ev, fe, c0, tmp);
     }
     if (fhi > 0.0) {
         hi = h;
-        dp_step(o, y, h, tmp);
+        dp_dense(o, y, y1, st, h, tmp);
         fhi = event_value(m, kind, ev, fe, c0, tmp);
     }
     if (fhi > 0.0)
@@ -864,7 +900,7 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
     double t = (guess > lo && guess < hi) ? guess : lo + (hi - lo) * flo / (flo - fhi);
     int side = 0;
     for (int it = 0; it < 60 && hi - lo > RF_TIME_TOL; it++) {
-        dp_step(o, y, t, tmp);
+        dp_dense(o, y, y1, st, t, tmp);
         double ft = event_value(m, kind, ev, fe, c0, tmp);
         if (ft > 0) {
             lo = t, flo = ft;
@@ -888,13 +924,13 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
 
 /* Time in [0, h] where the event function crosses zero on the integrated path, and in
  * ye the integrated state there; -1 when it does not cross (the step's parabola was
- * only close).  Newton's method on the re-stepped path from the parabola's estimate
+ * only close).  Newton's method on the step's continuous extension from the parabola's estimate
  * (the event function's rate is known at every state): the time returned is where the
  * event has happened, within RF_TIME_TOL after the crossing; a bracketing regula falsi
  * when Newton's method leaves the bracket. */
 static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                     const face_edges *fe, rf_vec3 c0, const double *y, double h, double guess,
-                     double *ye)
+                     const face_edges *fe, rf_vec3 c0, const double *y, const double *y1,
+                     const dp_stages *st, double h, double guess, double *ye)
 {
     double f0 = event_value(m, kind, ev, fe, c0, y);
     if (f0 <= 0.0) {
@@ -905,7 +941,7 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
         double lo = 0.0, hi = -1.0, t = guess;
         double tmp[9];
         for (int it = 0; it < 8; it++) {
-            dp_step(o, y, t, tmp);
+            dp_dense(o, y, y1, st, t, tmp);
             double ft = event_value(m, kind, ev, fe, c0, tmp);
             double rate = event_rate(m, o, kind, ev, fe, c0, tmp);
             if (ft <= 0.0) {
@@ -930,9 +966,9 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
             t = tn;
         }
     }
-    double te = locate_bracket(m, o, kind, ev, fe, c0, y, h, guess);
+    double te = locate_bracket(m, o, kind, ev, fe, c0, y, y1, st, h, guess);
     if (te > 0.0)
-        dp_step(o, y, te, ye);
+        dp_dense(o, y, y1, st, te, ye);
     else if (te == 0.0)
         memcpy(ye, y, 9 * sizeof *ye);
     return te;
@@ -975,12 +1011,15 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
                 hs = ul / -dus;
             }
         }
-        double err = dp_step(&o, y, hs, yn);
+        dp_stages st;
+        double err = dp_step(&o, y, hs, yn, &st);
         if (err > 1.0 && hs > 1e-12) {
             h = hs * dmax(0.2, 0.9 * pow(err, -0.2));
             continue;
         }
         /* accepted step [t, t + hs]: project back onto the plane */
+        double y1[9];
+        memcpy(y1, yn, sizeof y1);
         rf_vec3 cn = y_c(yn), vn = y_v(yn);
         cn = rf_v3_madd(cn, -rf_v3_dot(cn, f->n), f->n);
         vn = in_plane(vn, f->n);
@@ -1036,7 +1075,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             if (ev.kind == EV_EXIT && tx <= 0.0) {
                 te = 0.0;
             } else {
-                te = locate(m, &o, ev.kind, &ev, fe, c0, y, hs, guess, ye);
+                te = locate(m, &o, ev.kind, &ev, fe, c0, y, y1, &st, hs, guess, ye);
                 have_ye = 1;
             }
         }
@@ -1044,7 +1083,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             if (have_ye) {
                 /* ye is the state at te */
             } else if (te > 0) {
-                dp_step(&o, y, te, ye);
+                dp_dense(&o, y, y1, &st, te, ye);
             } else {
                 memcpy(ye, y, sizeof ye);
             }
