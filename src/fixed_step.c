@@ -42,12 +42,6 @@ static void set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
     m->s.w = rf_v3_madd(wt, wn, n);
 }
 
-/* m / (m + I / r^2): 5/7 for the solid sphere */
-static double roll_factor(const rf_motion *m)
-{
-    return 1.0 / (1.0 + m->body->inertia / (m->body->mass * m->rho * m->rho));
-}
-
 static int coplanar(const rf_motion *m, int32_t a, int32_t b)
 {
     const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
@@ -330,15 +324,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
         }
         if (m->sup.rolling && seg_start) {
             u = rf_v3(0, 0, 0);
-            /* rolling needs the friction 2/7 m g_t (and the resistance) <= mu m g_n */
-            double kr = roll_factor(m), gn = RF_GRAVITY * n.z;
-            rf_vec3 gt = rf_v3(gn * n.x, gn * n.y, gn * n.z - RF_GRAVITY);
-            double vl = rf_v3_norm(m->s.v);
-            rf_vec3 dirv = vl > 0 ? rf_v3_scale(m->s.v, 1.0 / vl) : rf_v3(0, 0, 0);
-            if (!(vl > 0) && rf_v3_norm(gt) > 1e-12)
-                dirv = rf_v3_unit(gt);
-            rf_vec3 need = rf_v3_madd(rf_v3_scale(gt, 1.0 - kr), -kr * m->sup.mu_r * gn, dirv);
-            if (rf_v3_norm(need) > m->sup.mu * gn * (1 + 1e-12) && vl > 0)
+            if (!rf_roll_holds(m, n))
                 m->sup.rolling = 0;
         } else if (m->sup.rolling) {
             u = rf_v3(0, 0, 0);
@@ -433,9 +419,9 @@ static int crease_step(rf_motion *m, double h)
     m->s.v = rf_v3_scale(l, s);
     double gl = -RF_GRAVITY * l.z, N = xA + xB;
     int rolling = !m->point && m->sup.rolling;
-    if (rolling && (1.0 - roll_factor(m)) * fabs(RF_GRAVITY * l.z) > m->sup.mu * N)
+    if (rolling && (1.0 - rf_roll_factor(m->body, m->rho)) * fabs(RF_GRAVITY * l.z) > m->sup.mu * N)
         m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
-    double k = rolling ? roll_factor(m) : 1.0;
+    double k = rolling ? rf_roll_factor(m->body, m->rho) : 1.0;
     double cf = rolling ? m->sup.mu_r : m->sup.mu;
     int holds = fabs(gl) <= cf * N;
     if (s <= m->scene->sim->stop_speed && holds)

@@ -238,6 +238,12 @@ void rf_surface_enter(rf_motion *m, int32_t tri);
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du);
 /* 1 when the rock at rest on its support would stay there. */
 int rf_surface_holds(const rf_motion *m);
+/* m / (m + I / r^2) of a body rolling with contact radius rho: 5/7 for the sphere. */
+double rf_roll_factor(const rf_body *b, double rho);
+/* 1 when friction (mu) can keep the sphere on face n rolling without slip: the contact
+ * force rolling needs, 2/7 m g_t with the rolling resistance, is at most mu m g_n
+ * (a rock at rest where it stays needs none). */
+int rf_roll_holds(const rf_motion *m, rf_vec3 n);
 
 /* ---- motion.c --------------------------------------------------------------------- */
 /* Records the motion along an arc over [0, T] from the current state (path length,

@@ -48,7 +48,7 @@ typedef struct face_dyn {
     double mu;
 } face_dyn;
 
-static double roll_factor(const rf_body *b, double rho)
+double rf_roll_factor(const rf_body *b, double rho)
 {
     return 1.0 / (1.0 + b->inertia / (b->mass * rho * rho)); /* 5/7 for I = 2/5 m r^2 */
 }
@@ -72,7 +72,7 @@ static void face_setup(const rf_motion *m, rf_vec3 n, face_dyn *f)
     if (m->point) {
         f->mode = LAW_POINT, f->k = 1.0, f->c = m->sup.mu;
     } else if (m->sup.rolling) {
-        f->mode = LAW_ROLL, f->k = roll_factor(m->body, m->rho), f->c = m->sup.mu_r;
+        f->mode = LAW_ROLL, f->k = rf_roll_factor(m->body, m->rho), f->c = m->sup.mu_r;
     } else {
         f->mode = LAW_SLIDE, f->k = 1.0, f->c = m->sup.mu;
     }
@@ -595,6 +595,19 @@ int rf_surface_holds(const rf_motion *m)
         return fabs(G_ACC * l.z) <= c * (xA + xB);
     }
     return 0;
+}
+
+int rf_roll_holds(const rf_motion *m, rf_vec3 n)
+{
+    face_dyn f;
+    face_setup(m, n, &f);
+    double k = rf_roll_factor(m->body, m->rho);
+    double vl = rf_v3_norm(m->s.v);
+    if (!(vl > 0) && rf_surface_holds(m))
+        return 1; /* at rest where it stays: no force is needed */
+    rf_vec3 dir = vl > 0 ? rf_v3_scale(m->s.v, 1.0 / vl) : f.e1;
+    rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - k), -k * m->sup.mu_r * f.gn, dir);
+    return rf_v3_norm(need) <= m->sup.mu * f.gn * (1 + 1e-12);
 }
 
 /* ---- closed-form segments ------------------------------------------------------------ */
@@ -1143,11 +1156,7 @@ static rf_surface_end face_step(rf_motion *m)
     }
     face_setup(m, T->n, &f);
     if (f.mode == LAW_ROLL) {
-        /* rolling needs the friction force 2/7 m g_t (and the resistance) <= mu m g_n */
-        double kr = f.k;
-        rf_vec3 dirv = rf_v3_norm(m->s.v) > 0 ? rf_v3_unit(m->s.v) : f.e1;
-        rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - kr), -kr * m->sup.mu_r * f.gn, dirv);
-        if (rf_v3_norm(need) > m->sup.mu * f.gn * (1 + 1e-12) && rf_v3_norm(m->s.v) > 0) {
+        if (!rf_roll_holds(m, T->n)) {
             m->sup.rolling = 0;
             face_setup(m, T->n, &f);
             u0 = rf_v3(0, 0, 0);
@@ -1199,10 +1208,10 @@ static rf_surface_end crease_step(rf_motion *m)
     double gl = -G_ACC * l.z;
     double N = xA + xB;
     int rolling = !m->point && m->sup.rolling;
-    if (rolling && (1.0 - roll_factor(m->body, m->rho)) * fabs(G_ACC * l.z) > m->sup.mu * (xA + xB)) {
+    if (rolling && (1.0 - rf_roll_factor(m->body, m->rho)) * fabs(G_ACC * l.z) > m->sup.mu * (xA + xB)) {
         m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
     }
-    double k = rolling ? roll_factor(m->body, m->rho) : 1.0;
+    double k = rolling ? rf_roll_factor(m->body, m->rho) : 1.0;
     double c = rolling ? m->sup.mu_r : m->sup.mu;
     double stop = m->scene->sim->stop_speed;
     int holds = fabs(gl) <= c * N;

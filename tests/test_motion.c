@@ -94,6 +94,36 @@ TEST(motion_sphere_rolls_five_sevenths)
     rf_terrain_free(&t);
 }
 
+/* A sphere released at rest on a face too steep to roll without slipping
+ * ((2/7) tan(theta) > mu): it slides at g (sin theta - mu cos theta) from the start,
+ * friction spinning it up at 5/2 mu g cos(theta) / r, and never rolls. */
+TEST(motion_sphere_at_rest_on_steep_face_slides)
+{
+    const double theta = 62.0 * PI / 180.0, mu = 0.2, mu_r = 0.05, L = 300.0;
+    double prof[4] = {0.0, L * tan(theta), L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
+    double x0 = 100.0, z0 = (L - x0) * tan(theta);
+    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    rf_state s = mt_state(rf_v3_madd(rf_v3(x0, 23.85, z0), b.radius, n), rf_v3(0, 0, 0));
+    const double T[] = {0.3, 1.7};
+    for (size_t k = 0; k < 2; k++) {
+        mt_run r;
+        mt_simulate_t(&t, RF_MODEL_SPHERE, 2385.0, RF_CONTACT_FULL, &s, 1, T[k], &r);
+        ENSURE(r.rec.reason == RF_END_MAX_TIME);
+        double a = G * (sin(theta) - mu * cos(theta));
+        ENSURE_REL(r.last.speed_ms, a * T[k], 1e-9);
+        ENSURE_REL(rf_v3_norm(rf_v3_sub(r.rec.stop, s.p)), 0.5 * a * T[k] * T[k], 1e-9);
+        /* translation plus spin: w = 5/2 mu g cos(theta) t / r, I = 2/5 m r^2 */
+        double w = 2.5 * mu * G * cos(theta) * T[k] / b.radius;
+        double e = 0.5 * 2385.0 * a * a * T[k] * T[k] + 0.5 * b.inertia * w * w;
+        ENSURE_REL(r.last.energy_kj, e / 1000.0, 1e-9);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
 /* ---- launch from a cliff -------------------------------------------------------------- */
 
 TEST(motion_launch_from_cliff_lands_at_v0_sqrt_2h_over_g)
