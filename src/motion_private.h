@@ -29,7 +29,7 @@
 #define RF_ODE_MAX_STEPS 100000    /* steps of one integrated segment */
 #define RF_SPEED_EPS 1e-6          /* speeds below this (m/s) on a face count as rest */
 #define RF_MAX_EVENTS 200000       /* a trajectory ends (max_time) after this many events */
-#define RF_STALL_EVENTS 64         /* events without progress in time before a rescue */
+#define RF_STALL_EVENTS 16         /* events without progress in time before a rescue */
 #define RF_MAX_RESCUES 1000        /* rescues before a trajectory is given up (max_time) */
 #define RF_UNSTALL_TIME 1e-6       /* free motion of a rescue (s) */
 

@@ -272,6 +272,19 @@ static void hop(rf_motion *m, rf_vec3 u)
     go_flight(m, -1);
 }
 
+/* An impact with approach speed vin (m/s; kinetic energy e0 J before it) counts and is
+ * reported when the rock approached the surface; a touch at a grazing speed (the path
+ * tangent to the face, as when a centre runs exactly along an edge line) changes
+ * nothing and is not an impact. */
+static void count_impact(rf_motion *m, double e0, double vin)
+{
+    if (!(vin > RF_APPROACH_EPS))
+        return;
+    m->rec->n_impacts++;
+    if (m->sink && m->sink->impact)
+        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
+}
+
 /* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
  * over a face whose plane it is already closer to than r.  It is lifted onto that
  * face's offset plane, and the lift is paid from the kinetic energy; when the rock
@@ -320,9 +333,7 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     double e0 = rf_motion_energy(m);
     if (vin > 0)
         m->s.v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
-    m->rec->n_impacts++;
-    if (m->sink && m->sink->impact)
-        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
+    count_impact(m, e0, vin);
     return 1;
 }
 
@@ -346,9 +357,7 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     double e0 = rf_motion_energy(m);
     double vn = rf_v3_dot(m->s.v, n);
     double rebound = rf_impact(m, c->tri, n, NULL);
-    m->rec->n_impacts++;
-    if (m->sink && m->sink->impact)
-        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, -vn);
+    count_impact(m, e0, -vn);
     if (rebound >= m->v_stay) {
         go_flight(m, -1);
         return;

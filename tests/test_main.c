@@ -31,6 +31,7 @@ void rf_test_register(const char *name, rf_test_fn fn, const char *file)
 
 void rf_test_fail(const char *file, int line, const char *fmt, ...)
 {
+    fflush(stdout); /* what the case printed before it failed */
     fprintf(stderr, "    %s:%d: ", file, line);
     va_list ap;
     va_start(ap, fmt);
