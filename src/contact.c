@@ -8,6 +8,7 @@
  * reach, and the earliest entering root over all of them wins.  No stepping: a contact
  * is found whatever the speed. */
 #include "motion_private.h"
+#include "util.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -31,16 +32,8 @@ static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, d
     size_t i1 = fi1 > ncx - 1 ? (size_t)ncx - 1 : (size_t)fi1;
     size_t j1 = fj1 > ncy - 1 ? (size_t)ncy - 1 : (size_t)fj1;
     size_t need = 2 * (i1 - i0 + 1) * (j1 - j0 + 1);
-    if (need > ws->cap) {
-        size_t cap = ws->cap;
-        while (cap < need)
-            cap *= 2;
-        int32_t *c = realloc(ws->cand, cap * sizeof *c);
-        if (!c)
-            return 0;
-        ws->cand = c;
-        ws->cap = cap;
-    }
+    if (rf_grow((void **)&ws->cand, &ws->cap, need, sizeof *ws->cand))
+        return 0;
     size_t n = 0, row = t->nx - 1;
     for (size_t j = j0; j <= j1; j++) {
         const int32_t *g = t->grid_tri + 2 * (j * row + i0);
@@ -66,14 +59,8 @@ size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double yma
         if (n <= ws->cap)
             return n;
         /* Rare: a box larger than any before; grow once and query again. */
-        size_t cap = ws->cap;
-        while (cap < n)
-            cap *= 2;
-        int32_t *c = realloc(ws->cand, cap * sizeof *c);
-        if (!c)
+        if (rf_grow((void **)&ws->cand, &ws->cap, n, sizeof *ws->cand))
             return ws->cap;
-        ws->cand = c;
-        ws->cap = cap;
     }
 }
 
@@ -690,19 +677,11 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
 /* Room for the pending triangles of n candidates. */
 static void pend_reserve(rf_workspace *ws, size_t n)
 {
-    if (ws->pend_cap < n) {
-        size_t cap = ws->pend_cap ? ws->pend_cap : 64;
-        while (cap < n)
-            cap *= 2;
-        int32_t *pi = realloc(ws->pend_idx, cap * sizeof *pi);
-        if (pi)
-            ws->pend_idx = pi;
-        double *pw = realloc(ws->pend_w0, cap * sizeof *pw);
-        if (pw)
-            ws->pend_w0 = pw;
-        if (pi && pw)
-            ws->pend_cap = cap;
-    }
+    /* both arrays grow alike from the same capacity */
+    size_t ci = ws->pend_cap, cw = ws->pend_cap;
+    if (rf_grow((void **)&ws->pend_idx, &ci, n, sizeof *ws->pend_idx) == 0 &&
+        rf_grow((void **)&ws->pend_w0, &cw, n, sizeof *ws->pend_w0) == 0)
+        ws->pend_cap = ci;
 }
 
 /* A flight (s->line) over [0, T]: the candidates not yet tested in this search, each
@@ -994,16 +973,8 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     support_planes sp;
     support_planes_set(m, &sp);
     size_t n = rf_gather(m, xl, yl, xh, yh);
-    if (ws->near_cap < n) {
-        size_t cap = ws->near_cap ? ws->near_cap : 64;
-        while (cap < n)
-            cap *= 2;
-        int32_t *h = realloc(ws->near_hit, cap * sizeof *h);
-        if (!h)
-            return 0;
-        ws->near_hit = h;
-        ws->near_cap = cap;
-    }
+    if (rf_grow((void **)&ws->near_hit, &ws->near_cap, n, sizeof *ws->near_hit))
+        return 0;
     for (size_t k = 0; k < n; k++) {
         int32_t idx = ws->cand[k];
         const float *b = box + 6 * (size_t)idx;

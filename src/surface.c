@@ -760,7 +760,7 @@ typedef struct dp_stages {
 } dp_stages;
 
 /* One Dormand-Prince step of size h; returns the scaled error norm (<= 1 accepts).
- * With st, keeps the stages for dp_dense. */
+ * Its stages are left in st for dp_dense. */
 static double dp_step(const ode *o, const double *y, double h, double *out, dp_stages *st)
 {
     static const double c21 = 1.0 / 5, c31 = 3.0 / 40, c32 = 9.0 / 40, c41 = 44.0 / 45,
@@ -773,7 +773,9 @@ static double dp_step(const ode *o, const double *y, double h, double *out, dp_s
                         e4 = 71.0 / 1920, e5 = -17253.0 / 339200, e6 = 22.0 / 525,
                         e7 = -1.0 / 40;
     const int n = o->dim;
-    double k1[9], k2[9], k3[9], k4[9], k5[9], k6[9], k7[9], tmp[9];
+    double *k1 = st->k[0], *k2 = st->k[1], *k3 = st->k[2], *k4 = st->k[3], *k5 = st->k[4],
+           *k6 = st->k[5], *k7 = st->k[6], tmp[9];
+    st->h = h;
     for (int i = n; i < 9; i++)
         out[i] = tmp[i] = y[i];
     rhs(o, y, k1);
@@ -802,12 +804,6 @@ static double dp_step(const ode *o, const double *y, double h, double *out, dp_s
         double r = fabs(ei) / sc;
         if (r > err)
             err = r;
-    }
-    if (st) {
-        const double *ks[7] = {k1, k2, k3, k4, k5, k6, k7};
-        for (int j = 0; j < 7; j++)
-            memcpy(st->k[j], ks[j], sizeof st->k[j]);
-        st->h = h;
     }
     return err;
 }
