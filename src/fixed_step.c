@@ -26,28 +26,6 @@
 
 static rf_vec3 in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
 
-/* Slip of the contact point on a face with normal n: u = v + w x (-r n), in the plane. */
-static rf_vec3 slip_of(const rf_motion *m, rf_vec3 n)
-{
-    return in_plane(rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(n, -m->rho))), n);
-}
-
-/* Spin from v and the slip u on a face (w . n kept): w_t = n x (v - u) / r. */
-static void set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
-{
-    if (m->point)
-        return;
-    double wn = rf_v3_dot(m->s.w, n);
-    rf_vec3 wt = rf_v3_scale(rf_v3_cross(n, rf_v3_sub(m->s.v, u)), 1.0 / m->rho);
-    m->s.w = rf_v3_madd(wt, wn, n);
-}
-
-static int coplanar(const rf_motion *m, int32_t a, int32_t b)
-{
-    const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
-    return rf_v3_norm(rf_v3_sub(A->n, B->n)) <= RF_COPLANAR_EPS && fabs(A->d - B->d) <= m->tol_len;
-}
-
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
 typedef struct column {
@@ -133,9 +111,9 @@ static void support_single(rf_motion *m, int32_t tri)
     m->s.v = in_plane(m->s.v, T->n);
     m->sup.rolling = 0;
     if (!m->point) {
-        m->sup.rolling = rf_v3_norm(slip_of(m, T->n)) <= RF_SLIP_EPS;
+        m->sup.rolling = rf_v3_norm(rf_slip_of(m, T->n)) <= RF_SLIP_EPS;
         if (m->sup.rolling)
-            set_spin(m, T->n, rf_v3(0, 0, 0));
+            rf_set_spin(m, T->n, rf_v3(0, 0, 0));
     }
 }
 
@@ -155,7 +133,7 @@ static int leave_face(rf_motion *m, int edge, const column *c, rf_vec3 acc)
     int32_t to = face_after(m, from, edge, c, acc);
     if (to < 0)
         return RF_END_EXITED; /* a point or a centre over no face has left the terrain */
-    if (coplanar(m, from, to)) {
+    if (rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
         support_single(m, to);
         m->sup.left = from;
         return -1;
@@ -317,10 +295,10 @@ static int face_step(rf_motion *m, double h, int *fresh)
     m->s.v = in_plane(m->s.v, n);
     rf_vec3 u = rf_v3(0, 0, 0);
     if (!m->point) {
-        u = slip_of(m, n);
+        u = rf_slip_of(m, n);
         if (!m->sup.rolling && rf_v3_norm(u) <= RF_SLIP_EPS) {
             m->sup.rolling = 1;
-            set_spin(m, n, rf_v3(0, 0, 0));
+            rf_set_spin(m, n, rf_v3(0, 0, 0));
         }
         if (m->sup.rolling && seg_start) {
             u = rf_v3(0, 0, 0);
@@ -373,7 +351,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
     double te = tx < hs ? tx : hs;
     int scene = advance_piece(m, ve, te, hs);
     if (!m->point)
-        set_spin(m, n, rf_v3_add(u, rf_v3_scale(rf_v3_sub(u1, u), hs > 0 ? te / hs : 1.0)));
+        rf_set_spin(m, n, rf_v3_add(u, rf_v3_scale(rf_v3_sub(u1, u), hs > 0 ? te / hs : 1.0)));
     if (scene)
         return rf_scene_event(m);
     if (tx <= hs) {
@@ -383,7 +361,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
     }
     if (slip_end) {
         m->sup.rolling = 1;
-        set_spin(m, n, rf_v3(0, 0, 0));
+        rf_set_spin(m, n, rf_v3(0, 0, 0));
         rf_motion_event(m);
     } else if (zero) {
         m->s.v = rf_v3(0, 0, 0);
@@ -462,7 +440,7 @@ static int crease_step(rf_motion *m, double h)
         int32_t from = m->sup.tri[slot], other = m->sup.tri[1 - slot];
         int32_t to = face_after(m, from, edge, &col[slot], rf_v3_scale(l, as));
         rf_motion_event(m);
-        if (to >= 0 && coplanar(m, from, to)) {
+        if (to >= 0 && rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
             m->sup.tri[slot] = to;
             m->sup.left = from;
             return -1;
@@ -486,50 +464,12 @@ static int crease_step(rf_motion *m, double h)
 
 /* ---- start, rescue and the loop ---------------------------------------------------- */
 
-/* The start as in the exact engine: on the face under the centre when it touches it
- * (landing, or an impact when it moves into it), else in flight.  Returns -1 or an end. */
-static int start_phase(rf_motion *m)
-{
-    const rf_terrain *t = m->terrain;
-    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-    if (tri < 0)
-        return RF_END_EXITED;
-    m->sup.n = 0;
-    m->sup.left = -1;
-    m->flight_ex.n = 0;
-    const rf_triangle *T = &t->tri[tri];
-    double dist = rf_v3_dot(T->n, m->s.p) - T->d;
-    rf_contact c;
-    memset(&c, 0, sizeof c);
-    c.tri = tri;
-    c.kind = RF_FEAT_FACE;
-    c.n = T->n;
-    c.point = rf_v3_madd(m->s.p, -dist, T->n);
-    if (m->point && T->n.z > 0)
-        dist = (m->s.p.z - rf_triangle_z_at(T, m->s.p.x, m->s.p.y)) * T->n.z;
-    if (!(dist <= m->rho + 1e-6))
-        return -1; /* in the air */
-    if (m->point && T->n.z > 0)
-        m->s.p.z = rf_triangle_z_at(T, m->s.p.x, m->s.p.y);
-    else
-        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, T->n);
-    double vn = rf_v3_dot(m->s.v, T->n);
-    if (vn > m->v_stay)
-        return -1; /* launched off the ground */
-    if (vn > -m->v_stay)
-        rf_surface_enter(m, tri);
-    else
-        rf_contact_resolve(m, &c);
-    return -1;
-}
-
-
 int rf_simulate_fixed_step(rf_motion *m)
 {
     const double dt = m->scene->sim->dt > 0 ? m->scene->sim->dt : 1e-3;
     /* the paper's contact test (Eq. 6-7) whatever the project's contact option */
     m->centre = !m->point;
-    int end = start_phase(m);
+    int end = rf_motion_start(m);
     if (end >= 0)
         return end;
     double stall_t = m->s.t;

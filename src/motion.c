@@ -194,9 +194,7 @@ static int flight_step(rf_motion *m)
 
 /* ---- start ------------------------------------------------------------------------- */
 
-/* Places the rock: on the surface when it touches it, else in flight.  Returns -1 to
- * go on or an end reason. */
-static int start_phase(rf_motion *m)
+int rf_motion_start(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
@@ -270,7 +268,7 @@ void rf_unstall(rf_motion *m)
 
 static int run_exact(rf_motion *m)
 {
-    int end = start_phase(m);
+    int end = rf_motion_start(m);
     if (end >= 0)
         return end;
     m->stall_t = m->s.t;

@@ -238,6 +238,15 @@ void rf_surface_enter(rf_motion *m, int32_t tri);
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du);
 /* 1 when the rock at rest on its support would stay there. */
 int rf_surface_holds(const rf_motion *m);
+/* Slip of the sphere's contact point on a face with normal n: u = v + w x (-r n), in
+ * the plane. */
+rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n);
+/* Spin from v and the slip u on a face (w . n kept): w_t = n x (v - u) / r; none for
+ * the point model. */
+void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u);
+/* 1 when faces A and B lie in one plane (normals within RF_COPLANAR_EPS, offsets
+ * within tol). */
+int rf_coplanar(const rf_triangle *A, const rf_triangle *B, double tol);
 /* m / (m + I / r^2) of a body rolling with contact radius rho: 5/7 for the sphere. */
 double rf_roll_factor(const rf_body *b, double rho);
 /* 1 when friction (mu) can keep the sphere on face n rolling without slip: the contact
@@ -251,6 +260,10 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T);
 /* A path point at the current state. */
 void rf_motion_event(rf_motion *m);
+/* Places the rock at the start of a trajectory: on the surface when it touches it
+ * (landing, or an impact when it moves into it), else in flight.  Returns -1 to go on
+ * or an end reason.  Shared by both engines. */
+int rf_motion_start(rf_motion *m);
 /* Total kinetic energy of the current state (J). */
 double rf_motion_energy(const rf_motion *m);
 /* A rock that meets events without moving (degenerate contact geometry) moves free for

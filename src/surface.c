@@ -109,14 +109,14 @@ rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf
 }
 
 /* Slip of the contact point of the sphere on a face with normal n. */
-static rf_vec3 slip_of(const rf_motion *m, rf_vec3 n)
+rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n)
 {
     rf_vec3 u = rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(n, -m->rho)));
     return in_plane(u, n);
 }
 
 /* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r. */
-static void set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
+void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
 {
     if (m->point) {
         m->s.w = rf_v3(0, 0, 0);
@@ -133,7 +133,7 @@ static rf_vec3 tri_vertex(const rf_triangle *T, int i)
     return i == 0 ? T->a : (i == 1 ? T->b : T->c);
 }
 
-static int coplanar(const rf_triangle *A, const rf_triangle *B, double tol)
+int rf_coplanar(const rf_triangle *A, const rf_triangle *B, double tol)
 {
     return rf_v3_norm(rf_v3_sub(A->n, B->n)) <= RF_COPLANAR_EPS && fabs(A->d - B->d) <= tol;
 }
@@ -165,10 +165,10 @@ static void support_single(rf_motion *m, int32_t tri, int fresh)
     m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
     m->s.v = in_plane(m->s.v, T->n);
     if (!m->point) {
-        rf_vec3 u = slip_of(m, T->n);
+        rf_vec3 u = rf_slip_of(m, T->n);
         m->sup.rolling = rf_v3_norm(u) <= RF_SLIP_EPS;
         if (m->sup.rolling)
-            set_spin(m, T->n, rf_v3(0, 0, 0));
+            rf_set_spin(m, T->n, rf_v3(0, 0, 0));
     } else {
         m->sup.rolling = 0;
     }
@@ -194,7 +194,7 @@ int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
 static int try_crease(rf_motion *m, int32_t a, int32_t b)
 {
     const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
-    if (a == b || coplanar(A, B, m->tol_len))
+    if (a == b || rf_coplanar(A, B, m->tol_len))
         return -1;
     if (rf_v3_dot(m->s.v, A->n) > m->v_stay)
         return -1; /* leaving A */
@@ -504,7 +504,7 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
     }
     if (m->sup.n == 2) {
         int32_t other = m->sup.tri[1 - slot];
-        if (to >= 0 && coplanar(F, &t->tri[to], m->tol_len)) {
+        if (to >= 0 && rf_coplanar(F, &t->tri[to], m->tol_len)) {
             m->sup.tri[slot] = to;
             m->sup.left = from;
             return RF_SURF_CONTINUE;
@@ -534,7 +534,7 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
         return RF_SURF_FLIGHT;
     }
     const rf_triangle *Tn = &t->tri[to];
-    if (coplanar(F, Tn, m->tol_len)) {
+    if (rf_coplanar(F, Tn, m->tol_len)) {
         support_single(m, to, 0);
         m->sup.left = from;
         return RF_SURF_CONTINUE;
@@ -576,7 +576,7 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
     if (vo > 0) {
         m->s.v = rf_v3_madd(m->s.v, -2.0 * vo, mo);
         if (m->sup.rolling)
-            set_spin(m, F->n, rf_v3(0, 0, 0));
+            rf_set_spin(m, F->n, rf_v3(0, 0, 0));
     }
     return RF_SURF_CONTINUE;
 }
@@ -653,7 +653,7 @@ static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const f
         return RF_SURF_CONTINUE;
     case EV_SLIP:
         m->sup.rolling = 1;
-        set_spin(m, m->terrain->tri[m->sup.tri[0]].n, rf_v3(0, 0, 0));
+        rf_set_spin(m, m->terrain->tri[m->sup.tri[0]].n, rf_v3(0, 0, 0));
         rf_motion_event(m);
         return RF_SURF_CONTINUE;
     case EV_EXIT: {
@@ -672,6 +672,24 @@ static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const f
     default:
         return RF_SURF_CONTINUE;
     }
+}
+
+/* The end of a constant-acceleration segment along arc (face or crease), whose other
+ * events are in ev: contacts with the terrain (full contact; ex ignored) and scene
+ * events come first when earlier; the state is moved to the event. */
+static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex, seg_event *ev)
+{
+    if (!m->point && !m->centre && ev->t > 0) {
+        rf_contact con;
+        if (rf_contact_search_near(m, arc, ev->t, ex, &con) && con.t < ev->t) {
+            consider(ev, EV_CONTACT, con.t);
+            ev->con = con;
+        }
+    }
+    double ts = rf_scene_horizon(m, arc, ev->t);
+    if (m->scene_pending && ts < ev->t)
+        consider(ev, EV_SCENE, ts);
+    rf_motion_advance(m, arc, ev->t);
 }
 
 /* A segment of constant acceleration on one face. */
@@ -708,20 +726,10 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
         ev.edge = edge;
         ev.slot = 0;
     }
-    if (!m->point && !m->centre && ev.t > 0) {
-        rf_contact con;
-        if (rf_contact_search_near(m, &arc, ev.t, &ex, &con) && con.t < ev.t) {
-            consider(&ev, EV_CONTACT, con.t);
-            ev.con = con;
-        }
-    }
-    double ts = rf_scene_horizon(m, &arc, ev.t);
-    if (m->scene_pending && ts < ev.t)
-        consider(&ev, EV_SCENE, ts);
-    rf_motion_advance(m, &arc, ev.t);
+    closed_finish(m, &arc, &ex, &ev);
     if (!m->point) {
         rf_vec3 u = f->mode == LAW_SLIDE ? rf_v3_madd(u0, ev.t, du) : rf_v3(0, 0, 0);
-        set_spin(m, f->n, u);
+        rf_set_spin(m, f->n, u);
     }
     return dispatch(m, &ev, a, fe);
 }
@@ -1015,7 +1023,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         }
         if (f->mode == LAW_SLIDE && rf_v3_norm(y_u(y)) <= RF_SLIP_EPS) {
             m->sup.rolling = 1; /* the slip has vanished */
-            set_spin(m, f->n, rf_v3(0, 0, 0));
+            rf_set_spin(m, f->n, rf_v3(0, 0, 0));
             rf_motion_event(m);
             return RF_SURF_CONTINUE;
         }
@@ -1115,7 +1123,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             m->s.p = rf_v3_add(c0, ce);
             m->s.v = ve;
             if (!m->point)
-                set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(ye) : rf_v3(0, 0, 0));
+                rf_set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(ye) : rf_v3(0, 0, 0));
             if (ev.kind == EV_CONTACT) {
                 /* exactly at contact distance is restored by the resolver */
                 rf_contact_resolve(m, &ev.con);
@@ -1128,7 +1136,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         m->s.p = cabs;
         m->s.v = vn;
         if (!m->point)
-            set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(yn) : rf_v3(0, 0, 0));
+            rf_set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(yn) : rf_v3(0, 0, 0));
         memcpy(y, yn, sizeof y);
         t += hs;
         h = hs * dmin(5.0, 0.9 * pow(dmax(err, 1e-10), -0.2));
@@ -1152,10 +1160,10 @@ static rf_surface_end face_step(rf_motion *m)
     face_dyn f;
     rf_vec3 u0 = rf_v3(0, 0, 0);
     if (!m->point) {
-        u0 = slip_of(m, T->n);
+        u0 = rf_slip_of(m, T->n);
         if (!m->sup.rolling && rf_v3_norm(u0) <= RF_SLIP_EPS) {
             m->sup.rolling = 1;
-            set_spin(m, T->n, rf_v3(0, 0, 0));
+            rf_set_spin(m, T->n, rf_v3(0, 0, 0));
             u0 = rf_v3(0, 0, 0);
         }
     }
@@ -1247,17 +1255,7 @@ static rf_surface_end crease_step(rf_motion *m)
             ev.slot = slot;
         }
     }
-    if (!m->point && !m->centre && ev.t > 0) {
-        rf_contact con;
-        if (rf_contact_search_near(m, &arc, ev.t, &ex, &con) && con.t < ev.t) {
-            consider(&ev, EV_CONTACT, con.t);
-            ev.con = con;
-        }
-    }
-    double ts = rf_scene_horizon(m, &arc, ev.t);
-    if (m->scene_pending && ts < ev.t)
-        consider(&ev, EV_SCENE, ts);
-    rf_motion_advance(m, &arc, ev.t);
+    closed_finish(m, &arc, &ex, &ev);
     if (rolling) {
         rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
         m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
