@@ -449,8 +449,10 @@ static int coplanar_with_support(const rf_terrain *t, const rf_support *ex, cons
  *
  * Neighbouring triangles share edges and vertices (on a grid an edge belongs to two
  * triangles and a vertex to up to six).  Each distinct feature is tested once per
- * search, over the union of the windows the triangles holding it ask for (the earliest
- * window start), in the order in which the triangles ask. */
+ * search, when the first pending triangle holding it asks, from that triangle's window
+ * start: a sphere touching a feature is within reach of the plane of every triangle
+ * holding it (the feature lies in each plane), so any holder's plane entry bounds the
+ * contact time from below. */
 
 static inline uint64_t mix64(uint64_t h)
 {
@@ -471,16 +473,31 @@ static inline uint64_t point_hash(rf_vec3 p)
     return mix64(a ^ mix64(b ^ mix64(c)));
 }
 
-/* Key of a vertex: its node on grids, a hash of its coordinates on meshes (then
- * confirmed by comparing the coordinates). */
-static inline uint64_t vertex_key(const rf_terrain *t, rf_vec3 q)
+/* Keys of the three edges (k: vertex k to k + 1) and three vertices of triangle idx.
+ * Grids: 4 node + type, from the triangle's SW node n (types 0 east, 1 north, 2
+ * north-east from that node, 3 the node itself); cell triangle 0 is (SW, SE, NE), 1 is
+ * (SW, NE, NW).  Meshes: hashes of the coordinates (vertex keys even, edge keys odd),
+ * confirmed by comparing the coordinates. */
+static void feature_keys(const rf_terrain *t, int32_t idx, uint64_t ek[3], uint64_t vk[3])
 {
     if (t->is_grid) {
-        uint64_t i = (uint64_t)((q.x - t->x0) / t->cell + 0.5);
-        uint64_t j = (uint64_t)((q.y - t->y0) / t->cell + 0.5);
-        return j * t->nx + i;
+        uint64_t n = (uint64_t)t->grid_node[idx] >> 1, nx = t->nx;
+        if ((t->grid_node[idx] & 1) == 0) {
+            vk[0] = 4 * n + 3, vk[1] = 4 * (n + 1) + 3, vk[2] = 4 * (n + nx + 1) + 3;
+            ek[0] = 4 * n, ek[1] = 4 * (n + 1) + 1, ek[2] = 4 * n + 2;
+        } else {
+            vk[0] = 4 * n + 3, vk[1] = 4 * (n + nx + 1) + 3, vk[2] = 4 * (n + nx) + 3;
+            ek[0] = 4 * n + 2, ek[1] = 4 * (n + nx), ek[2] = 4 * n + 1;
+        }
+        return;
     }
-    return point_hash(q);
+    const rf_triangle *T = &t->tri[idx];
+    uint64_t h[3] = {point_hash(T->a), point_hash(T->b), point_hash(T->c)};
+    for (int k = 0; k < 3; k++) {
+        uint64_t a = h[k], b = h[(k + 1) % 3];
+        vk[k] = h[k] << 1;
+        ek[k] = mix64((a < b ? a : b) ^ mix64(a < b ? b : a)) | 1ULL;
+    }
 }
 
 static inline unsigned slot_of(uint64_t key)
@@ -488,13 +505,23 @@ static inline unsigned slot_of(uint64_t key)
     return (unsigned)((key * 0x9E3779B97F4A7C15ULL) >> 40) & (RF_FEAT_SLOTS - 1);
 }
 
-/* Slot of vertex k of triangle idx (key vk) in the feature table; inserts it when new
- * (*fresh = 1).  Vertex keys are even, edge keys odd. */
-static int feat_vertex(rf_workspace *ws, const rf_triangle *T, int32_t idx, int k, uint64_t vk,
-                       double w0, int *fresh)
+/* 1 when triangle S's feature j (a vertex, or an edge when j & 4) is T's feature k. */
+static int same_feature(const rf_triangle *S, int j, const rf_triangle *T, int k)
 {
-    uint64_t key = vk << 1;
-    int grid = ws->terrain->is_grid;
+    if ((j ^ k) & 4)
+        return 0;
+    rf_vec3 sa = tri_vertex(S, j & 3), qa = tri_vertex(T, k & 3);
+    if (!(k & 4))
+        return same_point(sa, qa);
+    rf_vec3 sb = tri_vertex(S, ((j & 3) + 1) % 3), qb = tri_vertex(T, ((k & 3) + 1) % 3);
+    return (same_point(sa, qa) && same_point(sb, qb)) || (same_point(sa, qb) && same_point(sb, qa));
+}
+
+/* 1 the first time the feature with this key (feature k of triangle idx: vertex k, or
+ * edge k & 3 when k & 4) is met in the current generation of the table. */
+static int feat_first(rf_workspace *ws, uint64_t key, int32_t idx, int k)
+{
+    const rf_terrain *t = ws->terrain;
     for (unsigned h = slot_of(key);; h = (h + 1) & (RF_FEAT_SLOTS - 1)) {
         rf_feat_slot *sl = &ws->feat[h];
         if (sl->gen != ws->feat_gen) {
@@ -502,57 +529,11 @@ static int feat_vertex(rf_workspace *ws, const rf_triangle *T, int32_t idx, int 
             sl->key = key;
             sl->tri = idx;
             sl->k = k;
-            sl->w0 = w0;
-            *fresh = 1;
-            return (int)h;
+            ws->feat_used++;
+            return 1;
         }
-        if (sl->key == key &&
-            (grid || same_point(tri_vertex(T, k), tri_vertex(&ws->terrain->tri[sl->tri], sl->k)))) {
-            if (w0 < sl->w0)
-                sl->w0 = w0;
-            *fresh = 0;
-            return (int)h;
-        }
-    }
-}
-
-/* Slot of edge k (vertex k to k + 1) of triangle idx, with the keys of its ends; as
- * feat_vertex.  Edge slots carry k | 4. */
-static int feat_edge(rf_workspace *ws, const rf_triangle *T, int32_t idx, int k, uint64_t ka,
-                     uint64_t kb, double w0, int *fresh)
-{
-    const rf_terrain *t = ws->terrain;
-    uint64_t lo = ka < kb ? ka : kb, hi = ka < kb ? kb : ka;
-    uint64_t key = t->is_grid ? ((lo * (uint64_t)t->nx * (uint64_t)t->ny + hi) << 1) | 1ULL
-                              : mix64(lo ^ mix64(hi)) | 1ULL;
-    for (unsigned h = slot_of(key);; h = (h + 1) & (RF_FEAT_SLOTS - 1)) {
-        rf_feat_slot *sl = &ws->feat[h];
-        if (sl->gen != ws->feat_gen) {
-            sl->gen = ws->feat_gen;
-            sl->key = key;
-            sl->tri = idx;
-            sl->k = k | 4;
-            sl->w0 = w0;
-            *fresh = 1;
-            return (int)h;
-        }
-        if (sl->key == key) {
-            int same = t->is_grid;
-            if (!same) {
-                rf_vec3 qa = tri_vertex(T, k), qb = tri_vertex(T, (k + 1) % 3);
-                const rf_triangle *S = &t->tri[sl->tri];
-                int j = sl->k & 3;
-                rf_vec3 sa = tri_vertex(S, j), sb = tri_vertex(S, (j + 1) % 3);
-                same = (same_point(sa, qa) && same_point(sb, qb)) ||
-                       (same_point(sa, qb) && same_point(sb, qa));
-            }
-            if (same) {
-                if (w0 < sl->w0)
-                    sl->w0 = w0;
-                *fresh = 0;
-                return (int)h;
-            }
-        }
+        if (sl->key == key && (t->is_grid || same_feature(&t->tri[sl->tri], sl->k, &t->tri[idx], k)))
+            return 0;
     }
 }
 
@@ -597,80 +578,61 @@ static void feat_reset(rf_workspace *ws)
     ws->feat_used = 0;
 }
 
-/* Queues slot sl for a test when it was never tested from its window start. */
-static inline void feat_queue(rf_workspace *ws, int sl, size_t *nord)
+/* Edge or vertex (the ends q[0 .. nq-1]) of triangle idx over [w0, min(tb, best)]. */
+static void test_feature(search *s, int32_t idx, int k, const rf_vec3 *q, int nq, double w0,
+                         double tb, rf_vec3 blo, rf_vec3 bhi)
 {
-    rf_feat_slot *f = &ws->feat[sl];
-    if (!f->queued && f->w0 < f->tw0) {
-        f->queued = 1;
-        ws->feat_order[(*nord)++] = (int16_t)sl;
+    double w1 = tb < s->best ? tb : s->best;
+    if (!(w0 < s->best))
+        return;
+    rf_vec3 lo = blo, hi = bhi;
+    if (s->line) {
+        if (!line_window(s, q, nq, s->m->rho + 4 * s->m->tol_len, &w0, &w1))
+            return;
+        arc_box(s->arc, w0, w1, &lo, &hi);
     }
+    if (nq == 2)
+        test_edge(s, idx, k, q[0], q[1], w0, w1, lo, hi);
+    else
+        test_vertex(s, idx, k, q[0], w0, w1, lo, hi);
 }
 
-/* The distinct edges and vertices of the pending triangles, each once, up to tb.  The
- * table keeps what earlier calls of the same generation tested (a flight's pieces):
- * a feature is tested again only when a triangle asks for it from an earlier time. */
+/* The edges and vertices of the pending triangles, each distinct one once per
+ * generation of the feature table (a flight's pieces share one), up to tb. */
 static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_vec3 bhi)
 {
     rf_motion *m = s->m;
     rf_workspace *ws = m->ws;
     const rf_terrain *t = m->terrain;
-    /* the order of the tests: edge k, then vertex k of each triangle in turn */
-    int16_t *order = ws->feat_order;
-    size_t nord = 0;
     for (size_t p = 0; p < npend; p++) {
         double w0 = ws->pend_w0[p];
         if (!(w0 < s->best))
             continue;
         int32_t idx = ws->pend_idx[p];
         const rf_triangle *T = &t->tri[idx];
-        int vs[3], fresh;
-        uint64_t vk[3] = {vertex_key(t, T->a), vertex_key(t, T->b), vertex_key(t, T->c)};
+        uint64_t ek[3], vk[3];
+        feature_keys(t, idx, ek, vk);
+        int xv[3] = {-1, -1, -1}; /* vertex k excluded (-1: not known yet) */
+        unsigned live = edge_live(ws, idx);
         for (int k = 0; k < 3; k++) {
-            vs[k] = feat_vertex(ws, T, idx, k, vk[k], w0, &fresh);
-            if (fresh) {
-                rf_vec3 q = tri_vertex(T, k);
-                int x = excluded_vertex(t, s->ex, q) || (s->planar && below_support(m, q));
-                ws->feat[vs[k]].excl = x;
-                ws->feat[vs[k]].queued = 0;
-                ws->feat[vs[k]].tw0 = INFINITY;
-                ws->feat_used++;
+            int k1 = (k + 1) % 3;
+            rf_vec3 q[2] = {tri_vertex(T, k), tri_vertex(T, k1)};
+            if ((live >> k & 1) && feat_first(ws, ek[k], idx, k | 4)) {
+                for (int i = 0; i < 2; i++) {
+                    int v = i ? k1 : k;
+                    if (xv[v] < 0)
+                        xv[v] = excluded_vertex(t, s->ex, q[i]) || (s->planar && below_support(m, q[i]));
+                }
+                if (!(xv[k] && xv[k1]))
+                    test_feature(s, idx, k, q, 2, w0, tb, blo, bhi);
+            }
+            if (feat_first(ws, vk[k], idx, k)) {
+                if (xv[k] < 0)
+                    xv[k] = excluded_vertex(t, s->ex, q[0]) || (s->planar && below_support(m, q[0]));
+                if (!xv[k])
+                    test_feature(s, idx, k, q, 1, w0, tb, blo, bhi);
             }
         }
-        for (int k = 0; k < 3; k++) {
-            int e = feat_edge(ws, T, idx, k, vk[k], vk[(k + 1) % 3], w0, &fresh);
-            if (fresh) {
-                ws->feat[e].excl = (ws->feat[vs[k]].excl && ws->feat[vs[(k + 1) % 3]].excl) ||
-                                   !(edge_live(ws, idx) >> k & 1);
-                ws->feat[e].queued = 0;
-                ws->feat[e].tw0 = INFINITY;
-                ws->feat_used++;
-            }
-            feat_queue(ws, e, &nord);
-            feat_queue(ws, vs[k], &nord);
-        }
-    }
-    for (size_t i = 0; i < nord; i++) {
-        rf_feat_slot *sl = &ws->feat[order[i]];
-        sl->queued = 0;
-        sl->tw0 = sl->w0;
-        if (sl->excl || !(sl->w0 < s->best))
-            continue;
-        const rf_triangle *T = &t->tri[sl->tri];
-        double w0 = sl->w0, w1 = tb < s->best ? tb : s->best;
-        int k = sl->k & 3;
-        rf_vec3 q[2] = {tri_vertex(T, k), tri_vertex(T, (k + 1) % 3)};
-        int nq = (sl->k & 4) ? 2 : 1;
-        rf_vec3 lo = blo, hi = bhi;
-        if (s->line) {
-            if (!line_window(s, q, nq, m->rho + 4 * m->tol_len, &w0, &w1))
-                continue;
-            arc_box(s->arc, w0, w1, &lo, &hi);
-        }
-        if (nq == 2)
-            test_edge(s, sl->tri, k, q[0], q[1], w0, w1, lo, hi);
-        else
-            test_vertex(s, sl->tri, k, q[0], w0, w1, lo, hi);
     }
 }
 

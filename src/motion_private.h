@@ -86,10 +86,6 @@ typedef struct rf_feat_slot {
     uint64_t key;
     uint32_t gen;     /* slot in use when equal to rf_workspace.feat_gen */
     int32_t tri, k;   /* first triangle holding it; vertex k, or edge (k & 3) | 4 */
-    int32_t excl;     /* excluded from the search */
-    int32_t queued;   /* waiting in the test order */
-    double w0;        /* earliest window start asked for */
-    double tw0;       /* window start it was tested from (INFINITY: not yet) */
 } rf_feat_slot;
 
 struct rf_workspace {
@@ -114,7 +110,6 @@ struct rf_workspace {
     uint32_t feat_gen;
     size_t feat_used; /* slots in use in the current generation */
     rf_feat_slot feat[RF_FEAT_SLOTS];
-    int16_t feat_order[RF_FEAT_SLOTS];
 };
 
 typedef struct rf_motion {

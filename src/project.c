@@ -1014,7 +1014,7 @@ void rf_project_free(rf_project *p)
     free(p->yaml_text);
     free(p->name);
     free_spec(&p->terrain_spec);
-    if (p->terrain.tri || p->terrain.zones || p->terrain.grid_tri || p->terrain.bucket_start ||
+    if (p->terrain.tri || p->terrain.zones || p->terrain.grid_tri || p->terrain.grid_node || p->terrain.bucket_start ||
         p->terrain.bucket_items)
         rf_terrain_free(&p->terrain);
     for (size_t i = 0; i < p->nforests; i++) {

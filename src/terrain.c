@@ -390,6 +390,7 @@ void rf_terrain_free(rf_terrain *t)
         free(t->zones[i].name);
     free(t->zones);
     free(t->grid_tri);
+    free(t->grid_node);
     free(t->bucket_start);
     free(t->bucket_items);
     memset(t, 0, sizeof *t);
@@ -551,7 +552,7 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     t->x0 = g.x0;
     t->y0 = g.y0;
     t->cell = g.cell;
-    if (2 * ncell > INT32_MAX) {
+    if (2 * nx * ny > INT32_MAX) {
         rf_asc_free(&g);
         return rf_error_set(err, path, 0, 0, "grid too large (%zu cells)", ncell);
     }
@@ -586,6 +587,16 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     rf_triangle *shrunk = realloc(t->tri, ntri * sizeof *t->tri);
     if (shrunk)
         t->tri = shrunk;
+    t->grid_node = malloc(ntri * sizeof *t->grid_node);
+    if (!t->grid_node)
+        return rf_error_set(err, path, 0, 0, "out of memory for a %zu x %zu grid", nx, ny);
+    for (size_t j = 0; j + 1 < ny; j++)
+        for (size_t i = 0; i + 1 < nx; i++)
+            for (size_t k = 0; k < 2; k++) {
+                int32_t idx = t->grid_tri[2 * (j * (nx - 1) + i) + k];
+                if (idx >= 0)
+                    t->grid_node[idx] = (int32_t)(2 * (j * nx + i) + k);
+            }
     return 0;
 }
 

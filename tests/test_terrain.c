@@ -417,7 +417,7 @@ static void ensure_build_error(const char *path, rf_terrain_source src, int line
     ENSURE_MSG(err.line == line && err.column == column, "%s:%d:%d: %s (expected %d:%d)",
                err.file, err.line, err.column, err.message, line, column);
     ENSURE_MSG(strstr(err.message, needle) != NULL, "message '%s' lacks '%s'", err.message, needle);
-    ENSURE(t.tri == NULL && t.zones == NULL && t.grid_tri == NULL && t.bucket_start == NULL);
+    ENSURE(t.tri == NULL && t.zones == NULL && t.grid_tri == NULL && t.grid_node == NULL && t.bucket_start == NULL);
 }
 
 TEST(terrain_bad_files)

@@ -91,6 +91,7 @@ typedef struct rf_terrain {
     size_t nx, ny;
     double x0, y0, cell;
     int32_t *grid_tri;
+    int32_t *grid_node; /* per triangle: 2 * (j * nx + i) + k, its SW node and k */
 
     /* Meshes and profiles (is_grid == 0): uniform bucket grid over the xy bounding box; the triangles whose
      * xy bounding box overlaps bucket b are bucket_items[bucket_start[b] ..
