@@ -211,12 +211,25 @@ static int stays_beyond(rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1, d
     return rf_v3_norm(X) - rf_v3_norm(D) * d - rf_v3_norm(H) * d * d > reach;
 }
 
+/* Entering roots over [w0, w1] of |W + V t + H t^2|^2 = rho^2 (the centre's distance
+ * from a vertex, or from an edge's line with W, V, H across the edge): a quartic, not
+ * solved when the distance stays beyond reach. */
+static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1,
+                   double roots[3])
+{
+    double rho = s->m->rho;
+    if (stays_beyond(W, V, H, w0, w1, rho + s->m->tol_len))
+        return 0;
+    double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
+                   rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
+    return rf_poly_entries(c, 4, w0, w1, 2 * rho * s->m->tol_len, 2 * rho * RF_APPROACH_EPS, roots);
+}
+
 /* Edge from va to vb against the centre over [w0, w1]. */
 static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, double w0,
                       double w1, rf_vec3 blo, rf_vec3 bhi)
 {
-    double rho = s->m->rho;
-    double reach = rho + s->m->tol_len;
+    double reach = s->m->rho + s->m->tol_len;
     rf_vec3 elo = rf_v3(dmin(va.x, vb.x), dmin(va.y, vb.y), dmin(va.z, vb.z));
     rf_vec3 ehi = rf_v3(dmax(va.x, vb.x), dmax(va.y, vb.y), dmax(va.z, vb.z));
     if (box_box_dist2(blo, bhi, elo, ehi) > reach * reach)
@@ -230,13 +243,8 @@ static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, do
     rf_vec3 W = rf_v3_madd(w0v, -rf_v3_dot(w0v, e), e);
     rf_vec3 V = rf_v3_madd(v, -rf_v3_dot(v, e), e);
     rf_vec3 H = rf_v3_madd(h, -rf_v3_dot(h, e), e);
-    if (stays_beyond(W, V, H, w0, w1, reach))
-        return;
-    double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
-                   rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
     double roots[3];
-    int n = rf_poly_entries(c, 4, w0, w1, 2 * rho * s->m->tol_len, 2 * rho * RF_APPROACH_EPS,
-                            roots);
+    int n = entries(s, W, V, H, w0, w1, roots);
     for (int k = 0; k < n; k++) {
         double t = roots[k];
         if (t >= s->best)
@@ -253,19 +261,13 @@ static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, do
 static void test_vertex(search *s, int32_t idx, int vi, rf_vec3 q, double w0, double w1,
                         rf_vec3 blo, rf_vec3 bhi)
 {
-    double rho = s->m->rho;
-    double reach = rho + s->m->tol_len;
+    double reach = s->m->rho + s->m->tol_len;
     if (box_point_dist2(blo, bhi, q) > reach * reach)
         return;
     const rf_arc *arc = s->arc;
     rf_vec3 W = rf_v3_sub(arc->p, q), V = arc->v, H = rf_v3_scale(arc->a, 0.5);
-    if (stays_beyond(W, V, H, w0, w1, reach))
-        return;
-    double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
-                   rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
     double roots[3];
-    int n = rf_poly_entries(c, 4, w0, w1, 2 * rho * s->m->tol_len, 2 * rho * RF_APPROACH_EPS,
-                            roots);
+    int n = entries(s, W, V, H, w0, w1, roots);
     if (n > 0 && roots[0] < s->best)
         take(s, roots[0], idx, RF_FEAT_VERTEX, vi, q);
 }

@@ -28,27 +28,9 @@ static rf_vec3 in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(
 
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
-typedef struct column {
-    rf_vec3 m[3]; /* inward horizontal unit normals of the edges */
-    double o[3];
-} column;
-
-static void column_setup(const rf_triangle *T, column *c)
-{
-    rf_vec3 P[3] = {T->a, T->b, T->c};
-    double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
-    double sg = orient >= 0 ? 1.0 : -1.0;
-    for (int k = 0; k < 3; k++) {
-        rf_vec3 A = P[k], B = P[(k + 1) % 3];
-        double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
-        c->m[k] = el > 0 ? rf_v3(-sg * ey / el, sg * ex / el, 0.0) : rf_v3(0, 0, 0);
-        c->o[k] = rf_v3_dot(c->m[k], A);
-    }
-}
-
 /* First time in [0, T] at which the centre p + v t leaves the column (INFINITY when
  * it does not); *edge receives the edge crossed. */
-static double column_exit(const rf_motion *m, const column *c, rf_vec3 p, rf_vec3 v, double T,
+static double column_exit(const rf_motion *m, const rf_face_edges *c, rf_vec3 p, rf_vec3 v, double T,
                           int *edge)
 {
     double best = INFINITY, tol = m->tol_len;
@@ -67,74 +49,19 @@ static double column_exit(const rf_motion *m, const column *c, rf_vec3 p, rf_vec
     return best;
 }
 
-static rf_vec3 tri_vertex(const rf_triangle *T, int i)
-{
-    i %= 3;
-    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
-}
-
-/* The face the centre enters when it leaves face `from` over edge `edge` (-1: none). */
-static int32_t face_after(const rf_motion *m, int32_t from, int edge, const column *c, rf_vec3 acc)
-{
-    const rf_terrain *t = m->terrain;
-    rf_vec3 dir = m->s.v;
-    if (rf_v3_norm(dir) < 1e-9)
-        dir = acc;
-    if (rf_v3_hnorm(dir) < 1e-12)
-        dir = rf_v3_scale(c->m[edge], -1.0);
-    int32_t to = rf_face_beyond(t, from, m->s.p, dir);
-    if (to == from) {
-        /* numerically still inside: step over the middle of the edge */
-        const rf_triangle *F = &t->tri[from];
-        rf_vec3 mid = rf_v3_scale(rf_v3_add(tri_vertex(F, edge), tri_vertex(F, edge + 1)), 0.5);
-        to = rf_face_beyond(t, from, mid, rf_v3_scale(c->m[edge], -1.0));
-        if (to == from)
-            to = -1;
-    }
-    return to;
-}
-
-/* ---- supports ---------------------------------------------------------------------- */
-
-/* On face tri alone, on its offset plane with a tangent velocity; the coefficients are
- * drawn when the zone changes. */
-static void support_single(rf_motion *m, int32_t tri)
-{
-    const rf_triangle *T = &m->terrain->tri[tri];
-    if (m->sup.n == 0 || m->sup.zone != T->zone)
-        rf_support_draw(m, tri);
-    m->sup.n = 1;
-    m->sup.tri[0] = tri;
-    m->sup.tri[1] = -1;
-    m->sup.left = -1;
-    m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
-    m->s.v = in_plane(m->s.v, T->n);
-    m->sup.rolling = 0;
-    if (!m->point) {
-        m->sup.rolling = rf_v3_norm(rf_slip_of(m, T->n)) <= RF_SLIP_EPS;
-        if (m->sup.rolling)
-            rf_set_spin(m, T->n, rf_v3(0, 0, 0));
-    }
-}
-
-static void go_flight(rf_motion *m, int32_t exclude)
-{
-    m->sup.n = 0;
-    m->flight_ex.n = exclude >= 0 ? 1 : 0;
-    m->flight_ex.tri[0] = exclude;
-}
+/* ---- leaving a face ----------------------------------------------------------------- */
 
 /* The centre has reached edge `edge` of its single face: the next face is on the same
  * plane, rises (an impact on it; in centre mode also when the centre is below its
  * offset plane, which lifts it), or falls away (flight).  Returns -1 or an end. */
-static int leave_face(rf_motion *m, int edge, const column *c, rf_vec3 acc)
+static int leave_face(rf_motion *m, int edge, const rf_face_edges *c, rf_vec3 acc)
 {
     int32_t from = m->sup.tri[0];
-    int32_t to = face_after(m, from, edge, c, acc);
+    int32_t to = rf_face_after(m, from, edge, c, m->s.p, acc);
     if (to < 0)
         return RF_END_EXITED; /* a point or a centre over no face has left the terrain */
     if (rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
-        support_single(m, to);
+        rf_support_single(m, to, 0);
         m->sup.left = from;
         return -1;
     }
@@ -143,13 +70,13 @@ static int leave_face(rf_motion *m, int edge, const column *c, rf_vec3 acc)
         rf_impact_on_face(m, to);
         return -1;
     case RF_NEXT_ON:
-        support_single(m, to);
+        rf_support_single(m, to, 0);
         m->sup.left = from;
         return -1;
     case RF_NEXT_AWAY:
         break;
     }
-    go_flight(m, from); /* convex: the next face falls away */
+    rf_go_flight(m, from); /* convex: the next face falls away */
     return -1;
 }
 
@@ -182,8 +109,8 @@ static double centre_contact(const rf_motion *m, int32_t idx, rf_vec3 p, rf_vec3
 {
     const rf_triangle *Tr = &m->terrain->tri[idx];
     const double tol = m->tol_len;
-    column col;
-    column_setup(Tr, &col);
+    rf_face_edges col;
+    rf_column_edges(Tr, &col);
     double lo = 0.0, hi = T;
     for (int k = 0; k < 3; k++) {
         double alpha = rf_v3_dot(col.m[k], p) - col.o[k], beta = rf_v3_dot(col.m[k], v);
@@ -344,8 +271,8 @@ static int face_step(rf_motion *m, double h, int *fresh)
             slip_end = 1;
         }
     }
-    column col;
-    column_setup(T, &col);
+    rf_face_edges col;
+    rf_column_edges(T, &col);
     int edge = 0;
     double tx = column_exit(m, &col, m->s.p, ve, hs, &edge);
     double te = tx < hs ? tx : hs;
@@ -378,37 +305,16 @@ static int face_step(rf_motion *m, double h, int *fresh)
  * normal forces of both faces. */
 static int crease_step(rf_motion *m, double h)
 {
+    rf_crease cr;
+    switch (rf_crease_law(m, &cr)) {
+    case RF_CREASE_ENDED: return -1;
+    case RF_CREASE_REST: return RF_END_REST;
+    case RF_CREASE_MOVES: break;
+    }
     const rf_terrain *t = m->terrain;
     const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
-    double xA = 0.0, xB = 0.0;
-    rf_vec3 l;
-    if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
-        int32_t keep = m->sup.tri[xA < 0 ? 1 : 0];
-        m->sup.n = 1;
-        m->sup.tri[0] = keep;
-        m->sup.tri[1] = -1;
-        return -1;
-    }
-    double s = rf_v3_dot(m->s.v, l);
-    if (s < 0) {
-        l = rf_v3_scale(l, -1.0);
-        s = -s;
-    }
-    m->s.v = rf_v3_scale(l, s);
-    double gl = -RF_GRAVITY * l.z, N = xA + xB;
-    int rolling = !m->point && m->sup.rolling;
-    if (rolling && (1.0 - rf_roll_factor(m->body, m->rho)) * fabs(RF_GRAVITY * l.z) > m->sup.mu * N)
-        m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
-    double k = rolling ? rf_roll_factor(m->body, m->rho) : 1.0;
-    double cf = rolling ? m->sup.mu_r : m->sup.mu;
-    int holds = fabs(gl) <= cf * N;
-    if (s <= m->scene->sim->stop_speed && holds)
-        return RF_END_REST;
-    if (s == 0.0 && gl < 0) {
-        l = rf_v3_scale(l, -1.0);
-        gl = -gl;
-    }
-    double as = k * (gl - cf * N);
+    rf_vec3 l = cr.l;
+    double as = cr.as, s = cr.s;
     double s1 = s + h * as;
     int zero = 0;
     if (s1 < 0) {
@@ -416,11 +322,11 @@ static int crease_step(rf_motion *m, double h)
         zero = 1;
     }
     rf_vec3 ve = rf_v3_scale(l, s1);
-    column col[2];
+    rf_face_edges col[2];
     int edge = 0, slot = 0;
     double tx = INFINITY;
     for (int k2 = 0; k2 < 2; k2++) {
-        column_setup(k2 == 0 ? A : B, &col[k2]);
+        rf_column_edges(k2 == 0 ? A : B, &col[k2]);
         int e2 = 0;
         double t2 = column_exit(m, &col[k2], m->s.p, ve, h, &e2);
         if (t2 < tx)
@@ -428,17 +334,15 @@ static int crease_step(rf_motion *m, double h)
     }
     double te = tx < h ? tx : h;
     int scene = advance_piece(m, ve, te, h);
-    if (rolling) {
-        rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
-        m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
-    }
+    if (cr.rolling)
+        rf_crease_spin(m);
     if (scene)
         return rf_scene_event(m);
     if (tx <= h) {
         /* the centre leaves one face's column: the crease goes on with the next face
          * on the same plane, or ends on the other face */
         int32_t from = m->sup.tri[slot], other = m->sup.tri[1 - slot];
-        int32_t to = face_after(m, from, edge, &col[slot], rf_v3_scale(l, as));
+        int32_t to = rf_face_after(m, from, edge, &col[slot], m->s.p, rf_v3_scale(l, as));
         rf_motion_event(m);
         if (to >= 0 && rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
             m->sup.tri[slot] = to;
@@ -455,7 +359,7 @@ static int crease_step(rf_motion *m, double h)
     }
     if (zero) {
         m->s.v = rf_v3(0, 0, 0);
-        if (rolling)
+        if (cr.rolling)
             m->s.w = rf_v3(0, 0, 0);
         rf_motion_event(m);
     }

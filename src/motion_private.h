@@ -213,6 +213,37 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c);
 /* Normal pressures (per unit mass) of the two faces of a crease with normals nA, nB,
  * and its direction l; -1 when the faces are (nearly) parallel. */
 int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l);
+/* The motion along a crease (m->sup.n == 2), shared by both engines. */
+typedef enum rf_crease_kind {
+    RF_CREASE_MOVES, /* uniformly accelerated along l */
+    RF_CREASE_REST,  /* slower than stop_speed where friction holds it */
+    RF_CREASE_ENDED  /* a normal force is negative: the face kept is the support */
+} rf_crease_kind;
+typedef struct rf_crease {
+    rf_vec3 l;   /* unit direction along the crease, the way the rock moves (or, from
+                    rest, the way gravity pulls it) */
+    double s;    /* speed along l */
+    double as;   /* acceleration along l (sliding, or rolling with the roll factor) */
+    int holds;   /* friction (mu, or mu_r rolling) holds the rock at rest there */
+    int rolling;
+} rf_crease;
+/* Sets the velocity along the crease and decides between rolling and sliding (a
+ * rolling sphere slides when friction cannot make it roll down the crease). */
+rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr);
+/* The spin of a sphere rolling along a crease: w = n_m x v / r, n_m the mean normal. */
+void rf_crease_spin(rf_motion *m);
+/* Edge functions of a face: E_k(c) = m_k . c - o_k >= 0 while a point c is inside
+ * edge k (the face's xy column: horizontal m_k). */
+typedef struct rf_face_edges {
+    rf_vec3 m[3];
+    double o[3];
+} rf_face_edges;
+void rf_column_edges(const rf_triangle *T, rf_face_edges *fe);
+/* The face a rock enters when its contact point q (the centre in centre mode) leaves
+ * face `from` over edge `edge` (fe: the face's edge functions), moving with the
+ * velocity, or the acceleration acc from rest; -1 when there is none. */
+int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_edges *fe,
+                      rf_vec3 q, rf_vec3 acc);
 /* How a rock that reaches the edge of its face meets the next face `to` (not coplanar
  * with it): it rises into it (an impact; in centre mode also when the centre is below
  * its offset plane), the path goes on along it, or it falls away (in centre mode also
@@ -227,6 +258,13 @@ rf_surface_end rf_surface_step(rf_motion *m);
 /* Puts the rock onto face tri after a landing or at the start (velocity made tangent,
  * coefficients drawn when the zone changes, rolling when the slip vanishes). */
 void rf_surface_enter(rf_motion *m, int32_t tri);
+/* The rock on face tri alone: on its offset plane with a tangent velocity, rolling when
+ * the slip vanishes; the coefficients are drawn when fresh, after a flight or when the
+ * zone changes. */
+void rf_support_single(rf_motion *m, int32_t tri, int fresh);
+/* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
+ * contact search. */
+void rf_go_flight(rf_motion *m, int32_t exclude);
 /* The surface law on a face with normal n for the rock's current mode (point, slipping
  * or rolling sphere; coefficients of m->sup): acceleration of the centre, and in *du
  * the rate of the slip u of a slipping sphere. */

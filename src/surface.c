@@ -151,8 +151,7 @@ static rf_support segment_exclusion(rf_motion *m)
 
 /* ---- entering a face or a crease ---------------------------------------------------- */
 
-/* Sets the single support tri; draws the coefficients when fresh or the zone changes. */
-static void support_single(rf_motion *m, int32_t tri, int fresh)
+void rf_support_single(rf_motion *m, int32_t tri, int fresh)
 {
     const rf_triangle *T = &m->terrain->tri[tri];
     if (fresh || m->sup.n == 0 || m->sup.zone != T->zone)
@@ -174,7 +173,7 @@ static void support_single(rf_motion *m, int32_t tri, int fresh)
     }
 }
 
-void rf_surface_enter(rf_motion *m, int32_t tri) { support_single(m, tri, 1); }
+void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1); }
 
 int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
 {
@@ -238,7 +237,7 @@ static void land(rf_motion *m, int32_t tri)
         if (try_crease(m, a, tri) == 0 || try_crease(m, b, tri) == 0)
             return;
     }
-    support_single(m, tri, m->sup.n == 0);
+    rf_support_single(m, tri, m->sup.n == 0);
 }
 
 /* 1 when a sphere rolled over q onto face `to` would touch no other feature: the
@@ -251,7 +250,7 @@ static int pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
     return d >= m->rho - 1e-6 * m->rho - m->tol_len;
 }
 
-static void go_flight(rf_motion *m, int32_t exclude)
+void rf_go_flight(rf_motion *m, int32_t exclude)
 {
     m->sup.n = 0;
     m->flight_ex.n = exclude >= 0 ? 1 : 0;
@@ -269,7 +268,7 @@ static void hop(rf_motion *m, rf_vec3 u)
     double vtl = rf_v3_norm(vt);
     double st = sqrt(dmax(0.0, speed * speed - vn * vn));
     m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
-    go_flight(m, -1);
+    rf_go_flight(m, -1);
 }
 
 /* An impact with approach speed vin (m/s; kinetic energy e0 J before it) counts and is
@@ -359,7 +358,7 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     double rebound = rf_impact(m, c->tri, n, NULL);
     count_impact(m, e0, -vn);
     if (rebound >= m->v_stay) {
-        go_flight(m, -1);
+        rf_go_flight(m, -1);
         return;
     }
     m->s.v = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, n), n);
@@ -373,7 +372,7 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
         w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
     int32_t to = rf_face_beyond(t, -2, c->point, w);
     if (to >= 0 && pivot_clear(m, c->point, to) && rf_pivot(m, c->point, to) == 0) {
-        support_single(m, to, m->sup.n == 0);
+        rf_support_single(m, to, m->sup.n == 0);
         m->sup.rolling = 1;
         return;
     }
@@ -385,25 +384,28 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
 /* Edge functions of a face: E_i(c) = m_i . c - o_i >= 0 while the contact point of a
  * centre c is inside edge i (in-plane distances; over the xy projection in centre
  * mode). */
-typedef struct face_edges {
-    rf_vec3 m[3];
-    double o[3];
-} face_edges;
+typedef rf_face_edges face_edges;
+
+void rf_column_edges(const rf_triangle *T, rf_face_edges *fe)
+{
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
+    double sg = orient >= 0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 A = P[k], B = P[(k + 1) % 3];
+        double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
+        fe->m[k] = el > 0 ? rf_v3(-sg * ey / el, sg * ex / el, 0.0) : rf_v3(0, 0, 0);
+        fe->o[k] = rf_v3_dot(fe->m[k], A);
+    }
+}
 
 static void edges_setup(const rf_motion *m, const rf_triangle *T, face_edges *fe)
 {
-    rf_vec3 P[3] = {T->a, T->b, T->c};
     if (m->centre) {
-        double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
-        double sg = orient >= 0 ? 1.0 : -1.0;
-        for (int k = 0; k < 3; k++) {
-            rf_vec3 A = P[k], B = P[(k + 1) % 3];
-            double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
-            fe->m[k] = el > 0 ? rf_v3(-sg * ey / el, sg * ex / el, 0.0) : rf_v3(0, 0, 0);
-            fe->o[k] = rf_v3_dot(fe->m[k], A);
-        }
+        rf_column_edges(T, fe);
         return;
     }
+    rf_vec3 P[3] = {T->a, T->b, T->c};
     rf_vec3 ab = rf_v3_sub(P[1], P[0]), ac = rf_v3_sub(P[2], P[0]);
     double sg = rf_v3_dot(rf_v3_cross(ab, ac), T->n) >= 0 ? 1.0 : -1.0;
     rf_vec3 lift = rf_v3_scale(T->n, m->rho);
@@ -481,14 +483,10 @@ void rf_impact_on_face(rf_motion *m, int32_t to)
     rf_contact_resolve(m, &c);
 }
 
-/* The contact point crossed edge `edge` of the support face at the current state. */
-static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_edges *fe,
-                                 rf_vec3 acc)
+int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_edges *fe,
+                      rf_vec3 q, rf_vec3 acc)
 {
     const rf_terrain *t = m->terrain;
-    int32_t from = m->sup.tri[slot];
-    const rf_triangle *F = &t->tri[from];
-    rf_vec3 q = m->centre ? m->s.p : rf_v3_madd(m->s.p, -m->rho, F->n);
     rf_vec3 dir = m->s.v;
     if (rf_v3_norm(dir) < 1e-9)
         dir = acc;
@@ -497,25 +495,41 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
     int32_t to = rf_face_beyond(t, from, q, dir);
     if (to == from) {
         /* numerically still inside: step over the middle of the edge */
+        const rf_triangle *F = &t->tri[from];
         rf_vec3 mid = rf_v3_scale(rf_v3_add(tri_vertex(F, edge), tri_vertex(F, edge + 1)), 0.5);
         to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[edge], -1.0));
         if (to == from)
             to = -1;
     }
+    return to;
+}
+
+/* The contact point crossed edge `edge` of the support face at the current state. */
+static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_edges *fe,
+                                 rf_vec3 acc)
+{
+    const rf_terrain *t = m->terrain;
+    int32_t from = m->sup.tri[slot];
+    const rf_triangle *F = &t->tri[from];
+    rf_vec3 q = m->centre ? m->s.p : rf_v3_madd(m->s.p, -m->rho, F->n);
+    int32_t to = rf_face_after(m, from, edge, fe, q, acc);
+    if (to < 0) {
+        if (m->point || m->centre)
+            return RF_SURF_EXITED;
+        int32_t other = m->sup.n == 2 ? m->sup.tri[1 - slot] : -1;
+        rf_go_flight(m, from);
+        if (other >= 0) {
+            m->flight_ex.n = 2;
+            m->flight_ex.tri[1] = other;
+        }
+        return RF_SURF_FLIGHT;
+    }
     if (m->sup.n == 2) {
         int32_t other = m->sup.tri[1 - slot];
-        if (to >= 0 && rf_coplanar(F, &t->tri[to], m->tol_len)) {
+        if (rf_coplanar(F, &t->tri[to], m->tol_len)) {
             m->sup.tri[slot] = to;
             m->sup.left = from;
             return RF_SURF_CONTINUE;
-        }
-        if (to < 0) {
-            if (m->point || m->centre)
-                return RF_SURF_EXITED;
-            go_flight(m, from);
-            m->flight_ex.n = 2;
-            m->flight_ex.tri[1] = other;
-            return RF_SURF_FLIGHT;
         }
         /* the crease goes on between the other face and the next one, or ends: carry
          * on on the other face */
@@ -527,15 +541,9 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
         m->sup.left = from;
         return RF_SURF_CONTINUE;
     }
-    if (to < 0) {
-        if (m->point || m->centre)
-            return RF_SURF_EXITED;
-        go_flight(m, from);
-        return RF_SURF_FLIGHT;
-    }
     const rf_triangle *Tn = &t->tri[to];
     if (rf_coplanar(F, Tn, m->tol_len)) {
-        support_single(m, to, 0);
+        rf_support_single(m, to, 0);
         m->sup.left = from;
         return RF_SURF_CONTINUE;
     }
@@ -544,7 +552,7 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
         rf_impact_on_face(m, to);
         return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
     case RF_NEXT_ON:
-        support_single(m, to, 0); /* tangent: the path continues on the next face */
+        rf_support_single(m, to, 0); /* tangent: the path continues on the next face */
         m->sup.left = from;
         return RF_SURF_CONTINUE;
     case RF_NEXT_AWAY:
@@ -552,13 +560,13 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
     }
     /* convex: the next face falls away */
     if (m->point || m->centre) {
-        go_flight(m, from);
+        rf_go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
     rf_vec3 e = rf_v3_unit(rf_v3_sub(tri_vertex(F, edge + 1), tri_vertex(F, edge)));
     rf_vec3 vp = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, e), e);
     if (rf_v3_norm2(vp) >= m->rho * G_ACC * F->n.z) {
-        go_flight(m, from); /* fast enough to fly off the edge */
+        rf_go_flight(m, from); /* fast enough to fly off the edge */
         return RF_SURF_FLIGHT;
     }
     if (!pivot_clear(m, q, to)) {
@@ -566,7 +574,7 @@ static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_ed
         return RF_SURF_FLIGHT;
     }
     if (rf_pivot(m, q, to) == 0) {
-        support_single(m, to, 0);
+        rf_support_single(m, to, 0);
         m->sup.rolling = 1;
         return RF_SURF_CONTINUE;
     }
@@ -1197,56 +1205,74 @@ static rf_surface_end face_step(rf_motion *m)
 
 /* ---- a crease ---------------------------------------------------------------------- */
 
-static rf_surface_end crease_step(rf_motion *m)
+rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr)
 {
     const rf_terrain *t = m->terrain;
     const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
-        int keep = (xA < 0) ? 1 : 0;
-        int32_t tri = m->sup.tri[keep];
-        m->sup.n = 1;
-        m->sup.tri[0] = tri;
+        m->sup.tri[0] = m->sup.tri[xA < 0 ? 1 : 0];
         m->sup.tri[1] = -1;
-        return RF_SURF_CONTINUE;
+        m->sup.n = 1;
+        return RF_CREASE_ENDED;
     }
-    rf_support ex = segment_exclusion(m);
     double s = rf_v3_dot(m->s.v, l);
     if (s < 0) {
         l = rf_v3_scale(l, -1.0);
         s = -s;
     }
     m->s.v = rf_v3_scale(l, s);
-    double gl = -G_ACC * l.z;
-    double N = xA + xB;
+    double gl = -G_ACC * l.z, N = xA + xB;
     int rolling = !m->point && m->sup.rolling;
-    if (rolling && (1.0 - rf_roll_factor(m->body, m->rho)) * fabs(G_ACC * l.z) > m->sup.mu * (xA + xB)) {
+    if (rolling && (1.0 - rf_roll_factor(m->body, m->rho)) * fabs(gl) > m->sup.mu * N)
         m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
-    }
     double k = rolling ? rf_roll_factor(m->body, m->rho) : 1.0;
     double c = rolling ? m->sup.mu_r : m->sup.mu;
-    double stop = m->scene->sim->stop_speed;
-    int holds = fabs(gl) <= c * N;
-    if (s <= stop && holds)
-        return RF_SURF_REST;
+    cr->holds = fabs(gl) <= c * N;
+    cr->rolling = rolling;
+    if (s <= m->scene->sim->stop_speed && cr->holds)
+        return RF_CREASE_REST;
     if (s == 0.0 && gl < 0) {
         l = rf_v3_scale(l, -1.0);
         gl = -gl;
     }
-    double as = k * (gl - c * N);
-    rf_vec3 a = rf_v3_scale(l, as);
+    cr->l = l;
+    cr->s = s;
+    cr->as = k * (gl - c * N);
+    return RF_CREASE_MOVES;
+}
+
+void rf_crease_spin(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    rf_vec3 nm = rf_v3_unit(rf_v3_add(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n));
+    m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
+}
+
+static rf_surface_end crease_step(rf_motion *m)
+{
+    rf_crease cr;
+    switch (rf_crease_law(m, &cr)) {
+    case RF_CREASE_ENDED: return RF_SURF_CONTINUE;
+    case RF_CREASE_REST: return RF_SURF_REST;
+    case RF_CREASE_MOVES: break;
+    }
+    const rf_terrain *t = m->terrain;
+    rf_support ex = segment_exclusion(m);
+    double stop = m->scene->sim->stop_speed;
+    rf_vec3 a = rf_v3_scale(cr.l, cr.as);
     seg_event ev = {EV_MAX_TIME, dmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
-    if (as < 0 && s > 0) {
-        if (holds)
-            consider(&ev, EV_REST, (s - stop) / -as);
+    if (cr.as < 0 && cr.s > 0) {
+        if (cr.holds)
+            consider(&ev, EV_REST, (cr.s - stop) / -cr.as);
         else
-            consider(&ev, EV_ZERO, s / -as);
+            consider(&ev, EV_ZERO, cr.s / -cr.as);
     }
     rf_arc arc = {m->s.p, m->s.v, a};
     face_edges fe[2];
     for (int slot = 0; slot < 2; slot++) {
-        edges_setup(m, slot == 0 ? A : B, &fe[slot]);
+        edges_setup(m, &t->tri[m->sup.tri[slot]], &fe[slot]);
         int edge = 0;
         double tx = exit_time(m, &fe[slot], &arc, ev.t, &edge);
         if (tx < ev.t) {
@@ -1256,10 +1282,8 @@ static rf_surface_end crease_step(rf_motion *m)
         }
     }
     closed_finish(m, &arc, &ex, &ev);
-    if (rolling) {
-        rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
-        m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
-    }
+    if (cr.rolling)
+        rf_crease_spin(m);
     return dispatch(m, &ev, a, &fe[ev.slot]);
 }
 
