@@ -150,6 +150,40 @@ static double query_real(report *r, const char *sql, int64_t id)
     return v;
 }
 
+/* Runs sql with ?1 = id and hands each row to row(r, st, ctx), which returns 0, or -1
+ * with r->err set (out of memory).  Returns 0, or -1 with r->err set. */
+typedef int (*row_fn)(report *r, sqlite3_stmt *st, void *ctx);
+static int each_row(report *r, const char *sql, int64_t id, row_fn row, void *ctx)
+{
+    sqlite3_stmt *st = prep(r, sql, id);
+    if (!st)
+        return -1;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+        if (row(r, st, ctx)) {
+            sqlite3_finalize(st);
+            return -1;
+        }
+    sqlite3_finalize(st);
+    return rc == SQLITE_DONE ? 0 : db_error(r);
+}
+
+/* A growing array for each_row: the next element of *a (n in use, cap allocated), or
+ * NULL with r->err set. */
+typedef struct rows {
+    void **a;
+    size_t *n, cap, size;
+} row_array;
+
+static void *next_elem(report *r, row_array *g)
+{
+    if (rf_grow(g->a, &g->cap, *g->n + 1, g->size)) {
+        oom(r);
+        return NULL;
+    }
+    return (char *)*g->a + (*g->n)++ * g->size;
+}
+
 static size_t release_index(const report *r, int64_t id)
 {
     for (size_t k = 0; k < r->nrel; k++)
@@ -251,95 +285,73 @@ static int load_run(report *r)
     return 0;
 }
 
+static int release_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    rep_release *e = next_elem(r, ctx);
+    if (!e)
+        return -1;
+    *e = (rep_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
+                       .rock = col_dup(st, 2), .x = col_real(st, 3), .y = col_real(st, 4),
+                       .z = col_real(st, 5), .mass = col_real(st, 6),
+                       .action_level = sqlite3_column_int(st, 7),
+                       .count = (long)sqlite3_column_int64(st, 8)};
+    return e->name && e->rock ? 0 : oom(r);
+}
+
 static int load_releases(report *r)
 {
-    sqlite3_stmt *st = prep(r,
-                            "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
-                            " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
-                            r->run);
-    if (!st)
+    row_array g = {(void **)&r->rel, &r->nrel, 0, sizeof *r->rel};
+    return each_row(r,
+                    "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
+                    " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
+                    r->run, release_row, &g);
+}
+
+static int vertex_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    double *xy = next_elem(r, ctx);
+    if (!xy)
         return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&r->rel, &cap, r->nrel + 1, sizeof *r->rel)) {
-            sqlite3_finalize(st);
-            return oom(r);
-        }
-        rep_release *e = &r->rel[r->nrel++];
-        *e = (rep_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
-                           .rock = col_dup(st, 2), .x = col_real(st, 3), .y = col_real(st, 4),
-                           .z = col_real(st, 5), .mass = col_real(st, 6),
-                           .action_level = sqlite3_column_int(st, 7),
-                           .count = (long)sqlite3_column_int64(st, 8)};
-        if (!e->name || !e->rock) {
-            sqlite3_finalize(st);
-            return oom(r);
-        }
-    }
-    sqlite3_finalize(st);
-    return rc == SQLITE_DONE ? 0 : db_error(r);
+    xy[0] = col_real(st, 0);
+    xy[1] = col_real(st, 1);
+    return 0;
 }
 
 /* The measure's polyline from its JSON text. */
 static int load_line(report *r, rep_measure *m)
 {
-    sqlite3_stmt *st = prep(r,
-                            "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
-                            " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
-                            m->id);
-    if (!st)
+    row_array g = {(void **)&m->xy, &m->n, 0, 2 * sizeof *m->xy};
+    return each_row(r,
+                    "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
+                    " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
+                    m->id, vertex_row, &g);
+}
+
+static int measure_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    rep_measure *m = next_elem(r, ctx);
+    if (!m)
         return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&m->xy, &cap, m->n + 1, 2 * sizeof *m->xy)) {
-            sqlite3_finalize(st);
-            return oom(r);
-        }
-        m->xy[2 * m->n] = col_real(st, 0);
-        m->xy[2 * m->n + 1] = col_real(st, 1);
-        m->n++;
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE)
-        return db_error(r);
-    return 0;
+    *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
+                       .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
+                       .kind = col_dup(st, 3), .importance = col_dup(st, 4),
+                       .behaviour = col_dup(st, 5), .height = col_real(st, 6),
+                       .mel = col_real(st, 7), .sel = col_real(st, 8)};
+    for (int k = 0; k < RF_N_LIMIT_STATES; k++)
+        m->cap[k] = col_real(st, 9 + k);
+    return m->name && m->kind && m->importance && m->behaviour ? 0 : oom(r);
 }
 
 static int load_measures(report *r)
 {
-    sqlite3_stmt *st = prep(r,
-                            "SELECT id, idx, name, kind, importance, behaviour, height_m, mel_kj,"
-                            " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
-                            " cap_ultimate_kj, cap_near_collapse_kj"
-                            " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
-                            r->run);
-    if (!st)
+    row_array g = {(void **)&r->mea, &r->nmea, 0, sizeof *r->mea};
+    if (each_row(r,
+                 "SELECT id, idx, name, kind, importance, behaviour, height_m, mel_kj,"
+                 " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
+                 " cap_ultimate_kj, cap_near_collapse_kj"
+                 " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
+                 r->run, measure_row, &g))
         return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&r->mea, &cap, r->nmea + 1, sizeof *r->mea)) {
-            sqlite3_finalize(st);
-            return oom(r);
-        }
-        rep_measure *m = &r->mea[r->nmea++];
-        *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
-                           .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
-                           .kind = col_dup(st, 3), .importance = col_dup(st, 4),
-                           .behaviour = col_dup(st, 5), .height = col_real(st, 6),
-                           .mel = col_real(st, 7), .sel = col_real(st, 8)};
-        for (int k = 0; k < RF_N_LIMIT_STATES; k++)
-            m->cap[k] = col_real(st, 9 + k);
-        if (!m->name || !m->kind || !m->importance || !m->behaviour) {
-            sqlite3_finalize(st);
-            return oom(r);
-        }
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE)
-        return db_error(r);
     for (size_t k = 0; k < r->nmea; k++)
         if (load_line(r, &r->mea[k]))
             return -1;
@@ -830,50 +842,54 @@ typedef struct road_stats {
     double s_min, s_max, v_mean, v_max, e_max;
 } road_stats;
 
+typedef struct arrivals_ctx {
+    row_array g;
+    const rep_measure *m;
+    road_stats *rs;
+    double vsum;
+} arrivals_ctx;
+
+static int arrival_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    arrivals_ctx *c = ctx;
+    road_stats *rs = c->rs;
+    rep_arrival *a = next_elem(r, &c->g);
+    if (!a)
+        return -1;
+    a->rel = release_index(r, sqlite3_column_int64(st, 0));
+    a->s = rf_polyline_station(c->m->xy, c->m->n, col_real(st, 1), col_real(st, 2), NULL, NULL,
+                               NULL);
+    a->speed = col_real(st, 3);
+    a->energy = col_real(st, 4);
+    a->zground = col_real(st, 5);
+    grow(&rs->s_min, &rs->s_max, a->s);
+    if (isfinite(a->speed)) {
+        c->vsum += a->speed;
+        rs->v_max = fmax(rs->v_max, a->speed);
+    }
+    if (isfinite(a->energy))
+        rs->e_max = fmax(rs->e_max, a->energy);
+    return 0;
+}
+
 static int load_arrivals(report *r, const rep_measure *m, road_stats *rs)
 {
     memset(rs, 0, sizeof *rs);
     rs->length = rf_polyline_length(m->xy, m->n);
-    /* the first crossing of each trajectory */
-    sqlite3_stmt *st = prep(r,
-                            "SELECT t.release_id, i.x, i.y, i.speed_ms, i.energy_kj,"
-                            " i.z - i.passing_height_m, min(i.t_s)"
-                            " FROM interceptions i JOIN trajectories t ON t.id = i.trajectory_id"
-                            " WHERE i.measure_id = ?1 GROUP BY i.trajectory_id"
-                            " ORDER BY i.trajectory_id",
-                            m->id);
-    if (!st)
-        return -1;
-    size_t cap = 0;
-    int rc;
     rs->s_min = INFINITY;
     rs->s_max = -INFINITY;
     rs->v_max = rs->e_max = -INFINITY;
-    double vsum = 0;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&rs->a, &cap, rs->n + 1, sizeof *rs->a)) {
-            sqlite3_finalize(st);
-            return oom(r);
-        }
-        rep_arrival *a = &rs->a[rs->n++];
-        a->rel = release_index(r, sqlite3_column_int64(st, 0));
-        a->s = rf_polyline_station(m->xy, m->n, col_real(st, 1), col_real(st, 2), NULL, NULL,
-                                   NULL);
-        a->speed = col_real(st, 3);
-        a->energy = col_real(st, 4);
-        a->zground = col_real(st, 5);
-        grow(&rs->s_min, &rs->s_max, a->s);
-        if (isfinite(a->speed)) {
-            vsum += a->speed;
-            rs->v_max = fmax(rs->v_max, a->speed);
-        }
-        if (isfinite(a->energy))
-            rs->e_max = fmax(rs->e_max, a->energy);
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE)
-        return db_error(r);
-    rs->v_mean = rs->n ? vsum / (double)rs->n : NAN;
+    arrivals_ctx c = {{(void **)&rs->a, &rs->n, 0, sizeof *rs->a}, m, rs, 0.0};
+    /* the first crossing of each trajectory */
+    if (each_row(r,
+                 "SELECT t.release_id, i.x, i.y, i.speed_ms, i.energy_kj,"
+                 " i.z - i.passing_height_m, min(i.t_s)"
+                 " FROM interceptions i JOIN trajectories t ON t.id = i.trajectory_id"
+                 " WHERE i.measure_id = ?1 GROUP BY i.trajectory_id"
+                 " ORDER BY i.trajectory_id",
+                 m->id, arrival_row, &c))
+        return -1;
+    rs->v_mean = rs->n ? c.vsum / (double)rs->n : NAN;
     return 0;
 }
 
@@ -1638,90 +1654,100 @@ static int figure_measure(report *r, const rep_measure *m, const char *file)
     return rf_svg_close(&s, r->err);
 }
 
+/* A table written row by row: the header goes out before the first row. */
+typedef struct table_ctx {
+    FILE *f;
+    int rows;
+    double total;       /* classifications: all of the measure's */
+    long *npass, *nfail; /* checks */
+} table_ctx;
+
+static int classification_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    (void)r;
+    table_ctx *c = ctx;
+    FILE *f = c->f;
+    if (!c->rows++)
+        fputs("<table><tr><th>limit state reached</th><th>crossings</th><th>share (%)</th>"
+              "<th>meet the required state</th></tr>\n",
+              f);
+    fputs("<tr>", f);
+    const char *ls = (const char *)sqlite3_column_text(st, 0);
+    td_text(f, ls ? ls : "(none)");
+    double n = sqlite3_column_double(st, 1);
+    fprintf(f, "<td>%.0f</td>", n);
+    td_num(f, pct(n, c->total), 1);
+    fprintf(f, "<td>%.0f</td></tr>\n", sqlite3_column_double(st, 2));
+    return 0;
+}
+
 /* Shares of the limit states from `rockfall check` (classifications), when present. */
 static int measure_classifications(report *r, const rep_measure *m)
 {
-    FILE *f = r->body;
-    sqlite3_stmt *st = prep(r,
-                            "SELECT c.limit_state, count(*), sum(c.ok) FROM classifications c"
-                            " JOIN interceptions i ON i.id = c.interception_id"
-                            " WHERE i.measure_id = ?1 GROUP BY c.limit_state"
-                            " ORDER BY CASE c.limit_state WHEN 'serviceability' THEN 0"
-                            " WHEN 'restorability' THEN 1 WHEN 'ultimate' THEN 2"
-                            " WHEN 'near_collapse' THEN 3 WHEN 'collapse' THEN 4"
-                            " WHEN 'overtopped' THEN 5 ELSE 6 END, c.limit_state",
-                            m->id);
-    if (!st)
+    table_ctx c = {r->body, 0, 0.0, NULL, NULL};
+    c.total = query_real(r,
+                         "SELECT count(*) FROM classifications c JOIN interceptions i"
+                         " ON i.id = c.interception_id WHERE i.measure_id = ?1",
+                         m->id);
+    if (each_row(r,
+                 "SELECT c.limit_state, count(*), sum(c.ok) FROM classifications c"
+                 " JOIN interceptions i ON i.id = c.interception_id"
+                 " WHERE i.measure_id = ?1 GROUP BY c.limit_state"
+                 " ORDER BY CASE c.limit_state WHEN 'serviceability' THEN 0"
+                 " WHEN 'restorability' THEN 1 WHEN 'ultimate' THEN 2"
+                 " WHEN 'near_collapse' THEN 3 WHEN 'collapse' THEN 4"
+                 " WHEN 'overtopped' THEN 5 ELSE 6 END, c.limit_state",
+                 m->id, classification_row, &c))
         return -1;
-    double total = query_real(r,
-                              "SELECT count(*) FROM classifications c JOIN interceptions i"
-                              " ON i.id = c.interception_id WHERE i.measure_id = ?1",
-                              m->id);
-    int rows = 0, rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (!rows++)
-            fputs("<table><tr><th>limit state reached</th><th>crossings</th><th>share (%)</th>"
-                  "<th>meet the required state</th></tr>\n",
-                  f);
-        fputs("<tr>", f);
-        const char *ls = (const char *)sqlite3_column_text(st, 0);
-        td_text(f, ls ? ls : "(none)");
-        double c = sqlite3_column_double(st, 1);
-        fprintf(f, "<td>%.0f</td>", c);
-        td_num(f, pct(c, total), 1);
-        fprintf(f, "<td>%.0f</td></tr>\n", sqlite3_column_double(st, 2));
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE)
-        return db_error(r);
-    if (rows)
-        fputs("</table>\n", f);
+    if (c.rows)
+        fputs("</table>\n", c.f);
     else
         fputs("<p>No classifications stored for this measure (run <code>rockfall check</code> "
               "to classify each crossing against Table 3).</p>\n",
+              c.f);
+    return 0;
+}
+
+static int check_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    (void)r;
+    table_ctx *c = ctx;
+    FILE *f = c->f;
+    if (!c->rows++)
+        fputs("<table><tr><th>check</th><th>value</th><th>threshold</th><th>result</th>"
+              "</tr>\n",
               f);
+    int passed = sqlite3_column_int(st, 3);
+    fputs("<tr>", f);
+    td_text(f, (const char *)sqlite3_column_text(st, 0));
+    td_num(f, col_real(st, 1), 3);
+    td_num(f, col_real(st, 2), 3);
+    fprintf(f, "<td class=\"%s\">%s</td></tr>\n", passed ? "pass" : "fail",
+            passed ? "pass" : "FAIL");
+    if (passed)
+        (*c->npass)++;
+    else
+        (*c->nfail)++;
     return 0;
 }
 
 static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, long *nfail)
 {
-    sqlite3_stmt *st;
-    if (measure_id > 0)
-        st = prep(r,
-                  "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
-                  " ORDER BY id",
-                  measure_id);
-    else
-        st = prep(r,
-                  "SELECT rule, value, threshold, passed FROM checks WHERE run_id = ?1 AND"
-                  " measure_id IS NULL ORDER BY id",
-                  r->run);
-    if (!st)
+    table_ctx c = {f, 0, 0.0, npass, nfail};
+    int rc = measure_id > 0
+                 ? each_row(r,
+                            "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
+                            " ORDER BY id",
+                            measure_id, check_row, &c)
+                 : each_row(r,
+                            "SELECT rule, value, threshold, passed FROM checks WHERE run_id = ?1"
+                            " AND measure_id IS NULL ORDER BY id",
+                            r->run, check_row, &c);
+    if (rc)
         return -1;
-    int rows = 0, rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (!rows++)
-            fputs("<table><tr><th>check</th><th>value</th><th>threshold</th><th>result</th>"
-                  "</tr>\n",
-                  f);
-        int passed = sqlite3_column_int(st, 3);
-        fputs("<tr>", f);
-        td_text(f, (const char *)sqlite3_column_text(st, 0));
-        td_num(f, col_real(st, 1), 3);
-        td_num(f, col_real(st, 2), 3);
-        fprintf(f, "<td class=\"%s\">%s</td></tr>\n", passed ? "pass" : "fail",
-                passed ? "pass" : "FAIL");
-        if (passed)
-            (*npass)++;
-        else
-            (*nfail)++;
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE)
-        return db_error(r);
-    if (rows)
+    if (c.rows)
         fputs("</table>\n", f);
-    return rows;
+    return c.rows;
 }
 
 static int section_measures(report *r, long *npass, long *nfail)
@@ -1911,36 +1937,37 @@ static int section_releases(report *r, FILE *f)
     return 0;
 }
 
+static int end_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    (void)r;
+    FILE *f = ctx;
+    fputs("<tr>", f);
+    td_text(f, (const char *)sqlite3_column_text(st, 0));
+    td_text(f, (const char *)sqlite3_column_text(st, 1));
+    fprintf(f, "<td>%lld</td>", (long long)sqlite3_column_int64(st, 2));
+    td_num(f, col_real(st, 3), 1);
+    td_num(f, col_real(st, 4), 1);
+    td_num(f, col_real(st, 5), 0);
+    td_num(f, col_real(st, 6), 0);
+    fputs("</tr>\n", f);
+    return 0;
+}
+
 static int section_ends(report *r, FILE *f)
 {
     fputs("<h2 id=\"ends\">Where the trajectories ended</h2>\n<table><tr><th>release</th><th>end</th>"
           "<th>count</th><th>mean duration (s)</th><th>mean path length (m)</th>"
           "<th>mean largest energy (kJ)</th><th>largest energy (kJ)</th></tr>\n",
           f);
-    sqlite3_stmt *st = prep(r,
-                            "SELECT r.name, t.stop_reason, count(*), avg(t.duration_s),"
-                            " avg(t.path_length_m), avg(t.max_energy_kj), max(t.max_energy_kj)"
-                            " FROM trajectories t JOIN releases r ON r.id = t.release_id"
-                            " WHERE t.run_id = ?1 GROUP BY r.id, t.stop_reason"
-                            " ORDER BY r.idx, t.stop_reason",
-                            r->run);
-    if (!st)
-        return -1;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        fputs("<tr>", f);
-        td_text(f, (const char *)sqlite3_column_text(st, 0));
-        td_text(f, (const char *)sqlite3_column_text(st, 1));
-        fprintf(f, "<td>%lld</td>", (long long)sqlite3_column_int64(st, 2));
-        td_num(f, col_real(st, 3), 1);
-        td_num(f, col_real(st, 4), 1);
-        td_num(f, col_real(st, 5), 0);
-        td_num(f, col_real(st, 6), 0);
-        fputs("</tr>\n", f);
-    }
-    sqlite3_finalize(st);
+    int rc = each_row(r,
+                      "SELECT r.name, t.stop_reason, count(*), avg(t.duration_s),"
+                      " avg(t.path_length_m), avg(t.max_energy_kj), max(t.max_energy_kj)"
+                      " FROM trajectories t JOIN releases r ON r.id = t.release_id"
+                      " WHERE t.run_id = ?1 GROUP BY r.id, t.stop_reason"
+                      " ORDER BY r.idx, t.stop_reason",
+                      r->run, end_row, f);
     fputs("</table>\n", f);
-    return rc == SQLITE_DONE ? 0 : db_error(r);
+    return rc;
 }
 
 /* ---- the report ------------------------------------------------------------------------ */
