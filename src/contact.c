@@ -1017,21 +1017,17 @@ static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int
  * holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a is SW in both). */
 static void grid_edge_live(const rf_terrain *t, uint8_t *live, int32_t idx)
 {
-    const rf_triangle *T = &t->tri[idx];
     live[idx] = 8 | 7;
     size_t ncx = t->nx - 1, ncy = t->ny - 1;
-    size_t i = (size_t)((T->a.x - t->x0) / t->cell + 0.5);
-    size_t j = (size_t)((T->a.y - t->y0) / t->cell + 0.5);
-    if (i >= ncx || j >= ncy)
-        return;
+    size_t n = (size_t)t->grid_node[idx] >> 1, j = n / t->nx, i = n - j * t->nx;
     const int32_t *g = t->grid_tri + 2 * (j * ncx + i);
-    if (g[0] == idx) {
+    if ((t->grid_node[idx] & 1) == 0) {
         if (j > 0)
             mark_pair(t, live, idx, 0, t->grid_tri[2 * ((j - 1) * ncx + i) + 1]); /* south */
         if (i + 1 < ncx)
             mark_pair(t, live, idx, 1, g[3]);                                      /* east */
         mark_pair(t, live, idx, 2, g[1]);                                          /* diagonal */
-    } else if (g[1] == idx) {
+    } else {
         mark_pair(t, live, idx, 0, g[0]);                                          /* diagonal */
         if (j + 1 < ncy)
             mark_pair(t, live, idx, 1, t->grid_tri[2 * ((j + 1) * ncx + i)]);     /* north */

@@ -313,15 +313,13 @@ static int crease_step(rf_motion *m, double h)
     }
     const rf_terrain *t = m->terrain;
     const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
-    rf_vec3 l = cr.l;
-    double as = cr.as, s = cr.s;
-    double s1 = s + h * as;
+    double s1 = cr.s + h * cr.as;
     int zero = 0;
     if (s1 < 0) {
         s1 = 0.0;
         zero = 1;
     }
-    rf_vec3 ve = rf_v3_scale(l, s1);
+    rf_vec3 ve = rf_v3_scale(cr.l, s1);
     rf_face_edges col[2];
     int edge = 0, slot = 0;
     double tx = INFINITY;
@@ -342,7 +340,7 @@ static int crease_step(rf_motion *m, double h)
         /* the centre leaves one face's column: the crease goes on with the next face
          * on the same plane, or ends on the other face */
         int32_t from = m->sup.tri[slot], other = m->sup.tri[1 - slot];
-        int32_t to = rf_face_after(m, from, edge, &col[slot], m->s.p, rf_v3_scale(l, as));
+        int32_t to = rf_face_after(m, from, edge, &col[slot], m->s.p, rf_v3_scale(cr.l, cr.as));
         rf_motion_event(m);
         if (to >= 0 && rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
             m->sup.tri[slot] = to;

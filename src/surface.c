@@ -384,8 +384,6 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
 /* Edge functions of a face: E_i(c) = m_i . c - o_i >= 0 while the contact point of a
  * centre c is inside edge i (in-plane distances; over the xy projection in centre
  * mode). */
-typedef rf_face_edges face_edges;
-
 void rf_column_edges(const rf_triangle *T, rf_face_edges *fe)
 {
     rf_vec3 P[3] = {T->a, T->b, T->c};
@@ -399,7 +397,7 @@ void rf_column_edges(const rf_triangle *T, rf_face_edges *fe)
     }
 }
 
-static void edges_setup(const rf_motion *m, const rf_triangle *T, face_edges *fe)
+static void edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges *fe)
 {
     if (m->centre) {
         rf_column_edges(T, fe);
@@ -419,7 +417,7 @@ static void edges_setup(const rf_motion *m, const rf_triangle *T, face_edges *fe
 
 /* First time in [0, T] the contact point of the arc leaves the face; T when it does
  * not.  *edge receives the edge. */
-static double exit_time(const rf_motion *m, const face_edges *fe, const rf_arc *arc, double T,
+static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_arc *arc, double T,
                         int *edge)
 {
     double best = INFINITY;
@@ -505,7 +503,7 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
 }
 
 /* The contact point crossed edge `edge` of the support face at the current state. */
-static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const face_edges *fe,
+static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
                                  rf_vec3 acc)
 {
     const rf_terrain *t = m->terrain;
@@ -646,7 +644,7 @@ static void consider(seg_event *ev, ev_kind kind, double t)
 }
 
 /* Finishes a segment at the event: records the motion and dispatches. */
-static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const face_edges *fe)
+static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const rf_face_edges *fe)
 {
     switch (ev->kind) {
     case EV_MAX_TIME:
@@ -702,7 +700,7 @@ static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex,
 
 /* A segment of constant acceleration on one face. */
 static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, rf_vec3 u0,
-                                  const face_edges *fe)
+                                  const rf_face_edges *fe)
 {
     rf_support ex = segment_exclusion(m);
     rf_vec3 a = law_accel(f, dir);
@@ -851,7 +849,7 @@ static rf_vec3 y_v(const double *y) { return rf_v3(y[3], y[4], y[5]); }
 static rf_vec3 y_u(const double *y) { return rf_v3(y[6], y[7], y[8]); }
 
 /* Scalar event function at a state (relative centre c + c0). */
-static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const face_edges *fe,
+static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const rf_face_edges *fe,
                           rf_vec3 c0, const double *y)
 {
     rf_vec3 c = rf_v3_add(c0, y_c(y));
@@ -870,7 +868,7 @@ static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const
 
 /* Rate of change of the event function at a state (relative centre c + c0). */
 static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                         const face_edges *fe, rf_vec3 c0, const double *y)
+                         const rf_face_edges *fe, rf_vec3 c0, const double *y)
 {
     rf_vec3 v = y_v(y);
     switch (kind) {
@@ -909,7 +907,7 @@ static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_eve
  * its continuous extension (regula falsi, Illinois); -1 when it does not (the step's
  * parabola was only close). */
 static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                             const face_edges *fe, rf_vec3 c0, const double *y,
+                             const rf_face_edges *fe, rf_vec3 c0, const double *y,
                              const double *y1, const dp_stages *st, double h, double guess)
 {
     double tmp[9];
@@ -963,7 +961,7 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
  * event has happened, within RF_TIME_TOL after the crossing; a bracketing regula falsi
  * when Newton's method leaves the bracket. */
 static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                     const face_edges *fe, rf_vec3 c0, const double *y, const double *y1,
+                     const rf_face_edges *fe, rf_vec3 c0, const double *y, const double *y1,
                      const dp_stages *st, double h, double guess, double *ye)
 {
     double f0 = event_value(m, kind, ev, fe, c0, y);
@@ -1008,7 +1006,7 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
     return te;
 }
 
-static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const face_edges *fe)
+static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe)
 {
     rf_support ex = segment_exclusion(m);
     ode o = {f, f->mode == LAW_SLIDE ? 9 : 6};
@@ -1186,7 +1184,7 @@ static rf_surface_end face_step(rf_motion *m)
     double speed = rf_v3_norm(m->s.v);
     if (speed <= m->scene->sim->stop_speed && f.mode != LAW_SLIDE && rf_surface_holds(m))
         return RF_SURF_REST;
-    face_edges fe;
+    rf_face_edges fe;
     edges_setup(m, T, &fe);
     rf_vec3 dir;
     int closed;
@@ -1270,7 +1268,7 @@ static rf_surface_end crease_step(rf_motion *m)
             consider(&ev, EV_ZERO, cr.s / -cr.as);
     }
     rf_arc arc = {m->s.p, m->s.v, a};
-    face_edges fe[2];
+    rf_face_edges fe[2];
     for (int slot = 0; slot < 2; slot++) {
         edges_setup(m, &t->tri[m->sup.tri[slot]], &fe[slot]);
         int edge = 0;
