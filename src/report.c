@@ -184,6 +184,14 @@ static void *next_elem(report *r, row_array *g)
     return (char *)*g->a + (*g->n)++ * g->size;
 }
 
+/* each_row into the array *a (*n elements of size bytes): row fills next_elem(r, ctx). */
+static int load_rows(report *r, const char *sql, int64_t id, row_fn row, void **a, size_t *n,
+                     size_t size)
+{
+    row_array g = {a, n, 0, size};
+    return each_row(r, sql, id, row, &g);
+}
+
 static size_t release_index(const report *r, int64_t id)
 {
     for (size_t k = 0; k < r->nrel; k++)
@@ -300,11 +308,10 @@ static int release_row(report *r, sqlite3_stmt *st, void *ctx)
 
 static int load_releases(report *r)
 {
-    row_array g = {(void **)&r->rel, &r->nrel, 0, sizeof *r->rel};
-    return each_row(r,
-                    "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
-                    " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
-                    r->run, release_row, &g);
+    return load_rows(r,
+                     "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
+                     " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
+                     r->run, release_row, (void **)&r->rel, &r->nrel, sizeof *r->rel);
 }
 
 static int vertex_row(report *r, sqlite3_stmt *st, void *ctx)
@@ -320,11 +327,10 @@ static int vertex_row(report *r, sqlite3_stmt *st, void *ctx)
 /* The measure's polyline from its JSON text. */
 static int load_line(report *r, rep_measure *m)
 {
-    row_array g = {(void **)&m->xy, &m->n, 0, 2 * sizeof *m->xy};
-    return each_row(r,
-                    "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
-                    " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
-                    m->id, vertex_row, &g);
+    return load_rows(r,
+                     "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
+                     " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
+                     m->id, vertex_row, (void **)&m->xy, &m->n, 2 * sizeof *m->xy);
 }
 
 static int measure_row(report *r, sqlite3_stmt *st, void *ctx)
@@ -344,13 +350,12 @@ static int measure_row(report *r, sqlite3_stmt *st, void *ctx)
 
 static int load_measures(report *r)
 {
-    row_array g = {(void **)&r->mea, &r->nmea, 0, sizeof *r->mea};
-    if (each_row(r,
-                 "SELECT id, idx, name, kind, importance, behaviour, height_m, mel_kj,"
-                 " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
-                 " cap_ultimate_kj, cap_near_collapse_kj"
-                 " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
-                 r->run, measure_row, &g))
+    if (load_rows(r,
+                  "SELECT id, idx, name, kind, importance, behaviour, height_m, mel_kj,"
+                  " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
+                  " cap_ultimate_kj, cap_near_collapse_kj"
+                  " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
+                  r->run, measure_row, (void **)&r->mea, &r->nmea, sizeof *r->mea))
         return -1;
     for (size_t k = 0; k < r->nmea; k++)
         if (load_line(r, &r->mea[k]))

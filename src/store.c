@@ -293,6 +293,14 @@ static void bind_real(sqlite3_stmt *st, int col, double v)
     (void)rc;
 }
 
+/* The x, y and z of a vector into parameters i, i + 1 and i + 2. */
+static void bind_vec3(sqlite3_stmt *st, int i, rf_vec3 p)
+{
+    bind_real(st, i, p.x);
+    bind_real(st, i + 1, p.y);
+    bind_real(st, i + 2, p.z);
+}
+
 /* A value that is NULL when negative: a capacity that was not given. */
 static void bind_given(sqlite3_stmt *st, int col, double v)
 {
@@ -500,9 +508,7 @@ static int insert_release_row(rf_store *s, const rf_project *p, size_t i, rf_err
     bind_real(st, 10, rock->density);
     bind_int(st, 11, rock->action_level);
     bind_int(st, 12, r->count);
-    bind_real(st, 13, r->velocity.x);
-    bind_real(st, 14, r->velocity.y);
-    bind_real(st, 15, r->velocity.z);
+    bind_vec3(st, 13, r->velocity);
     bind_real(st, 16, r->height);
     bind_real(st, 17, r->jitter);
     if (step_statement(s, ST_RELEASE, "writing a release", err))
@@ -625,9 +631,7 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     bind_int(st, 1, s->run_id);
     bind_int(st, 2, s->release_ids[release_index]);
     bind_int(st, 3, idx);
-    bind_real(st, 4, r->stop.x);
-    bind_real(st, 5, r->stop.y);
-    bind_real(st, 6, r->stop.z);
+    bind_vec3(st, 4, r->stop);
     bind_text(st, 7, rf_stop_reason_name(r->reason));
     bind_real(st, 8, r->duration_s);
     bind_real(st, 9, r->path_length_m);
@@ -648,9 +652,7 @@ int rf_store_add_path_point(rf_store *s, int64_t trajectory_id, long seq,
     bind_int(st, 1, trajectory_id);
     bind_int(st, 2, seq);
     bind_real(st, 3, pt->t_s);
-    bind_real(st, 4, pt->p.x);
-    bind_real(st, 5, pt->p.y);
-    bind_real(st, 6, pt->p.z);
+    bind_vec3(st, 4, pt->p);
     bind_real(st, 7, pt->speed_ms);
     bind_real(st, 8, pt->energy_kj);
     return step_statement(s, ST_PATH_POINT, "writing a path point", err);
@@ -666,9 +668,7 @@ int rf_store_add_interception(rf_store *s, int64_t trajectory_id,
     bind_int(st, 2, trajectory_id);
     bind_int(st, 3, s->measure_ids[r->measure]);
     bind_real(st, 4, r->t_s);
-    bind_real(st, 5, r->p.x);
-    bind_real(st, 6, r->p.y);
-    bind_real(st, 7, r->p.z);
+    bind_vec3(st, 5, r->p);
     bind_real(st, 8, r->speed_ms);
     bind_real(st, 9, r->energy_kj);
     bind_real(st, 10, r->energy_trans_kj);
@@ -690,9 +690,7 @@ int rf_store_add_tree_hit(rf_store *s, int64_t trajectory_id, const rf_tree_hit_
     bind_int(st, 1, s->run_id);
     bind_int(st, 2, trajectory_id);
     bind_real(st, 3, r->t_s);
-    bind_real(st, 4, r->p.x);
-    bind_real(st, 5, r->p.y);
-    bind_real(st, 6, r->p.z);
+    bind_vec3(st, 4, r->p);
     bind_real(st, 7, r->speed_before_ms);
     bind_real(st, 8, r->speed_after_ms);
     bind_real(st, 9, r->energy_lost_kj);
