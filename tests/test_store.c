@@ -121,6 +121,12 @@ __attribute__((format(printf, 2, 3))) static int64_t query_int(sqlite3 *db, cons
     return v;
 }
 
+/* Rows of a table that belong to run `run`. */
+static int64_t run_rows(sqlite3 *db, const char *table, long long run)
+{
+    return query_int(db, "SELECT count(*) FROM %s WHERE run_id = %lld", table, run);
+}
+
 __attribute__((format(printf, 2, 3))) static double query_real(sqlite3 *db, const char *fmt, ...)
 {
     char sql[2048];
@@ -418,10 +424,8 @@ TEST(store_run_row_releases_and_measures)
                             " AND version = '" ROCKFALL_VERSION "'"
                             " AND project_yaml = 'name: store-test-slope' || char(10) ||"
                             " 'seed: 2009' || char(10)") == 1);
-    ENSURE(query_int(other, "SELECT count(*) FROM releases WHERE run_id = %lld",
-                     (long long)run) == 2);
-    ENSURE(query_int(other, "SELECT count(*) FROM measures WHERE run_id = %lld",
-                     (long long)run) == 3);
+    ENSURE(run_rows(other, "releases", (long long)run) == 2);
+    ENSURE(run_rows(other, "measures", (long long)run) == 3);
 
     /* Ids in the order of the project's arrays. */
     ENSURE(rf_store_release_id(s, 0) < rf_store_release_id(s, 1));
@@ -483,15 +487,12 @@ TEST(store_two_runs_in_one_file)
                              " AND finished_at >= started_at AND n_trajectories = %ld",
                          r, 2 * n[k]) == 1);
         ENSURE(query_int(db, "SELECT seed FROM runs WHERE id = %lld", r) == 2009 + k);
-        ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld", r) ==
-               2 * n[k]);
+        ENSURE(run_rows(db, "trajectories", r) == 2 * n[k]);
         ENSURE(query_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
                              " ON t.id = p.trajectory_id WHERE t.run_id = %lld", r) == 6 * n[k]);
-        ENSURE(query_int(db, "SELECT count(*) FROM interceptions WHERE run_id = %lld", r) ==
-               2 * n[k]);
-        ENSURE(query_int(db, "SELECT count(*) FROM tree_hits WHERE run_id = %lld", r) ==
-               2 * (n[k] / 2));
-        ENSURE(query_int(db, "SELECT count(*) FROM hazard_cells WHERE run_id = %lld", r) == 4);
+        ENSURE(run_rows(db, "interceptions", r) == 2 * n[k]);
+        ENSURE(run_rows(db, "tree_hits", r) == 2 * (n[k] / 2));
+        ENSURE(run_rows(db, "hazard_cells", r) == 4);
         ENSURE(query_real(db, "SELECT max(energy_max_kj) FROM hazard_cells WHERE run_id = %lld",
                           r) == (double)runs[k]);
         /* Every row references rows of its own run. */
@@ -549,8 +550,7 @@ TEST(store_failed_run_is_failed)
     ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'failed'"
                          " AND finished_at IS NOT NULL AND n_trajectories = 2",
                      (long long)bad) == 1);
-    ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld",
-                     (long long)bad) == 2);
+    ENSURE(run_rows(db, "trajectories", (long long)bad) == 2);
     sqlite3_close(db);
 }
 
@@ -571,8 +571,7 @@ TEST(store_uncommitted_batch_is_lost_on_close)
     rf_store_close(s); /* without finishing: an interrupted run */
 
     sqlite3 *db = open_raw(path);
-    ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld",
-                     (long long)run) == 1);
+    ENSURE(run_rows(db, "trajectories", (long long)run) == 1);
     ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'",
                      (long long)run) == 1);
     sqlite3_close(db);
@@ -790,14 +789,12 @@ TEST(store_survives_a_writer_killed_mid_run)
     ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status <> 'complete'",
                      (long long)second) == 1);
     /* Batches are all or nothing. */
-    int64_t n = query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld",
-                          (long long)second);
+    int64_t n = run_rows(db, "trajectories", (long long)second);
     ENSURE_MSG(n >= 3 * KILL_BATCH && n % KILL_BATCH == 0, "%lld trajectories", (long long)n);
     ENSURE(query_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
                          " ON t.id = p.trajectory_id WHERE t.run_id = %lld",
                      (long long)second) == 3 * n);
-    ENSURE(query_int(db, "SELECT count(*) FROM interceptions WHERE run_id = %lld",
-                     (long long)second) == n);
+    ENSURE(run_rows(db, "interceptions", (long long)second) == n);
     sqlite3_close(db);
 
     /* The file takes further runs. */
