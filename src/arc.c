@@ -5,7 +5,8 @@
  * squared distance to a line or a point (degree 4).  Roots are isolated between the
  * critical points (found from the derivative, recursively) and refined by Newton's
  * method kept inside the bracket, so none is skipped and each is located to
- * RF_TIME_TOL. */
+ * RF_TIME_TOL.  A quartic whose Bernstein coefficients over the window (or over its
+ * halves and quarters) are all above the tolerance stays above it: no root is sought. */
 #include "motion_private.h"
 
 #include <math.h>
@@ -148,6 +149,44 @@ static int critical_points(const double *c, int deg, double t0, double t1, doubl
     return n;
 }
 
+/* 1 when the quartic with Bernstein coefficients b[0 .. 4] over an interval stays
+ * above level there: it is a convex combination of them.  Otherwise the halves are
+ * tried, down to `depth` more halvings (de Casteljau at the middle). */
+static int bernstein4_above(const double b[5], double level, int depth)
+{
+    if (b[0] <= level || b[4] <= level)
+        return 0;
+    if (b[1] > level && b[2] > level && b[3] > level)
+        return 1;
+    if (depth == 0)
+        return 0;
+    double a1 = 0.5 * (b[0] + b[1]), a2 = 0.5 * (b[1] + b[2]), a3 = 0.5 * (b[2] + b[3]),
+           a4 = 0.5 * (b[3] + b[4]);
+    double c2 = 0.5 * (a1 + a2), c3 = 0.5 * (a2 + a3), c4 = 0.5 * (a3 + a4);
+    double d3 = 0.5 * (c2 + c3), d4 = 0.5 * (c3 + c4);
+    double e4 = 0.5 * (d3 + d4);
+    double l[5] = {b[0], a1, c2, d3, e4}, r[5] = {e4, d4, c4, a4, b[4]};
+    return bernstein4_above(l, level, depth - 1) && bernstein4_above(r, level, depth - 1);
+}
+
+/* 1 when the quartic c is certainly above level over [t0, t1]: from its Bernstein
+ * form there, with a margin for the rounding of the change of basis. */
+static int quartic_stays_above(const double c[5], double t0, double t1, double level)
+{
+    /* Taylor coefficients at t0, scaled to the interval's length h */
+    double h = t1 - t0;
+    double q4 = c[4];
+    double q3 = c[3] + 4.0 * t0 * c[4];
+    double q2 = c[2] + t0 * (3.0 * c[3] + 6.0 * t0 * c[4]);
+    double q1 = c[1] + t0 * (2.0 * c[2] + t0 * (3.0 * c[3] + 4.0 * t0 * c[4]));
+    double q0 = c[0] + t0 * (c[1] + t0 * (c[2] + t0 * (c[3] + t0 * c[4])));
+    q1 *= h, q2 *= h * h, q3 *= h * h * h, q4 *= (h * h) * (h * h);
+    double size = fabs(q0) + fabs(q1) + fabs(q2) + fabs(q3) + fabs(q4);
+    double b[5] = {q0, q0 + q1 / 4.0, q0 + q1 / 2.0 + q2 / 6.0,
+                   q0 + 0.75 * q1 + 0.5 * q2 + 0.25 * q3, q0 + q1 + q2 + q3 + q4};
+    return bernstein4_above(b, level + 1e-14 * size, 2);
+}
+
 int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
                     double slope_eps, double *roots)
 {
@@ -155,6 +194,8 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
         deg--;
     if (!(t1 >= t0))
         return 0;
+    if (deg == 4 && quartic_stays_above(c, t0, t1, tol))
+        return 0; /* neither touching nor entering anywhere */
     double d[4] = {0, 0, 0, 0};
     if (deg >= 1)
         derivative(c, deg, d);

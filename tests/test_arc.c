@@ -1,0 +1,109 @@
+/* Contact-time roots (arc.c): the first entering root of the quartic |W + V t + H t^2|^2
+ * - rho^2 against a fine sampling, above all where the distance grazes rho. */
+#include "motion_private.h"
+#include "test.h"
+
+#include <gsl/gsl_rng.h>
+
+static double quartic_at(const double c[5], double t)
+{
+    return c[0] + t * (c[1] + t * (c[2] + t * (c[3] + t * c[4])));
+}
+
+/* The first time in [t0, t1] where the quartic, above zero at t0, falls to 0 or below:
+ * sampled on n points and at tc (where a short dip is), then bisected; -1 when it
+ * never does. */
+static double sampled_entry(const double c[5], double t0, double t1, double tc, int n)
+{
+    double prev = t0;
+    for (int i = 1; i <= n; i++) {
+        double t = t0 + (t1 - t0) * i / n;
+        if (tc > prev && tc < t && quartic_at(c, tc) <= 0.0)
+            t = tc;
+        if (quartic_at(c, t) <= 0.0) {
+            double lo = prev, hi = t;
+            for (int k = 0; k < 200 && hi - lo > 1e-15; k++) {
+                double mid = 0.5 * (lo + hi);
+                if (quartic_at(c, mid) <= 0.0)
+                    hi = mid;
+                else
+                    lo = mid;
+            }
+            return hi;
+        }
+        prev = t;
+    }
+    return -1.0;
+}
+
+/* A sphere centre on a parabola past a point q = 0 at closest distance rho (1 + gap):
+ * the coefficients of |p(t)|^2 - rho^2. */
+static void grazing_quartic(gsl_rng *r, double gap, double c[5], double *tc)
+{
+    double rho = 0.1 + 2.0 * gsl_rng_uniform(r);
+    rf_vec3 v = rf_v3(4 * gsl_rng_uniform(r) - 2, 4 * gsl_rng_uniform(r) - 2, 4 * gsl_rng_uniform(r) - 2);
+    rf_vec3 h = rf_v3(0, 0, -0.5 * 9.81);
+    /* the path's closest approach to q: put q at distance rho (1 + gap) from the point
+     * of the path at time tc, along the path's normal there */
+    *tc = 0.2 + gsl_rng_uniform(r);
+    rf_vec3 vel = rf_v3_madd(v, 2.0 * *tc, h);
+    rf_vec3 side = rf_v3_cross(vel, rf_v3(gsl_rng_uniform(r), gsl_rng_uniform(r), 1.0));
+    side = rf_v3_scale(side, 1.0 / rf_v3_norm(side));
+    rf_vec3 at = rf_v3_add(rf_v3_scale(v, *tc), rf_v3_scale(h, *tc * *tc));
+    rf_vec3 q = rf_v3_madd(at, rho * (1.0 + gap), side);
+    rf_vec3 W = rf_v3_scale(q, -1.0); /* p(0) = 0, so W = p(0) - q */
+    c[0] = rf_v3_norm2(W) - rho * rho;
+    c[1] = 2 * rf_v3_dot(W, v);
+    c[2] = rf_v3_norm2(v) + 2 * rf_v3_dot(W, h);
+    c[3] = 2 * rf_v3_dot(v, h);
+    c[4] = rf_v3_norm2(h);
+}
+
+TEST(arc_quartic_entries_match_sampling_near_grazing)
+{
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 7);
+    const double gaps[] = {-1e-2, -1e-4, -1e-6, 1e-6, 1e-4, 1e-2, 0.3};
+    int entered = 0, clear = 0;
+    for (int i = 0; i < 20000; i++) {
+        double c[5], tc;
+        double gap = gaps[i % (int)(sizeof gaps / sizeof gaps[0])];
+        grazing_quartic(r, gap, c, &tc);
+        double t0 = gsl_rng_uniform(r) * 0.5 * tc, t1 = tc + gsl_rng_uniform(r) * 2.0;
+        if (!(quartic_at(c, t0) > 1e-9))
+            continue;
+        double roots[3];
+        int n = rf_poly_entries(c, 4, t0, t1, 1e-12, 1e-12, roots);
+        double want = sampled_entry(c, t0, t1, tc, 4000);
+        if (want < 0) {
+            /* beyond rho all the way (or grazing within the tolerances) */
+            ENSURE_MSG(n == 0 || gap < 1e-5, "case %d: gap %g, a root at %.17g where the sampling has none",
+                       i, gap, roots[0]);
+            clear++;
+        } else {
+            ENSURE_MSG(n > 0, "case %d: gap %g, no root; the sampling enters at %.17g", i, gap, want);
+            ENSURE_MSG(fabs(roots[0] - want) <= 1e-9 * (1 + fabs(want)),
+                       "case %d: root %.17g, sampled %.17g", i, roots[0], want);
+            entered++;
+        }
+    }
+    /* both kinds occur in numbers */
+    ENSURE(entered > 5000 && clear > 5000);
+    gsl_rng_free(r);
+}
+
+/* A quartic that dips below zero only in a short stretch between long clear ones:
+ * the stretch must be found (the Bernstein bound must not rule it out). */
+TEST(arc_quartic_entry_in_a_short_dip)
+{
+    /* (t - 1)^2 (t - 3)^2 - 1e-6 on [0, 4]: enters just before 1 and before 3 */
+    double c[5] = {9 - 1e-6, -24, 22, -8, 1};
+    double roots[3];
+    int n = rf_poly_entries(c, 4, 0.0, 4.0, 1e-12, 1e-12, roots);
+    ENSURE(n == 2);
+    ENSURE_REL(roots[0], 1.0 - sqrt(1e-6) / 2.0, 1e-6);
+    ENSURE(roots[1] > 2.9 && roots[1] < 3.0);
+    /* lifted clear of zero by 1e-6: no entry anywhere */
+    double up[5] = {9 + 1e-6, -24, 22, -8, 1};
+    ENSURE(rf_poly_entries(up, 4, 0.0, 4.0, 1e-12, 1e-12, roots) == 0);
+}
