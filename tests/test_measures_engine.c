@@ -10,6 +10,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "store.h"
+#include "db_test_util.h"
 #include "test.h"
 
 #define G RF_GRAVITY
@@ -583,21 +584,9 @@ static sqlite3 *open_db(const char *path)
     return h;
 }
 
-/* The single integer a query returns. */
-static long long query_int(sqlite3 *h, const char *sql)
-{
-    sqlite3_stmt *st;
-    ENSURE_MSG(sqlite3_prepare_v2(h, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
-               sqlite3_errmsg(h));
-    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "%s: no row", sql);
-    long long v = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    return v;
-}
-
 #define ENSURE_ZERO(h, sql)                                                            \
     do {                                                                               \
-        long long n_ = query_int((h), (sql));                                          \
+        long long n_ = dbt_int((h), (sql));                                          \
         ENSURE_MSG(n_ == 0, "%lld rows: %s", n_, (sql));                              \
     } while (0)
 
@@ -651,27 +640,27 @@ TEST(measures_engine_montecarlo_database)
 
     sqlite3 *h = open_db(db);
     /* the measures with their capacities */
-    ENSURE(query_int(h, "SELECT count(*) FROM measures") == 4);
-    ENSURE(query_int(h, "SELECT count(*) FROM measures WHERE name = 'B1' AND kind = 'barrier'"
+    ENSURE(dbt_int(h, "SELECT count(*) FROM measures") == 4);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM measures WHERE name = 'B1' AND kind = 'barrier'"
                         " AND behaviour = 'stop' AND importance = 'most_important'"
                         " AND abs(height_m - 6.385) < 1e-12 AND mel_kj = 850"
                         " AND abs(sel_kj - 850.0 / 3) < 1e-9"
                         " AND abs(cap_serviceability_kj - 850.0 / 3) < 1e-9"
                         " AND cap_restorability_kj IS NULL AND cap_ultimate_kj = 850"
                         " AND cap_near_collapse_kj IS NULL") == 1);
-    ENSURE(query_int(h, "SELECT count(*) FROM measures WHERE name = 'E1' AND kind = 'embankment'"
+    ENSURE(dbt_int(h, "SELECT count(*) FROM measures WHERE name = 'E1' AND kind = 'embankment'"
                         " AND behaviour = 'stop' AND importance = 'important'"
                         " AND height_m = 4.85 AND mel_kj IS NULL AND sel_kj IS NULL"
                         " AND cap_serviceability_kj = 1200 AND cap_restorability_kj = 2400"
                         " AND cap_ultimate_kj = 3850 AND cap_near_collapse_kj IS NULL") == 1);
-    ENSURE(query_int(h, "SELECT count(*) FROM measures WHERE kind = 'control'"
+    ENSURE(dbt_int(h, "SELECT count(*) FROM measures WHERE kind = 'control'"
                         " AND behaviour = 'collect' AND height_m = 0 AND mel_kj IS NULL"
                         " AND sel_kj IS NULL AND cap_serviceability_kj IS NULL"
                         " AND cap_restorability_kj IS NULL AND cap_ultimate_kj IS NULL"
                         " AND cap_near_collapse_kj IS NULL") == 2);
 
     /* interceptions: every column there, consistent with each other */
-    long long n_icpt = query_int(h, "SELECT count(*) FROM interceptions");
+    long long n_icpt = dbt_int(h, "SELECT count(*) FROM interceptions");
     ENSURE(n_icpt > 0);
     ENSURE_ZERO(h, "SELECT count(*) FROM interceptions WHERE run_id IS NULL"
                    " OR trajectory_id IS NULL OR measure_id IS NULL OR t_s IS NULL"
@@ -713,16 +702,16 @@ TEST(measures_engine_montecarlo_database)
                    "  WHEN 'broke_through' THEN i.passing_height_m < m.height_m"
                    "   AND i.energy_kj > m.cap_ultimate_kj"
                    "  ELSE 0 END");
-    long long stopped = query_int(h, "SELECT count(*) FROM trajectories"
+    long long stopped = dbt_int(h, "SELECT count(*) FROM trajectories"
                                      " WHERE stop_reason = 'stopped'");
-    long long broke = query_int(h, "SELECT count(*) FROM interceptions"
+    long long broke = dbt_int(h, "SELECT count(*) FROM interceptions"
                                    " WHERE outcome = 'broke_through'");
     fprintf(stderr, "e2e: %lld interceptions, %lld stopped trajectories, %lld break-throughs\n",
             n_icpt, stopped, broke);
     ENSURE(stopped > 0);
     ENSURE(broke > 0);
     /* stopped <=> exactly one 'stopped' interception, where the trajectory ends */
-    ENSURE(query_int(h, "SELECT count(*) FROM interceptions WHERE outcome = 'stopped'") == stopped);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM interceptions WHERE outcome = 'stopped'") == stopped);
     ENSURE_ZERO(h, "SELECT count(*) FROM trajectories t WHERE t.stop_reason = 'stopped'"
                    " AND (SELECT count(*) FROM interceptions i WHERE i.trajectory_id = t.id"
                    " AND i.outcome = 'stopped') != 1");

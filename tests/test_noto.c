@@ -10,6 +10,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "store.h"
+#include "db_test_util.h"
 #include "test.h"
 
 static void run_into(const char *yaml, const char *db, long count)
@@ -26,16 +27,6 @@ static void run_into(const char *yaml, const char *db, long count)
     ENSURE_MSG(rf_montecarlo_run(&p, s, &o, &sum, &err) == 0, "%s", err.message);
     rf_store_close(s);
     rf_project_free(&p);
-}
-
-static double q1(sqlite3 *h, const char *sql)
-{
-    sqlite3_stmt *st;
-    ENSURE_MSG(sqlite3_prepare_v2(h, sql, -1, &st, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(h));
-    ENSURE(sqlite3_step(st) == SQLITE_ROW);
-    double v = sqlite3_column_double(st, 0);
-    sqlite3_finalize(st);
-    return v;
 }
 
 /* Arrivals at the road (first crossing of the control line per trajectory). */
@@ -55,20 +46,20 @@ TEST(noto_trees_widen_the_spread_and_slow_the_rocks)
     sqlite3 *ha, *hb;
     ENSURE(sqlite3_open(a, &ha) == SQLITE_OK && sqlite3_open(b, &hb) == SQLITE_OK);
     /* without trees every rockfall reaches the road, in a narrow band */
-    ENSURE(q1(ha, "SELECT count(*) FROM " ARRIVALS) == n);
-    double width0 = q1(ha, "SELECT max(x) - min(x) FROM " ARRIVALS);
+    ENSURE(dbt_real(ha, "SELECT count(*) FROM " ARRIVALS) == n);
+    double width0 = dbt_real(ha, "SELECT max(x) - min(x) FROM " ARRIVALS);
     ENSURE_MSG(width0 < 15.0, "arrival band %.1f m wide without trees", width0);
     /* with trees: markedly wider spread, lower mean velocity */
-    double sd0 = q1(ha, "SELECT sqrt(avg(x * x) - avg(x) * avg(x)) FROM " ARRIVALS);
-    double sd1 = q1(hb, "SELECT sqrt(avg(x * x) - avg(x) * avg(x)) FROM " ARRIVALS);
-    double v0 = q1(ha, "SELECT avg(v) FROM " ARRIVALS), v1 = q1(hb, "SELECT avg(v) FROM " ARRIVALS);
+    double sd0 = dbt_real(ha, "SELECT sqrt(avg(x * x) - avg(x) * avg(x)) FROM " ARRIVALS);
+    double sd1 = dbt_real(hb, "SELECT sqrt(avg(x * x) - avg(x) * avg(x)) FROM " ARRIVALS);
+    double v0 = dbt_real(ha, "SELECT avg(v) FROM " ARRIVALS), v1 = dbt_real(hb, "SELECT avg(v) FROM " ARRIVALS);
     ENSURE_MSG(sd1 > 3.0 * sd0, "spread sd %.2f m with trees vs %.2f m without", sd1, sd0);
     ENSURE_MSG(v1 < 0.8 * v0, "mean speed %.1f m/s with trees vs %.1f m/s without", v1, v0);
-    ENSURE(q1(hb, "SELECT count(*) FROM tree_hits") > 0);
-    ENSURE(q1(hb, "SELECT sum(n_tree_hits) FROM trajectories") ==
-           q1(hb, "SELECT count(*) FROM tree_hits"));
+    ENSURE(dbt_real(hb, "SELECT count(*) FROM tree_hits") > 0);
+    ENSURE(dbt_real(hb, "SELECT sum(n_tree_hits) FROM trajectories") ==
+           dbt_real(hb, "SELECT count(*) FROM tree_hits"));
     /* the paper's crosscheck: no trees, max velocity near Eq. 1's 47 m/s, on the safe side */
-    double vmax = q1(ha, "SELECT max(v) FROM " ARRIVALS);
+    double vmax = dbt_real(ha, "SELECT max(v) FROM " ARRIVALS);
     ENSURE_MSG(vmax > 30.0 && vmax < 50.0, "max arrival speed %.1f m/s", vmax);
     sqlite3_close(ha);
     sqlite3_close(hb);
@@ -89,17 +80,17 @@ TEST(noto_layout_checked_and_stored)
     sqlite3 *h;
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
     /* two checks for each of the barrier and the embankment; none for the control line */
-    ENSURE(q1(h, "SELECT count(*) FROM checks") == 4);
-    ENSURE(q1(h, "SELECT count(DISTINCT measure_id) FROM checks") == 2);
-    ENSURE(q1(h, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id "
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks") == 4);
+    ENSURE(dbt_real(h, "SELECT count(DISTINCT measure_id) FROM checks") == 2);
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id "
                  "WHERE m.kind = 'control'") == 0);
     /* the exit status agrees with the stored verdicts */
-    double failed = q1(h, "SELECT count(*) FROM checks WHERE passed = 0");
+    double failed = dbt_real(h, "SELECT count(*) FROM checks WHERE passed = 0");
     ENSURE(status == (failed > 0 ? 1 : 0));
     /* the barrier stops what reaches it: nothing it stopped is seen downstream */
-    ENSURE(q1(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id = i.measure_id "
+    ENSURE(dbt_real(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id = i.measure_id "
                  "WHERE m.name = 'B1' AND i.outcome = 'stopped'") > 0);
-    ENSURE(q1(h, "SELECT count(*) FROM interceptions a JOIN measures m ON m.id = a.measure_id "
+    ENSURE(dbt_real(h, "SELECT count(*) FROM interceptions a JOIN measures m ON m.id = a.measure_id "
                  "JOIN interceptions b ON b.trajectory_id = a.trajectory_id AND b.t_s > a.t_s "
                  "WHERE a.outcome = 'stopped'") == 0);
     sqlite3_close(h);

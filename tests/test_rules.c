@@ -3,7 +3,6 @@
  * at and around the 90 % boundary, the views, and `rockfall check` end to end. */
 #include <glob.h>
 #include <sqlite3.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +12,7 @@
 #include "rockfall/project.h"
 #include "rules.h"
 #include "store.h"
+#include "db_test_util.h"
 #include "test.h"
 
 #define TABLE3 "rules/table3.yaml"
@@ -325,23 +325,6 @@ static long evaluate(scene *t, const rf_rules *r)
     return failed;
 }
 
-__attribute__((format(printf, 2, 3))) static double query_real(sqlite3 *db, const char *fmt,
-                                                               ...)
-{
-    char sql[2048];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(sql, sizeof sql, fmt, ap);
-    va_end(ap);
-    sqlite3_stmt *st;
-    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
-               sqlite3_errmsg(db));
-    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "no row: %s", sql);
-    double v = sqlite3_column_type(st, 0) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 0);
-    sqlite3_finalize(st);
-    return v;
-}
-
 /* value and passed of a measure's check */
 static double check_value(scene *t, const char *measure, const char *rule, int *passed)
 {
@@ -350,12 +333,12 @@ static double check_value(scene *t, const char *measure, const char *rule, int *
                     " AND m.name = '%s' AND k.rule = '%s'";
     char fmt[512];
     snprintf(fmt, sizeof fmt, "SELECT count(*) %s", q);
-    ENSURE_MSG(query_real(db, fmt, (long long)t->run, measure, rule) == 1.0,
+    ENSURE_MSG(dbt_real(db, fmt, (long long)t->run, measure, rule) == 1.0,
                "not one check %s of %s", rule, measure);
     snprintf(fmt, sizeof fmt, "SELECT passed %s", q);
-    *passed = (int)query_real(db, fmt, (long long)t->run, measure, rule);
+    *passed = (int)dbt_real(db, fmt, (long long)t->run, measure, rule);
     snprintf(fmt, sizeof fmt, "SELECT value %s", q);
-    return query_real(db, fmt, (long long)t->run, measure, rule);
+    return dbt_real(db, fmt, (long long)t->run, measure, rule);
 }
 
 static const char *tmp_db(const char *name)
@@ -424,7 +407,7 @@ TEST(rules_overtopping_is_never_serviceable)
     load_rules(TABLE3, &r);
     ENSURE(evaluate(&t, &r) == 1);
     sqlite3 *db = rf_store_db(t.s);
-    ENSURE(query_real(db, "SELECT count(*) FROM classifications c JOIN interceptions i"
+    ENSURE(dbt_real(db, "SELECT count(*) FROM classifications c JOIN interceptions i"
                           " ON i.id = c.interception_id WHERE i.outcome = 'overtopped'"
                           " AND c.limit_state = 'overtopped' AND c.ok = 0") == 1.0);
     int passed;
@@ -485,7 +468,7 @@ TEST(rules_required_state_per_interception)
     int passed;
     ENSURE(check_value(&t, "E1", "required_state", &passed) == 3.0 / 6.0 && !passed);
     ENSURE(check_value(&t, "E1", "serviceability_share", &passed) == 1.0 / 6.0 && !passed);
-    ENSURE(query_real(db, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id"
+    ENSURE(dbt_real(db, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id"
                           " WHERE m.kind = 'control'") == 0.0);
     rf_rules_free(&r);
     rf_store_close(t.s);
@@ -507,12 +490,12 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
     sqlite3 *db = rf_store_db(t.s);
     for (int round = 0; round < 3; round++) {
         evaluate(&t, &r);
-        ENSURE(query_real(db, "SELECT count(*) FROM classifications") == 37 + 11 + 1 + 23);
-        ENSURE(query_real(db, "SELECT count(*) FROM checks") == 2.0 * 4); /* B1 B2 E1 B3 */
+        ENSURE(dbt_real(db, "SELECT count(*) FROM classifications") == 37 + 11 + 1 + 23);
+        ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 2.0 * 4); /* B1 B2 E1 B3 */
     }
     int passed;
     double stored = check_value(&t, "B1", "serviceability_share", &passed);
-    double counted = query_real(db,
+    double counted = dbt_real(db,
                                 "SELECT (SELECT count(*) FROM classifications c JOIN interceptions"
                                 " i ON i.id = c.interception_id JOIN measures m ON m.id ="
                                 " i.measure_id WHERE m.name = 'B1' AND c.limit_state ="
@@ -521,20 +504,20 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
                                 " WHERE m.name = 'B1')");
     ENSURE(stored == counted && stored == 41.0 / 49.0 && !passed);
     double meeting = check_value(&t, "B1", "required_state", &passed);
-    ENSURE(meeting == query_real(db, "SELECT avg(c.ok) FROM classifications c JOIN"
+    ENSURE(meeting == dbt_real(db, "SELECT avg(c.ok) FROM classifications c JOIN"
                                      " interceptions i ON i.id = c.interception_id JOIN measures"
                                      " m ON m.id = i.measure_id WHERE m.name = 'B1'"));
     /* the views agree */
-    ENSURE(query_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
+    ENSURE(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
                           " 'B1'") == stored);
-    ENSURE(query_real(db, "SELECT interceptions FROM measure_summary WHERE measure = 'B1'") ==
+    ENSURE(dbt_real(db, "SELECT interceptions FROM measure_summary WHERE measure = 'B1'") ==
            49.0);
-    ENSURE(query_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
+    ENSURE(dbt_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
                           " limit_state = 'serviceability'") == stored);
-    ENSURE(query_real(db, "SELECT checks_failed FROM run_verdicts") == 2.0);
-    ENSURE(query_real(db, "SELECT verdict = 'fail' FROM run_verdicts") == 1.0);
-    ENSURE(query_real(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 2.0);
-    ENSURE(query_real(db, "SELECT count(*) FROM classified_interceptions WHERE measure = 'B1'"
+    ENSURE(dbt_real(db, "SELECT checks_failed FROM run_verdicts") == 2.0);
+    ENSURE(dbt_real(db, "SELECT verdict = 'fail' FROM run_verdicts") == 1.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 2.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM classified_interceptions WHERE measure = 'B1'"
                           " AND ok = 0") == 8.0);
     rf_rules_free(&r);
     rf_store_close(t.s);
@@ -583,12 +566,12 @@ TEST(rules_sel_default_lives_in_the_rule_file)
     const char *q = "SELECT c.limit_state = 'serviceability' FROM classifications c JOIN"
                     " interceptions i ON i.id = c.interception_id JOIN measures m ON m.id ="
                     " i.measure_id WHERE m.name = '%s'";
-    ENSURE(query_real(db, q, "B1") == 1.0); /* SEL = 3000 / 2 */
-    ENSURE(query_real(db, q, "B2") == 0.0); /* the project's sel = 1000 */
+    ENSURE(dbt_real(db, q, "B1") == 1.0); /* SEL = 3000 / 2 */
+    ENSURE(dbt_real(db, q, "B2") == 0.0); /* the project's sel = 1000 */
     rf_rules r;
     load_rules(TABLE3, &r);
     evaluate(&t, &r);
-    ENSURE(query_real(db, q, "B1") == 0.0); /* SEL = 3000 / 3 */
+    ENSURE(dbt_real(db, q, "B1") == 0.0); /* SEL = 3000 / 3 */
     rf_rules_free(&half);
     rf_rules_free(&r);
     rf_store_close(t.s);
@@ -608,11 +591,11 @@ TEST(rules_views_added_to_an_older_database)
         ENSURE_MSG(sqlite3_exec(rf_store_db(s), sql, NULL, NULL, NULL) == SQLITE_OK, "%s",
                    views[i]);
     }
-    ENSURE(query_real(rf_store_db(s), "SELECT count(*) FROM sqlite_master WHERE type = 'view'")
+    ENSURE(dbt_real(rf_store_db(s), "SELECT count(*) FROM sqlite_master WHERE type = 'view'")
            == 0.0);
     rf_store_close(s);
     ENSURE(rf_store_open(path, &s, &err) == 0);
-    ENSURE(query_real(rf_store_db(s), "SELECT count(*) FROM sqlite_master WHERE type = 'view'")
+    ENSURE(dbt_real(rf_store_db(s), "SELECT count(*) FROM sqlite_master WHERE type = 'view'")
            == 5.0);
     rf_store_close(s);
 }
@@ -640,7 +623,6 @@ TEST(rules_path_of_run)
 }
 
 /* ---- the command line -------------------------------------------------------------- */
-
 
 /* The exit status of `rockfall check` agrees with the stored checks. */
 TEST(rules_cli_check_exit_status)
@@ -676,8 +658,8 @@ TEST(rules_cli_check_exit_status)
     ENSURE(rf_test_rockfall(args, out, sizeof out) == 1);
     sqlite3 *db;
     ENSURE(sqlite3_open(fail_db, &db) == SQLITE_OK);
-    ENSURE(query_real(db, "SELECT count(*) FROM checks") == 8.0);
-    ENSURE(query_real(db, "SELECT count(*) FROM checks WHERE passed = 0") == 1.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 8.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM checks WHERE passed = 0") == 1.0);
     sqlite3_close(db);
     /* no --rules and no rules in the project; a bad rule file: bad input */
     snprintf(args, sizeof args, "check %s", pass_db);
@@ -727,15 +709,15 @@ TEST(rules_end_to_end_simulated_scene)
     /* The energies at the line, to place the MELs. */
     sqlite3 *h;
     ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
-    double n = query_real(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id ="
+    double n = dbt_real(h, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id ="
                              " i.measure_id WHERE m.name = 'high'");
     ENSURE_MSG(n >= 100, "only %g rocks reached the line", n);
     const char *pct = "SELECT energy_kj FROM interceptions i JOIN measures m ON m.id ="
                       " i.measure_id WHERE m.name = 'high' ORDER BY energy_kj LIMIT 1"
                       " OFFSET %d";
-    double e97 = query_real(h, pct, (int)(0.97 * n));
-    double e75 = query_real(h, pct, (int)(0.75 * n));
-    double emax = query_real(h, "SELECT max(energy_kj) FROM interceptions");
+    double e97 = dbt_real(h, pct, (int)(0.97 * n));
+    double e75 = dbt_real(h, pct, (int)(0.75 * n));
+    double emax = dbt_real(h, "SELECT max(energy_kj) FROM interceptions");
     sqlite3_close(h);
     ENSURE(e75 > 0 && e97 > e75);
     double mel_high = 3.0 * e97 > 1.01 * emax ? 3.0 * e97 : 1.01 * emax;
@@ -756,14 +738,14 @@ TEST(rules_end_to_end_simulated_scene)
     const char *count = "SELECT avg(c.limit_state = 'serviceability') FROM classifications c"
                         " JOIN interceptions i ON i.id = c.interception_id JOIN measures m"
                         " ON m.id = i.measure_id WHERE i.run_id = 2 AND m.name = '%s'";
-    double high = query_real(h, share, "high"), low = query_real(h, share, "low");
+    double high = dbt_real(h, share, "high"), low = dbt_real(h, share, "low");
     ENSURE_MSG(high > 0.95 && low < 0.8, "high %g, low %g", high, low);
-    ENSURE(high == query_real(h, count, "high") && low == query_real(h, count, "low"));
+    ENSURE(high == dbt_real(h, count, "high") && low == dbt_real(h, count, "low"));
     const char *verdict = "SELECT k.passed FROM checks k JOIN measures m ON m.id = k.measure_id"
                           " WHERE k.run_id = 2 AND m.name = '%s' AND k.rule = '%s'";
-    ENSURE(query_real(h, verdict, "high", "serviceability_share") == 1.0);
-    ENSURE(query_real(h, verdict, "high", "required_state") == 1.0);
-    ENSURE(query_real(h, verdict, "low", "serviceability_share") == 0.0);
+    ENSURE(dbt_real(h, verdict, "high", "serviceability_share") == 1.0);
+    ENSURE(dbt_real(h, verdict, "high", "required_state") == 1.0);
+    ENSURE(dbt_real(h, verdict, "low", "serviceability_share") == 0.0);
     sqlite3_close(h);
 
     /* check agrees: by default with the project's rules, and for the first run */

@@ -1,9 +1,9 @@
 /* test_store.c - the results database: schema, runs, reopening, rejection of foreign
  * files, and a writer killed in the middle of a run. */
+#include "db_test_util.h"
 #include "test.h"
 
 #include <signal.h>
-#include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -104,43 +104,10 @@ static void exec_raw(sqlite3 *db, const char *sql)
     ENSURE_MSG(rc == SQLITE_OK, "%s: %s", sql, msg ? msg : "?");
 }
 
-/* The first column of the first row of a query, as an integer. */
-__attribute__((format(printf, 2, 3))) static int64_t query_int(sqlite3 *db, const char *fmt, ...)
-{
-    char sql[2048];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(sql, sizeof sql, fmt, ap);
-    va_end(ap);
-    sqlite3_stmt *st = NULL;
-    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
-               sqlite3_errmsg(db));
-    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "%s: no row", sql);
-    int64_t v = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    return v;
-}
-
 /* Rows of a table that belong to run `run`. */
 static int64_t run_rows(sqlite3 *db, const char *table, long long run)
 {
-    return query_int(db, "SELECT count(*) FROM %s WHERE run_id = %lld", table, run);
-}
-
-__attribute__((format(printf, 2, 3))) static double query_real(sqlite3 *db, const char *fmt, ...)
-{
-    char sql[2048];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(sql, sizeof sql, fmt, ap);
-    va_end(ap);
-    sqlite3_stmt *st = NULL;
-    ENSURE_MSG(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK, "%s: %s", sql,
-               sqlite3_errmsg(db));
-    ENSURE_MSG(sqlite3_step(st) == SQLITE_ROW, "%s: no row", sql);
-    double v = sqlite3_column_double(st, 0);
-    sqlite3_finalize(st);
-    return v;
+    return dbt_int(db, "SELECT count(*) FROM %s WHERE run_id = %lld", table, run);
 }
 
 /* Every row of a query as text, columns joined by '|', rows by '\n' (malloc'd). */
@@ -286,14 +253,14 @@ static int64_t write_run(rf_store *s, const rf_project *p, long n, const char *s
 
 static int has_column(sqlite3 *db, const char *table, const char *column)
 {
-    return query_int(db, "SELECT count(*) FROM pragma_table_info('%s') WHERE name = '%s'", table,
+    return dbt_int(db, "SELECT count(*) FROM pragma_table_info('%s') WHERE name = '%s'", table,
                      column) == 1;
 }
 
 /* An index whose first column is `column` (a primary key's index counts). */
 static int has_index_on(sqlite3 *db, const char *table, const char *column)
 {
-    return query_int(db,
+    return dbt_int(db,
                      "SELECT count(*) FROM pragma_index_list('%s') AS il,"
                      " pragma_index_info(il.name) AS ii WHERE ii.seqno = 0 AND ii.name = '%s'",
                      table, column) > 0;
@@ -335,7 +302,7 @@ TEST(store_schema_has_every_table_and_column)
     sqlite3 *db = rf_store_db(s);
     for (size_t t = 0; t < sizeof tables / sizeof tables[0]; t++) {
         const char *table = tables[t][0];
-        ENSURE_MSG(query_int(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table'"
+        ENSURE_MSG(dbt_int(db, "SELECT count(*) FROM sqlite_master WHERE type = 'table'"
                                  " AND name = '%s'", table) == 1,
                    "no table %s", table);
         for (size_t c = 1; c < 20 && tables[t][c]; c++)
@@ -343,7 +310,7 @@ TEST(store_schema_has_every_table_and_column)
                        tables[t][c]);
         if (has_column(db, table, "run_id")) {
             ENSURE_MSG(has_index_on(db, table, "run_id"), "no index on %s(run_id)", table);
-            ENSURE_MSG(query_int(db, "SELECT count(*) FROM pragma_foreign_key_list('%s')"
+            ENSURE_MSG(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_list('%s')"
                                      " WHERE \"from\" = 'run_id' AND \"table\" = 'runs'",
                                  table) == 1,
                        "%s.run_id is no foreign key", table);
@@ -352,16 +319,16 @@ TEST(store_schema_has_every_table_and_column)
     ENSURE(has_index_on(db, "interceptions", "measure_id"));
     ENSURE(has_index_on(db, "path_points", "trajectory_id"));
     ENSURE(has_index_on(db, "classifications", "interception_id"));
-    ENSURE(query_int(db, "SELECT count(*) FROM pragma_foreign_key_list('path_points')"
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_list('path_points')"
                          " WHERE \"table\" = 'trajectories'") == 1);
-    ENSURE(query_int(db, "SELECT count(*) FROM pragma_foreign_key_list('interceptions')") == 3);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_list('interceptions')") == 3);
 
-    ENSURE(query_int(db, "PRAGMA user_version") == RF_STORE_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_STORE_SCHEMA_VERSION);
     char *mode = dump(db, "PRAGMA journal_mode");
     ENSURE_MSG(strcmp(mode, "wal\n") == 0, "journal_mode %s", mode);
     free(mode);
-    ENSURE(query_int(db, "PRAGMA synchronous") == 1); /* NORMAL */
-    ENSURE(query_int(db, "PRAGMA foreign_keys") == 1);
+    ENSURE(dbt_int(db, "PRAGMA synchronous") == 1); /* NORMAL */
+    ENSURE(dbt_int(db, "PRAGMA foreign_keys") == 1);
 
     /* CHECK constraints on the enumerated columns. */
     exec_raw(db, "INSERT INTO runs (id, project, seed, status, started_at, n_trajectories,"
@@ -414,13 +381,13 @@ TEST(store_run_row_releases_and_measures)
 
     /* Committed before any row of the run: visible from another connection. */
     sqlite3 *other = open_raw(path);
-    ENSURE(query_int(other, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'"
+    ENSURE(dbt_int(other, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'"
                             " AND finished_at IS NULL AND n_trajectories = 10 AND seed = 2009",
                      (long long)run) == 1);
-    ENSURE(query_int(other, "SELECT count(*) FROM runs WHERE started_at GLOB"
+    ENSURE(dbt_int(other, "SELECT count(*) FROM runs WHERE started_at GLOB"
                             " '[0-9][0-9][0-9][0-9]-[0-1][0-9]-[0-3][0-9]T[0-2][0-9]:[0-5][0-9]:"
                             "[0-6][0-9]*Z'") == 1);
-    ENSURE(query_int(other, "SELECT count(*) FROM runs WHERE project = 'store-test-slope'"
+    ENSURE(dbt_int(other, "SELECT count(*) FROM runs WHERE project = 'store-test-slope'"
                             " AND version = '" ROCKFALL_VERSION "'"
                             " AND project_yaml = 'name: store-test-slope' || char(10) ||"
                             " 'seed: 2009' || char(10)") == 1);
@@ -431,9 +398,9 @@ TEST(store_run_row_releases_and_measures)
     ENSURE(rf_store_release_id(s, 0) < rf_store_release_id(s, 1));
     ENSURE(rf_store_measure_id(s, 0) < rf_store_measure_id(s, 1));
     ENSURE(rf_store_measure_id(s, 1) < rf_store_measure_id(s, 2));
-    ENSURE(query_int(other, "SELECT idx FROM releases WHERE id = %lld",
+    ENSURE(dbt_int(other, "SELECT idx FROM releases WHERE id = %lld",
                      (long long)rf_store_release_id(s, 1)) == 1);
-    ENSURE(query_int(other, "SELECT count(*) FROM releases WHERE id = %lld AND name = 'D'"
+    ENSURE(dbt_int(other, "SELECT count(*) FROM releases WHERE id = %lld AND name = 'D'"
                             " AND x = 17.75 AND y = 52.125 AND z = 129.5 AND rock = 'r4500'"
                             " AND mass_kg = 4500 AND radius_m = 0.7403 AND action_level = 2"
                             " AND count = 5 AND velocity_x = 0.25 AND velocity_y = -1.5"
@@ -457,7 +424,7 @@ TEST(store_run_row_releases_and_measures)
     ENSURE_MSG(strcmp(rows, expected) == 0, "measures:\n%s", rows);
     free(rows);
     /* The line is JSON. */
-    ENSURE(query_real(other, "SELECT json_extract(line, '$[1][1]') FROM measures"
+    ENSURE(dbt_real(other, "SELECT json_extract(line, '$[1][1]') FROM measures"
                              " WHERE name = 'E1'") == 30.25);
     sqlite3_close(other);
 
@@ -478,44 +445,44 @@ TEST(store_two_runs_in_one_file)
     rf_store_close(s);
 
     sqlite3 *db = open_raw(path);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs") == 2);
     const int64_t runs[2] = {a, b};
     const long n[2] = {5, 7};
     for (int k = 0; k < 2; k++) {
         long long r = (long long)runs[k];
-        ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'"
+        ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'"
                              " AND finished_at >= started_at AND n_trajectories = %ld",
                          r, 2 * n[k]) == 1);
-        ENSURE(query_int(db, "SELECT seed FROM runs WHERE id = %lld", r) == 2009 + k);
+        ENSURE(dbt_int(db, "SELECT seed FROM runs WHERE id = %lld", r) == 2009 + k);
         ENSURE(run_rows(db, "trajectories", r) == 2 * n[k]);
-        ENSURE(query_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
+        ENSURE(dbt_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
                              " ON t.id = p.trajectory_id WHERE t.run_id = %lld", r) == 6 * n[k]);
         ENSURE(run_rows(db, "interceptions", r) == 2 * n[k]);
         ENSURE(run_rows(db, "tree_hits", r) == 2 * (n[k] / 2));
         ENSURE(run_rows(db, "hazard_cells", r) == 4);
-        ENSURE(query_real(db, "SELECT max(energy_max_kj) FROM hazard_cells WHERE run_id = %lld",
+        ENSURE(dbt_real(db, "SELECT max(energy_max_kj) FROM hazard_cells WHERE run_id = %lld",
                           r) == (double)runs[k]);
         /* Every row references rows of its own run. */
-        ENSURE(query_int(db, "SELECT count(*) FROM trajectories t JOIN releases r"
+        ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories t JOIN releases r"
                              " ON r.id = t.release_id WHERE t.run_id = %lld AND r.run_id <> t.run_id",
                          r) == 0);
-        ENSURE(query_int(db, "SELECT count(*) FROM interceptions i JOIN measures m"
+        ENSURE(dbt_int(db, "SELECT count(*) FROM interceptions i JOIN measures m"
                              " ON m.id = i.measure_id JOIN trajectories t ON t.id = i.trajectory_id"
                              " WHERE i.run_id = %lld AND (m.run_id <> i.run_id"
                              " OR t.run_id <> i.run_id)", r) == 0);
-        ENSURE(query_int(db, "SELECT count(*) FROM tree_hits h JOIN trajectories t"
+        ENSURE(dbt_int(db, "SELECT count(*) FROM tree_hits h JOIN trajectories t"
                              " ON t.id = h.trajectory_id WHERE h.run_id = %lld"
                              " AND t.run_id <> h.run_id", r) == 0);
         /* A value written is the value read: release D, trajectory 3. */
-        ENSURE(query_real(db, "SELECT t.stop_x FROM trajectories t JOIN releases r"
+        ENSURE(dbt_real(db, "SELECT t.stop_x FROM trajectories t JOIN releases r"
                               " ON r.id = t.release_id WHERE t.run_id = %lld AND r.name = 'D'"
                               " AND t.idx = 3", r) == value_of(runs[k], 1, 3, 0));
-        ENSURE(query_real(db, "SELECT i.energy_kj FROM interceptions i JOIN trajectories t"
+        ENSURE(dbt_real(db, "SELECT i.energy_kj FROM interceptions i JOIN trajectories t"
                               " ON t.id = i.trajectory_id JOIN measures m ON m.id = i.measure_id"
                               " WHERE i.run_id = %lld AND t.idx = 4 AND m.name = 'E1'"
                               " AND t.release_id = (SELECT id FROM releases WHERE run_id = %lld"
                               " AND idx = 0)", r, r) == value_of(runs[k], 0, 4, 7));
-        ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld"
+        ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld"
                              " AND stop_reason = 'max_time'", r) == 2 * (n[k] / 4));
     }
     sqlite3_close(db);
@@ -545,9 +512,9 @@ TEST(store_failed_run_is_failed)
     rf_store_close(s);
 
     sqlite3 *db = open_raw(path);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
                      (long long)ok) == 1);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'failed'"
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'failed'"
                          " AND finished_at IS NOT NULL AND n_trajectories = 2",
                      (long long)bad) == 1);
     ENSURE(run_rows(db, "trajectories", (long long)bad) == 2);
@@ -572,7 +539,7 @@ TEST(store_uncommitted_batch_is_lost_on_close)
 
     sqlite3 *db = open_raw(path);
     ENSURE(run_rows(db, "trajectories", (long long)run) == 1);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'",
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'running'",
                      (long long)run) == 1);
     sqlite3_close(db);
 }
@@ -621,9 +588,9 @@ TEST(store_reopen_adds_a_third_run)
     rf_store_close(s);
 
     db = open_raw(path);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE status = 'complete'") == 3);
-    ENSURE(query_int(db, "SELECT group_concat(id) = '1,2,3' FROM runs") == 1);
-    ENSURE(query_int(db, "SELECT count(*) FROM trajectories WHERE run_id = 3") == 6);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE status = 'complete'") == 3);
+    ENSURE(dbt_int(db, "SELECT group_concat(id) = '1,2,3' FROM runs") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE run_id = 3") == 6);
     char *first_after = run_dump(db, 1), *second_after = run_dump(db, 2);
     ENSURE(strcmp(first, first_after) == 0);
     ENSURE(strcmp(second, second_after) == 0);
@@ -655,7 +622,7 @@ TEST(store_rejects_another_schema_version)
 
     /* Still version 7: nothing was written. */
     db = open_raw(path);
-    ENSURE(query_int(db, "PRAGMA user_version") == 7);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 7);
     sqlite3_close(db);
 
     /* Another application's SQLite database (no schema version, some tables). */
@@ -765,7 +732,7 @@ TEST(store_survives_a_writer_killed_mid_run)
         int status = 0;
         ENSURE_MSG(waitpid(child, &status, WNOHANG) == 0, "writer exited early (%d)",
                    WIFEXITED(status) ? WEXITSTATUS(status) : -1);
-        seen = query_int(watch, "SELECT count(*) FROM trajectories WHERE run_id > %lld",
+        seen = dbt_int(watch, "SELECT count(*) FROM trajectories WHERE run_id > %lld",
                          (long long)first);
         nanosleep(&pause, NULL);
     }
@@ -780,18 +747,18 @@ TEST(store_survives_a_writer_killed_mid_run)
     char *check = dump(db, "PRAGMA integrity_check");
     ENSURE_MSG(strcmp(check, "ok\n") == 0, "integrity_check: %s", check);
     free(check);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs") == 2);
     char *after = run_dump(db, first);
     ENSURE_MSG(strcmp(before, after) == 0, "first run changed:\n%s\n---\n%s", before, after);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
                      (long long)first) == 1);
     int64_t second = first + 1;
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status <> 'complete'",
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status <> 'complete'",
                      (long long)second) == 1);
     /* Batches are all or nothing. */
     int64_t n = run_rows(db, "trajectories", (long long)second);
     ENSURE_MSG(n >= 3 * KILL_BATCH && n % KILL_BATCH == 0, "%lld trajectories", (long long)n);
-    ENSURE(query_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
+    ENSURE(dbt_int(db, "SELECT count(*) FROM path_points p JOIN trajectories t"
                          " ON t.id = p.trajectory_id WHERE t.run_id = %lld",
                      (long long)second) == 3 * n);
     ENSURE(run_rows(db, "interceptions", (long long)second) == n);
@@ -802,7 +769,7 @@ TEST(store_survives_a_writer_killed_mid_run)
     int64_t third = write_run(s, &t.p, 2, "complete");
     rf_store_close(s);
     db = open_raw(path);
-    ENSURE(query_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE id = %lld AND status = 'complete'",
                      (long long)third) == 1);
     char *still = run_dump(db, first);
     ENSURE(strcmp(before, still) == 0);

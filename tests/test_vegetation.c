@@ -15,6 +15,7 @@
 #include "rockfall/sim.h"
 #include "scenes.h"
 #include "store.h"
+#include "db_test_util.h"
 #include "test.h"
 #include "vegetation.h"
 
@@ -813,26 +814,6 @@ TEST(vegetation_fig10_spread_wider_speed_lower_with_trees)
 
 /* ---- a run into the database ---------------------------------------------------------- */
 
-static long query_long(sqlite3 *h, const char *sql)
-{
-    sqlite3_stmt *st;
-    ENSURE_MSG(sqlite3_prepare_v2(h, sql, -1, &st, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(h));
-    ENSURE(sqlite3_step(st) == SQLITE_ROW);
-    long v = (long)sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    return v;
-}
-
-static double query_double(sqlite3 *h, const char *sql)
-{
-    sqlite3_stmt *st;
-    ENSURE_MSG(sqlite3_prepare_v2(h, sql, -1, &st, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(h));
-    ENSURE(sqlite3_step(st) == SQLITE_ROW);
-    double v = sqlite3_column_double(st, 0);
-    sqlite3_finalize(st);
-    return v;
-}
-
 /* A project with two forest zones run by rf_montecarlo_run: every trajectory's
  * n_tree_hits equals its rows in tree_hits, every row lost energy and lies where a
  * forest is. */
@@ -870,21 +851,21 @@ TEST(vegetation_run_writes_tree_hits)
 
     sqlite3 *h;
     ENSURE(sqlite3_open_v2(db, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
-    ENSURE(query_long(h, "SELECT count(*) FROM trajectories") == 60);
-    long rows = query_long(h, "SELECT count(*) FROM tree_hits");
+    ENSURE(dbt_int(h, "SELECT count(*) FROM trajectories") == 60);
+    long rows = dbt_int(h, "SELECT count(*) FROM tree_hits");
     printf("    %ld tree_hits rows over 60 trajectories\n", rows);
     ENSURE(rows > 0);
-    ENSURE(query_long(h, "SELECT sum(n_tree_hits) FROM trajectories") == rows);
-    ENSURE(query_long(h, "SELECT count(*) FROM trajectories t WHERE t.n_tree_hits != "
+    ENSURE(dbt_int(h, "SELECT sum(n_tree_hits) FROM trajectories") == rows);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM trajectories t WHERE t.n_tree_hits != "
                          "(SELECT count(*) FROM tree_hits h WHERE h.trajectory_id = t.id)") == 0);
-    ENSURE(query_long(h, "SELECT count(*) FROM tree_hits h JOIN trajectories t ON "
+    ENSURE(dbt_int(h, "SELECT count(*) FROM tree_hits h JOIN trajectories t ON "
                          "t.id = h.trajectory_id WHERE h.run_id != t.run_id") == 0);
     /* in a forest, after the start and before the end, energy lost */
-    ENSURE(query_long(h, "SELECT count(*) FROM tree_hits WHERE y < 25 OR y > 200 OR t_s <= 0") == 0);
-    ENSURE(query_long(h, "SELECT count(*) FROM tree_hits h JOIN trajectories t ON "
+    ENSURE(dbt_int(h, "SELECT count(*) FROM tree_hits WHERE y < 25 OR y > 200 OR t_s <= 0") == 0);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM tree_hits h JOIN trajectories t ON "
                          "t.id = h.trajectory_id WHERE h.t_s > t.duration_s") == 0);
-    ENSURE(query_double(h, "SELECT min(energy_lost_kj) FROM tree_hits") >= -1e-9);
-    ENSURE(query_double(h, "SELECT max(energy_lost_kj) FROM tree_hits") > 0.0);
-    ENSURE(query_long(h, "SELECT count(*) FROM tree_hits WHERE speed_before_ms <= 0") == 0);
+    ENSURE(dbt_real(h, "SELECT min(energy_lost_kj) FROM tree_hits") >= -1e-9);
+    ENSURE(dbt_real(h, "SELECT max(energy_lost_kj) FROM tree_hits") > 0.0);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM tree_hits WHERE speed_before_ms <= 0") == 0);
     sqlite3_close(h);
 }
