@@ -1006,6 +1006,51 @@ static const char **release_fills(report *r)
     return fills;
 }
 
+/* Arrivals counted per release (stacked) over bins of width bw. */
+typedef struct release_hist {
+    double *counts; /* ns x nb */
+    const char **fills;
+    size_t ns, nb;
+    double cmax; /* the highest stack, at least 1 */
+} release_hist;
+
+static void release_hist_free(release_hist *h)
+{
+    free(h->counts);
+    free(h->fills);
+}
+
+/* The arrivals' speeds (speed) or positions along the line in bins [*lo, *hi) of width
+ * bw (widened to whole bins). */
+static int release_hist_make(report *r, const road_stats *rs, int speed, double *lo, double *hi,
+                             double bw, release_hist *h)
+{
+    h->nb = make_bins(lo, hi, bw);
+    h->ns = r->nrel ? r->nrel : 1;
+    h->counts = calloc(h->ns * h->nb, sizeof *h->counts);
+    h->fills = release_fills(r);
+    if (!h->counts || !h->fills) {
+        release_hist_free(h);
+        return oom(r);
+    }
+    for (size_t i = 0; i < rs->n; i++) {
+        long b = (long)floor(((speed ? rs->a[i].speed : rs->a[i].s) - *lo) / bw);
+        if (b >= 0 && (size_t)b < h->nb)
+            h->counts[rs->a[i].rel * h->nb + (size_t)b] += 1;
+    }
+    h->cmax = fmax(1.0, max_stack(h->counts, h->ns, h->nb));
+    return 0;
+}
+
+/* The axes, the releases' legend and the end of a chart of h. */
+static int release_hist_close(report *r, rf_svg *s, const char *xlabel, release_hist *h)
+{
+    rf_svg_axes(s, xlabel, "number of rocks");
+    release_legend_in_chart(r, s);
+    release_hist_free(h);
+    return rf_svg_close(s, r->err);
+}
+
 static int figure_road_position(report *r, const rep_measure *m, const road_stats *rs,
                                 const crosscheck *cc, const char *file)
 {
@@ -1020,21 +1065,10 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     double bw = rf_svg_nice_step(fmax(spread, 1.0), 15);
     while ((hi - lo) / bw > 300)
         bw = rf_svg_nice_step(bw * 2.1, 1);
-    size_t nb = make_bins(&lo, &hi, bw);
-    size_t ns = r->nrel ? r->nrel : 1;
-    double *counts = calloc(ns * nb, sizeof *counts);
-    const char **fills = release_fills(r);
-    if (!counts || !fills) {
-        free(counts);
-        free(fills);
-        return oom(r);
-    }
-    for (size_t i = 0; i < rs->n; i++) {
-        long b = (long)floor((rs->a[i].s - lo) / bw);
-        if (b >= 0 && (size_t)b < nb)
-            counts[rs->a[i].rel * nb + (size_t)b] += 1;
-    }
-    double cmax = fmax(1.0, max_stack(counts, ns, nb));
+    release_hist h;
+    if (release_hist_make(r, rs, 0, &lo, &hi, bw, &h))
+        return -1;
+    double cmax = h.cmax;
     double band = 0.09 * cmax;
     double ytop = cmax * 1.08 + band * (double)r->nrel + band * 0.5;
 
@@ -1042,12 +1076,11 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     snprintf(title, sizeof title, "Arrival position along %s (Fig. 10a)", m->name);
     rf_svg s;
     if (open_chart(r, &s, file, title)) {
-        free(counts);
-        free(fills);
+        release_hist_free(&h);
         return -1;
     }
     rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, ytop);
-    rf_svg_stacked_bars(&s, counts, ns, nb, lo, bw, fills);
+    rf_svg_stacked_bars(&s, h.counts, h.ns, h.nb, lo, bw, h.fills);
     /* Fig. 1b: attainment range of each release at beta = 45 degrees */
     for (size_t k = 0; k < r->nrel; k++) {
         if (!isfinite(cc[k].L))
@@ -1068,11 +1101,7 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     }
     char xlabel[600];
     snprintf(xlabel, sizeof xlabel, "position along %s from its first point (m)", m->name);
-    rf_svg_axes(&s, xlabel, "number of rocks");
-    release_legend_in_chart(r, &s);
-    free(counts);
-    free(fills);
-    return rf_svg_close(&s, r->err);
+    return release_hist_close(r, &s, xlabel, &h);
 }
 
 static int figure_road_velocity(report *r, const rep_measure *m, const road_stats *rs,
@@ -1087,31 +1116,19 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     hi = fmax(hi * 1.05, 1.0);
     double lo = 0.0;
     double bw = rf_svg_nice_step(hi, 25);
-    size_t nb = make_bins(&lo, &hi, bw);
-    size_t ns = r->nrel ? r->nrel : 1;
-    double *counts = calloc(ns * nb, sizeof *counts);
-    const char **fills = release_fills(r);
-    if (!counts || !fills) {
-        free(counts);
-        free(fills);
-        return oom(r);
-    }
-    for (size_t i = 0; i < rs->n; i++) {
-        long b = (long)floor(rs->a[i].speed / bw);
-        if (b >= 0 && (size_t)b < nb)
-            counts[rs->a[i].rel * nb + (size_t)b] += 1;
-    }
-    double cmax = fmax(1.0, max_stack(counts, ns, nb));
+    release_hist h;
+    if (release_hist_make(r, rs, 1, &lo, &hi, bw, &h))
+        return -1;
+    double cmax = h.cmax;
     char title[600];
     snprintf(title, sizeof title, "Velocity at %s (Fig. 10b)", m->name);
     rf_svg s;
     if (open_chart(r, &s, file, title)) {
-        free(counts);
-        free(fills);
+        release_hist_free(&h);
         return -1;
     }
     rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, cmax * 1.15);
-    rf_svg_stacked_bars(&s, counts, ns, nb, lo, bw, fills);
+    rf_svg_stacked_bars(&s, h.counts, h.ns, h.nb, lo, bw, h.fills);
     for (size_t k = 0; lines && k < r->nrel; k++) {
         double v[2] = {cc[k].v_class_d, cc[k].v_project};
         const char *what[2] = {"mu = 0.35 (Table 2, D)", "mu of the project"};
@@ -1140,11 +1157,7 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     }
     char xlabel[600];
     snprintf(xlabel, sizeof xlabel, "velocity at %s (m/s)", m->name);
-    rf_svg_axes(&s, xlabel, "number of rocks");
-    release_legend_in_chart(r, &s);
-    free(counts);
-    free(fills);
-    return rf_svg_close(&s, r->err);
+    return release_hist_close(r, &s, xlabel, &h);
 }
 
 /* ---- HTML helpers ------------------------------------------------------------------- */
