@@ -128,17 +128,23 @@ static int cmp_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-double rf_percentile_nearest_rank(float *v, size_t n, double q)
+double rf_percentile_sorted(const float *v, size_t n, double q)
 {
     if (n == 0)
         return NAN;
-    qsort(v, n, sizeof *v, cmp_float);
     size_t rank = (size_t)ceil(q * (double)n); /* 1-based */
     if (rank < 1)
         rank = 1;
     if (rank > n)
         rank = n;
     return v[rank - 1];
+}
+
+double rf_percentile_nearest_rank(float *v, size_t n, double q)
+{
+    if (n > 0)
+        qsort(v, n, sizeof *v, cmp_float);
+    return rf_percentile_sorted(v, n, q);
 }
 
 int rf_hazard_write(rf_hazard *h, long n_trajectories, rf_store *s, rf_error *err)

@@ -45,8 +45,10 @@ void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double
 int rf_hazard_end(rf_hazard *h);
 /* Moves the values of `from` into `into` (same grid). */
 int rf_hazard_merge(rf_hazard *into, const rf_hazard *from);
-/* Nearest-rank percentile q in (0, 1] of n values (sorts them in place). */
+/* Nearest-rank percentile q in (0, 1] of n values (sorts them in place); NaN for none. */
 double rf_percentile_nearest_rank(float *v, size_t n, double q);
+/* The same of n values sorted ascending already. */
+double rf_percentile_sorted(const float *v, size_t n, double q);
 /* Writes one hazard_cells row per cell crossed at least once. */
 int rf_hazard_write(rf_hazard *h, long n_trajectories, struct rf_store *s, rf_error *err);
 

@@ -8,7 +8,7 @@
 #include "hazard.h"
 #include "util.h"
 
-static int db_error(sqlite3 *db, rf_error *err)
+int rf_query_db_error(sqlite3 *db, rf_error *err)
 {
     return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "%s", sqlite3_errmsg(db));
 }
@@ -21,7 +21,7 @@ int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err)
                                  : "SELECT id, status FROM runs WHERE status = 'complete' "
                                    "ORDER BY id DESC LIMIT 1";
     if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK)
-        return db_error(db, err);
+        return rf_query_db_error(db, err);
     if (wanted > 0)
         sqlite3_bind_int64(st, 1, wanted);
     int rc = sqlite3_step(st), status = 0;
@@ -34,7 +34,7 @@ int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err)
         status = wanted > 0 ? rf_error_set(err, file, 0, 0, "no run %ld in this database", wanted)
                             : rf_error_set(err, file, 0, 0, "no complete run in this database");
     } else {
-        status = db_error(db, err);
+        status = rf_query_db_error(db, err);
     }
     sqlite3_finalize(st);
     return status;
@@ -48,7 +48,7 @@ static int read_column(sqlite3 *db, const char *col, int64_t measure_id, float *
     snprintf(sql, sizeof sql, "SELECT %s FROM interceptions WHERE measure_id = ?1", col);
     sqlite3_stmt *st;
     if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK)
-        return db_error(db, err);
+        return rf_query_db_error(db, err);
     sqlite3_bind_int64(st, 1, measure_id);
     size_t cap = 0;
     *out = NULL;
@@ -64,7 +64,7 @@ static int read_column(sqlite3 *db, const char *col, int64_t measure_id, float *
         (*out)[(*n)++] = (float)sqlite3_column_double(st, 0);
     }
     sqlite3_finalize(st);
-    return rc == SQLITE_DONE ? 0 : db_error(db, err);
+    return rc == SQLITE_DONE ? 0 : rf_query_db_error(db, err);
 }
 
 int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s, rf_error *err)
@@ -75,7 +75,7 @@ int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s,
                            "SELECT outcome, count(*) FROM interceptions WHERE measure_id = ?1 "
                            "GROUP BY outcome",
                            -1, &st, NULL) != SQLITE_OK)
-        return db_error(db, err);
+        return rf_query_db_error(db, err);
     sqlite3_bind_int64(st, 1, measure_id);
     while (sqlite3_step(st) == SQLITE_ROW) {
         const char *o = (const char *)sqlite3_column_text(st, 0);
@@ -95,10 +95,10 @@ int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s,
     size_t n;
     if (read_column(db, "energy_kj", measure_id, &v, &n, err))
         return -1;
-    s->energy_p50 = rf_percentile_nearest_rank(v, n, 0.50);
-    s->energy_p90 = rf_percentile_nearest_rank(v, n, 0.90);
-    s->energy_p95 = rf_percentile_nearest_rank(v, n, 0.95);
-    s->energy_p99 = rf_percentile_nearest_rank(v, n, 0.99);
+    s->energy_p50 = rf_percentile_nearest_rank(v, n, 0.50); /* sorts v */
+    s->energy_p90 = rf_percentile_sorted(v, n, 0.90);
+    s->energy_p95 = rf_percentile_sorted(v, n, 0.95);
+    s->energy_p99 = rf_percentile_sorted(v, n, 0.99);
     s->energy_max = n ? v[n - 1] : NAN;
     free(v);
     if (read_column(db, "passing_height_m", measure_id, &v, &n, err))

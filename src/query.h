@@ -9,6 +9,9 @@
 
 #include "rockfall/error.h"
 
+/* Sets err to the database's last error (file: the database); returns -1. */
+int rf_query_db_error(sqlite3 *db, rf_error *err);
+
 /* The run to read: `wanted` when > 0 (it must exist), else the newest complete run. */
 int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err);
 

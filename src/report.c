@@ -65,7 +65,7 @@ typedef struct rep_release {
 typedef struct rep_measure {
     int64_t id;
     long idx;
-    char *name, *kind, *importance, *behaviour;
+    char *name, *kind, *importance;
     double height, mel, sel, cap[RF_N_LIMIT_STATES];
     double *xy;
     size_t n;
@@ -89,7 +89,6 @@ typedef struct report {
     const char *dir;
     rf_error *err;
     char *project, *project_path, *seed, *status, *started, *finished, *version, *yaml;
-    long n_planned;
     rep_release *rel;
     size_t nrel;
     rep_measure *mea;
@@ -104,11 +103,7 @@ typedef struct report {
     FILE *summary, *notes, *body; /* parts of index.html */
 } report;
 
-static int db_error(report *r)
-{
-    return rf_error_set(r->err, sqlite3_db_filename(r->db, "main"), 0, 0, "%s",
-                        sqlite3_errmsg(r->db));
-}
+static int db_error(report *r) { return rf_query_db_error(r->db, r->err); }
 
 /* A statement with ?1 bound to `id`; NULL (err filled) on failure. */
 static sqlite3_stmt *prep(report *r, const char *sql, int64_t id)
@@ -265,7 +260,7 @@ static int load_run(report *r)
 {
     sqlite3_stmt *st = prep(r,
                             "SELECT project, project_path, seed, status, started_at, finished_at,"
-                            " n_trajectories, version, project_yaml FROM runs WHERE id = ?1",
+                            " version, project_yaml FROM runs WHERE id = ?1",
                             r->run);
     if (!st)
         return -1;
@@ -277,9 +272,8 @@ static int load_run(report *r)
         r->status = col_dup(st, 3);
         r->started = col_dup(st, 4);
         r->finished = col_dup(st, 5);
-        r->n_planned = (long)sqlite3_column_int64(st, 6);
-        r->version = col_dup(st, 7);
-        r->yaml = col_dup(st, 8);
+        r->version = col_dup(st, 6);
+        r->yaml = col_dup(st, 7);
     }
     sqlite3_finalize(st);
     if (rc == SQLITE_DONE)
@@ -341,17 +335,16 @@ static int measure_row(report *r, sqlite3_stmt *st, void *ctx)
     *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
                        .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
                        .kind = col_dup(st, 3), .importance = col_dup(st, 4),
-                       .behaviour = col_dup(st, 5), .height = col_real(st, 6),
-                       .mel = col_real(st, 7), .sel = col_real(st, 8)};
+                       .height = col_real(st, 5), .mel = col_real(st, 6), .sel = col_real(st, 7)};
     for (int k = 0; k < RF_N_LIMIT_STATES; k++)
-        m->cap[k] = col_real(st, 9 + k);
-    return m->name && m->kind && m->importance && m->behaviour ? 0 : oom(r);
+        m->cap[k] = col_real(st, 8 + k);
+    return m->name && m->kind && m->importance ? 0 : oom(r);
 }
 
 static int load_measures(report *r)
 {
     if (load_rows(r,
-                  "SELECT id, idx, name, kind, importance, behaviour, height_m, mel_kj,"
+                  "SELECT id, idx, name, kind, importance, height_m, mel_kj,"
                   " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
                   " cap_ultimate_kj, cap_near_collapse_kj"
                   " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
@@ -1842,17 +1835,19 @@ static int section_measures(report *r, long *npass, long *nfail)
             rf_svg_escape(r->summary, m->name);
             fprintf(r->summary,
                     " (%s): %ld crossings, %ld stopped, %ld overtopped, %ld broke through",
-                    !strcmp(m->kind, "barrier") ? "barrier" : "embankment", stats[k].n,
+                    m->kind, stats[k].n,
                     stats[k].n_stopped, stats[k].n_overtopped, stats[k].n_broke_through);
             /* the verdict is the rules engine's, as stored in `checks` */
-            double stored = query_real(r,
-                                       "SELECT value FROM checks WHERE measure_id = ?1 AND"
-                                       " rule = 'serviceability_share'",
-                                       m->id);
-            double passed = query_real(r,
-                                       "SELECT passed FROM checks WHERE measure_id = ?1 AND"
-                                       " rule = 'serviceability_share'",
-                                       m->id);
+            double stored = NAN, passed = NAN;
+            sqlite3_stmt *st = prep(r,
+                                    "SELECT value, passed FROM checks WHERE measure_id = ?1 AND"
+                                    " rule = 'serviceability_share'",
+                                    m->id);
+            if (st && sqlite3_step(st) == SQLITE_ROW) {
+                stored = col_real(st, 0);
+                passed = col_real(st, 1);
+            }
+            sqlite3_finalize(st);
             if (isfinite(stored)) {
                 fputs("; within serviceability: ", r->summary);
                 put_num(r->summary, 100.0 * stored, 1);
@@ -1934,7 +1929,7 @@ static void section_head(report *r, FILE *f)
     fputs("</code>.</p>\n", f);
 }
 
-static int section_releases(report *r, FILE *f)
+static void section_releases(report *r, FILE *f)
 {
     fputs("<h2>Releases</h2>\n<table><tr><th>release</th><th>x (m)</th><th>y (m)</th>"
           "<th>z (m)</th><th>rock</th><th>mass (kg)</th><th>action level</th>"
@@ -1952,7 +1947,6 @@ static int section_releases(report *r, FILE *f)
         fprintf(f, "<td>%d</td><td>%ld</td></tr>\n", e->action_level, e->count);
     }
     fputs("</table>\n", f);
-    return 0;
 }
 
 static int end_row(report *r, sqlite3_stmt *st, void *ctx)
@@ -2029,7 +2023,6 @@ static void free_report(report *r)
         free(r->mea[k].name);
         free(r->mea[k].kind);
         free(r->mea[k].importance);
-        free(r->mea[k].behaviour);
         free(r->mea[k].xy);
     }
     free(r->mea);

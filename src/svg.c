@@ -13,8 +13,6 @@ int rf_svg_open(rf_svg *s, const char *path, double width, double height, const 
 {
     memset(s, 0, sizeof *s);
     snprintf(s->path, sizeof s->path, "%s", path);
-    s->width = width;
-    s->height = height;
     s->f = fopen(path, "w");
     if (!s->f)
         return rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
@@ -172,7 +170,6 @@ void rf_svg_axes(rf_svg *s, const char *xlabel, const char *ylabel)
 void rf_svg_path_begin(rf_svg *s, const char *attrs)
 {
     fprintf(s->f, "<path %s d=\"", attrs ? attrs : "");
-    s->path_open = 1;
 }
 
 void rf_svg_path_move(rf_svg *s, double x, double y)
@@ -188,7 +185,6 @@ void rf_svg_path_line(rf_svg *s, double x, double y)
 void rf_svg_path_end(rf_svg *s)
 {
     fputs("\"/>\n", s->f);
-    s->path_open = 0;
 }
 
 void rf_svg_rect(rf_svg *s, double xa, double ya, double xb, double yb, const char *attrs)

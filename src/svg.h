@@ -12,10 +12,8 @@
 typedef struct rf_svg {
     FILE *f;
     char path[4096];
-    double width, height;             /* whole picture (px) */
     double left, top, right, bottom;  /* plot area (px) */
     double x0, x1, y0, y1;            /* data range of the plot area; y up */
-    int path_open;                    /* inside rf_svg_path_begin .. _end */
     int y_counts;                     /* y ticks at whole numbers only (counts) */
 } rf_svg;
 
