@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "store.h"
+#include "util.h"
 
 int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell)
 {
@@ -67,15 +68,9 @@ void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double
             tc->height_m = (float)height_m;
         return;
     }
-    if (h->ntouched == h->cap_touched) {
-        size_t nc = h->cap_touched ? 2 * h->cap_touched : 256;
-        rf_hazard_touch *nt = realloc(h->touched, nc * sizeof *nt);
-        if (!nt) {
-            h->oom = 1;
-            return;
-        }
-        h->touched = nt;
-        h->cap_touched = nc;
+    if (rf_grow((void **)&h->touched, &h->cap_touched, h->ntouched + 1, sizeof *h->touched)) {
+        h->oom = 1;
+        return;
     }
     h->slot_epoch[c] = h->epoch;
     h->slot[c] = (uint32_t)h->ntouched;

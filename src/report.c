@@ -1373,18 +1373,11 @@ static double hazard_cell_size(report *r)
     return c > 0 ? c : 5.0;
 }
 
-static int energy_class(double e)
+/* The class of v: the number of the ascending limits lim[0 .. nlim-1] it reaches. */
+static int class_of(double v, const double *lim, int nlim)
 {
     int c = 0;
-    while (c < RF_REPORT_N_ENERGY_LIMITS && e >= rf_report_energy_limits[c])
-        c++;
-    return c;
-}
-
-static int reach_class(double p)
-{
-    int c = 0;
-    while (c < N_REACH_CLASSES - 1 && p >= REACH_LIMITS[c])
+    while (c < nlim && v >= lim[c])
         c++;
     return c;
 }
@@ -1418,7 +1411,8 @@ static int figure_hazard(report *r, int reach, long *class_counts)
             continue;
         const char *fill = "#cccccc";
         if (isfinite(v)) {
-            int c = reach ? reach_class(v) : energy_class(v);
+            int c = reach ? class_of(v, REACH_LIMITS, N_REACH_CLASSES - 1)
+                          : class_of(v, rf_report_energy_limits, RF_REPORT_N_ENERGY_LIMITS);
             fill = reach ? REACH_COLOURS[c] : ENERGY_COLOURS[c];
             if (class_counts)
                 class_counts[c]++;
@@ -1566,53 +1560,42 @@ static size_t capacity_lines(const rep_measure *m, capacity_line *out)
     return n;
 }
 
+/* A crossing of a measure: its energy and outcome (an index of OUTCOME_NAMES). */
+typedef struct rep_crossing {
+    double e;
+    int o;
+} rep_crossing;
+
+static int crossing_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    rep_crossing *x = next_elem(r, ctx);
+    if (!x)
+        return -1;
+    x->e = col_real(st, 0);
+    const char *out = (const char *)sqlite3_column_text(st, 1);
+    x->o = 1;
+    for (int k = 0; k < N_OUTCOMES; k++)
+        if (out && !strcmp(out, OUTCOME_NAMES[k]))
+            x->o = k;
+    return 0;
+}
+
 static int figure_measure(report *r, const rep_measure *m, const char *file)
 {
-    sqlite3_stmt *st = prep(r,
-                            "SELECT energy_kj, outcome FROM interceptions WHERE measure_id = ?1"
-                            " ORDER BY id",
-                            m->id);
-    if (!st)
+    rep_crossing *x = NULL;
+    size_t n = 0;
+    if (load_rows(r,
+                  "SELECT energy_kj, outcome FROM interceptions WHERE measure_id = ?1"
+                  " ORDER BY id",
+                  m->id, crossing_row, (void **)&x, &n, sizeof *x)) {
+        free(x);
         return -1;
-    size_t n = 0, cap = 0;
-    double *e = NULL;
-    int *o = NULL;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (n == cap) {
-            cap = cap ? 2 * cap : 256;
-            double *ne = realloc(e, cap * sizeof *ne);
-            int *no = ne ? realloc(o, cap * sizeof *no) : NULL;
-            if (ne)
-                e = ne;
-            if (no)
-                o = no;
-            if (!ne || !no) {
-                free(e);
-                free(o);
-                sqlite3_finalize(st);
-                return oom(r);
-            }
-        }
-        e[n] = col_real(st, 0);
-        const char *out = (const char *)sqlite3_column_text(st, 1);
-        o[n] = 1;
-        for (int k = 0; k < N_OUTCOMES; k++)
-            if (out && !strcmp(out, OUTCOME_NAMES[k]))
-                o[n] = k;
-        n++;
-    }
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        free(e);
-        free(o);
-        return db_error(r);
     }
     capacity_line caps[RF_N_LIMIT_STATES + 2];
     size_t ncaps = capacity_lines(m, caps);
     double hi = 1.0;
     for (size_t i = 0; i < n; i++)
-        grow(&hi, &hi, e[i]);
+        grow(&hi, &hi, x[i].e);
     for (size_t k = 0; k < ncaps; k++)
         grow(&hi, &hi, caps[k].kj);
     hi *= 1.06;
@@ -1620,17 +1603,15 @@ static int figure_measure(report *r, const rep_measure *m, const char *file)
     size_t nb = make_bins(&lo, &hi, bw);
     double *counts = calloc(N_OUTCOMES * nb, sizeof *counts);
     if (!counts) {
-        free(e);
-        free(o);
+        free(x);
         return oom(r);
     }
     for (size_t i = 0; i < n; i++) {
-        long b = (long)floor(e[i] / bw);
-        if (isfinite(e[i]) && b >= 0 && (size_t)b < nb)
-            counts[(size_t)o[i] * nb + (size_t)b] += 1;
+        long b = (long)floor(x[i].e / bw);
+        if (isfinite(x[i].e) && b >= 0 && (size_t)b < nb)
+            counts[(size_t)x[i].o * nb + (size_t)b] += 1;
     }
-    free(e);
-    free(o);
+    free(x);
     double cmax = fmax(1.0, max_stack(counts, N_OUTCOMES, nb));
     char title[600];
     snprintf(title, sizeof title, "Energy at %s (%s) against its capacities", m->name, m->kind);
