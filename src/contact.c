@@ -1190,17 +1190,6 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
 
 /* ---- distances --------------------------------------------------------------------- */
 
-static rf_vec3 closest_on_segment(rf_vec3 a, rf_vec3 b, rf_vec3 p)
-{
-    rf_vec3 ab = rf_v3_sub(b, a);
-    double l2 = rf_v3_norm2(ab);
-    if (!(l2 > 0))
-        return a;
-    double s = rf_v3_dot(rf_v3_sub(p, a), ab) / l2;
-    s = s < 0 ? 0 : (s > 1 ? 1 : s);
-    return rf_v3_madd(a, s, ab);
-}
-
 double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
 {
     const rf_triangle *T = &t->tri[c->tri];
@@ -1208,7 +1197,7 @@ double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
     case RF_FEAT_FACE:
         return rf_v3_dot(T->n, p) - T->d;
     case RF_FEAT_EDGE: {
-        rf_vec3 q = closest_on_segment(tri_vertex(T, c->index), tri_vertex(T, (c->index + 1) % 3), p);
+        rf_vec3 q = rf_v3_closest_on_segment(tri_vertex(T, c->index), tri_vertex(T, (c->index + 1) % 3), p);
         return rf_v3_norm(rf_v3_sub(p, q));
     }
     default:
@@ -1252,7 +1241,7 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
                 if (c->kind == RF_FEAT_EDGE) {
                     double bd = INFINITY;
                     for (int i = 0; i < 3; i++) {
-                        rf_vec3 qq = closest_on_segment(tri_vertex(T, i), tri_vertex(T, (i + 1) % 3), p);
+                        rf_vec3 qq = rf_v3_closest_on_segment(tri_vertex(T, i), tri_vertex(T, (i + 1) % 3), p);
                         double dd = rf_v3_norm(rf_v3_sub(qq, q));
                         if (dd < bd)
                             bd = dd, c->index = i;

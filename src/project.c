@@ -90,20 +90,11 @@ static int oom(loader *L)
     return rf_error_set(L->err, L->d.file, 0, 0, "out of memory");
 }
 
-static char *dup_str(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *c = malloc(n);
-    if (c)
-        memcpy(c, s, n);
-    return c;
-}
-
 /* A path from the project file, relative to the project file's directory. */
 static char *resolve(const char *dir, const char *rel)
 {
     if (rel[0] == '/' || !strcmp(dir, "."))
-        return dup_str(rel);
+        return strdup(rel);
     size_t n = strlen(dir) + strlen(rel) + 2;
     char *s = malloc(n);
     if (s)
@@ -130,7 +121,7 @@ static int read_name(loader *L, const rf_ynode *map, const char *what, char **ou
     if (rf_ydoc_require(&L->d, map, "name", what, &n, L->err) ||
         rf_ydoc_string(&L->d, n, "name", &s, L->err))
         return -1;
-    *out = dup_str(s);
+    *out = strdup(s);
     return *out ? 0 : oom(L);
 }
 
@@ -781,7 +772,7 @@ static int read_document(loader *L)
     if (rf_ydoc_require(&L->d, root, "name", "the project file", &name, L->err) ||
         rf_ydoc_string(&L->d, name, "name", &s, L->err))
         return -1;
-    if (!(p->name = dup_str(s)))
+    if (!(p->name = strdup(s)))
         return oom(L);
     long long seed = 1;
     if (rf_ydoc_opt_integer(&L->d, root, "seed", RF_YR_NONNEG, &seed, L->err))
@@ -845,7 +836,6 @@ static int build_terrain(loader *L)
     rf_terrain_spec *s = &p->terrain_spec;
     if (rf_terrain_build(s, &p->terrain, L->err) == 0)
         return 0;
-    memset(&p->terrain, 0, sizeof p->terrain);
     if (L->err && L->err->line == 0) {
         for (size_t i = 0; i < s->nfiles; i++) {
             if (!strcmp(L->err->file, s->files[i])) {
@@ -938,25 +928,20 @@ static int check_measures_on_terrain(loader *L)
 static int set_paths(loader *L, const char *path)
 {
     rf_project *p = L->p;
-    p->path = dup_str(path);
+    p->path = strdup(path);
     if (!p->path)
         return oom(L);
     const char *slash = strrchr(path, '/');
     if (!slash) {
-        p->dir = dup_str(".");
+        p->dir = strdup(".");
     } else if (slash == path) {
-        p->dir = dup_str("/");
+        p->dir = strdup("/");
     } else {
-        size_t n = (size_t)(slash - path);
-        p->dir = malloc(n + 1);
-        if (p->dir) {
-            memcpy(p->dir, path, n);
-            p->dir[n] = '\0';
-        }
+        p->dir = strndup(path, (size_t)(slash - path));
     }
     if (!p->dir)
         return oom(L);
-    p->yaml_text = dup_str(L->d.text);
+    p->yaml_text = strdup(L->d.text);
     return p->yaml_text ? 0 : oom(L);
 }
 
@@ -1014,9 +999,7 @@ void rf_project_free(rf_project *p)
     free(p->yaml_text);
     free(p->name);
     free_spec(&p->terrain_spec);
-    if (p->terrain.tri || p->terrain.zones || p->terrain.grid_tri || p->terrain.grid_node || p->terrain.bucket_start ||
-        p->terrain.bucket_items)
-        rf_terrain_free(&p->terrain);
+    rf_terrain_free(&p->terrain);
     for (size_t i = 0; i < p->nforests; i++) {
         free(p->forests[i].name);
         free(p->forests[i].polygon.xy);

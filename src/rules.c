@@ -19,15 +19,6 @@ static const char *const comparison_names[] = {">", ">=", NULL};
 static const char *const value_names[] = {"share_within", "share_meeting_required", NULL};
 static const char *const verdict_names[] = {"fail", "pass", NULL};
 
-static char *dup_str(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *c = malloc(n);
-    if (c)
-        memcpy(c, s, n);
-    return c;
-}
-
 /* ---- loading ------------------------------------------------------------------ */
 
 typedef struct loader {
@@ -96,7 +87,7 @@ static int read_limit_states(loader *L, rf_ynode *root)
                              "'beyond_last' must name a state other than the limit states "
                              "and 'overtopped', got %s",
                              text);
-    if (!(L->r->beyond_last = dup_str(text)))
+    if (!(L->r->beyond_last = strdup(text)))
         return out_of_memory(L);
     return 0;
 }
@@ -226,7 +217,7 @@ static int read_check(loader *L, rf_ynode *n, size_t i)
     for (size_t j = 0; j < i; j++)
         if (!strcmp(L->r->checks[j].name, text))
             return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
-    if (!(c->name = dup_str(text)))
+    if (!(c->name = strdup(text)))
         return out_of_memory(L);
     if (rf_ydoc_require(&L->d, n, "value", what, &value, L->err) ||
         rf_ydoc_enum(&L->d, value, "value", value_names, &v, L->err) ||
@@ -286,7 +277,7 @@ static int read_rules(loader *L)
         rf_ydoc_require(&L->d, root, "name", "the rule file", &name, L->err) ||
         rf_ydoc_string(&L->d, name, "name", &text, L->err))
         return -1;
-    if (!(L->r->name = dup_str(text)))
+    if (!(L->r->name = strdup(text)))
         return out_of_memory(L);
     if (read_limit_states(L, root) || read_required(L, root) || read_capacities(L, root) ||
         read_checks(L, root) ||
@@ -299,7 +290,7 @@ static int read_rules(loader *L)
 static int finish_load(loader *L, const char *path)
 {
     int rc = read_rules(L);
-    if (rc == 0 && !(L->r->path = dup_str(path)))
+    if (rc == 0 && !(L->r->path = strdup(path)))
         rc = out_of_memory(L);
     rf_ydoc_free(&L->d);
     if (rc)
@@ -588,8 +579,7 @@ static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m
         *n_meeting += ok;
         for (size_t c = 0; c < r->nchecks; c++)
             if (r->checks[c].value == RF_VALUE_SHARE_WITHIN)
-                n_within[c] += reached >= 0 && reached < r->nstates &&
-                               reached <= r->checks[c].state;
+                n_within[c] += rf_rules_meets(r, reached, r->checks[c].state);
         const char *reached_name = rf_rules_state_name(r, reached);
         sqlite3_bind_int64(ins, 1, sqlite3_column_int64(st, 0));
         sqlite3_bind_int(ins, 2, level);

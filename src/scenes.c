@@ -5,10 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rockfall/empirical.h"
+#include "rockfall/montecarlo.h"
+
 #define MAX_POINTS 4096
 
-int rf_scene_profile(rf_terrain *t, const double *points, size_t npoints, double width,
-                     double restitution, double friction, double rolling)
+int rf_scene_profile_surface(rf_terrain *t, const double *points, size_t npoints, double width,
+                             rf_surface s, rf_error *err)
 {
     rf_terrain_spec spec;
     memset(&spec, 0, sizeof spec);
@@ -17,11 +20,20 @@ int rf_scene_profile(rf_terrain *t, const double *points, size_t npoints, double
     spec.nprofile = npoints;
     spec.width = width;
     spec.up = 'z';
-    spec.surface.restitution = (rf_dist){restitution, 0.0};
-    spec.surface.friction = (rf_dist){friction, 0.0};
-    spec.surface.rolling = (rf_dist){rolling, 0.0};
+    spec.surface = s;
+    return rf_terrain_build(&spec, t, err);
+}
+
+int rf_scene_profile(rf_terrain *t, const double *points, size_t npoints, double width,
+                     double restitution, double friction, double rolling)
+{
+    rf_surface s;
+    memset(&s, 0, sizeof s);
+    s.restitution = (rf_dist){restitution, 0.0};
+    s.friction = (rf_dist){friction, 0.0};
+    s.rolling = (rf_dist){rolling, 0.0};
     rf_error err;
-    return rf_terrain_build(&spec, t, &err);
+    return rf_scene_profile_surface(t, points, npoints, width, s, &err);
 }
 
 typedef struct trace {
@@ -42,7 +54,7 @@ static int run_traced(const rf_terrain *t, const rf_simulation *sim, const rf_bo
 {
     rf_scene scene = {t, sim, NULL, 0, NULL, 0};
     rf_workspace *ws = rf_workspace_alloc(t);
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_taus2);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
     if (!ws || !rng) {
         rf_workspace_free(ws);
         if (rng)
@@ -88,7 +100,7 @@ static double slide_error(const rf_simulation *base, trace *tr)
     if (run_traced(&t, &sim, &b, s0, tr) == 0) {
         const rf_path_point *end = &tr->pt[tr->n - 1];
         double h = s0.p.z - end->p.z;
-        double v = sqrt(1.0 - mu / tan(theta)) * sqrt(2.0 * RF_GRAVITY * h); /* Eq. 1-2 */
+        double v = rf_empirical_velocity(h, theta, mu);
         err = h > 100.0 ? fabs(end->speed_ms - v) / v : NAN;
     }
     rf_terrain_free(&t);

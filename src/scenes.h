@@ -21,7 +21,10 @@ const char *rf_closed_form_name(int which);
 double rf_closed_form_error(int which, const rf_simulation *sim);
 
 /* A plane profile terrain: (distance, elevation) points extruded over `width`, one
- * surface with the given constant coefficients. */
+ * surface s; err filled on failure. */
+int rf_scene_profile_surface(rf_terrain *t, const double *points, size_t npoints, double width,
+                             rf_surface s, rf_error *err);
+/* The same with the given constant coefficients. */
 int rf_scene_profile(rf_terrain *t, const double *points, size_t npoints, double width,
                      double restitution, double friction, double rolling);
 

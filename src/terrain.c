@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "terrain_io.h"
+#include "util.h"
 
 /* Barycentric slack of point location: a point on a shared edge or vertex is inside
  * both triangles, never in the crack between them. */
@@ -116,17 +117,6 @@ double rf_triangle_plane_distance(const rf_triangle *tri, rf_vec3 p)
     return rf_v3_dot(tri->n, p) - tri->d;
 }
 
-static rf_vec3 closest_on_segment(rf_vec3 a, rf_vec3 b, rf_vec3 p)
-{
-    rf_vec3 ab = rf_v3_sub(b, a);
-    double l2 = rf_v3_norm2(ab);
-    if (!(l2 > 0))
-        return a;
-    double t = rf_v3_dot(rf_v3_sub(p, a), ab) / l2;
-    t = t < 0 ? 0 : (t > 1 ? 1 : t);
-    return rf_v3_madd(a, t, ab);
-}
-
 rf_vec3 rf_triangle_closest_point(const rf_triangle *tri, rf_vec3 p)
 {
     /* Inside the prism over the face (p is on the inner side of all three edges, seen
@@ -148,19 +138,19 @@ rf_vec3 rf_triangle_closest_point(const rf_triangle *tri, rf_vec3 p)
     double best_d2 = INFINITY;
     int all = !(nn2 > 0);
     if (all || s_ab < 0) {
-        rf_vec3 q = closest_on_segment(a, b, p);
+        rf_vec3 q = rf_v3_closest_on_segment(a, b, p);
         double d2 = rf_v3_norm2(rf_v3_sub(p, q));
         if (d2 < best_d2)
             best = q, best_d2 = d2;
     }
     if (all || s_bc < 0) {
-        rf_vec3 q = closest_on_segment(b, c, p);
+        rf_vec3 q = rf_v3_closest_on_segment(b, c, p);
         double d2 = rf_v3_norm2(rf_v3_sub(p, q));
         if (d2 < best_d2)
             best = q, best_d2 = d2;
     }
     if (all || s_ca < 0) {
-        rf_vec3 q = closest_on_segment(c, a, p);
+        rf_vec3 q = rf_v3_closest_on_segment(c, a, p);
         double d2 = rf_v3_norm2(rf_v3_sub(p, q));
         if (d2 < best_d2)
             best = q, best_d2 = d2;
@@ -651,14 +641,9 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
             rf_error_set(err, path, 0, 0, "out of memory");
             goto fail;
         }
-        if (l.n > zone_cap) {
-            int32_t *zo = realloc(zone_of, l.cap * sizeof *zo);
-            if (!zo) {
-                rf_error_set(err, path, 0, 0, "out of memory");
-                goto fail;
-            }
-            zone_of = zo;
-            zone_cap = l.cap;
+        if (rf_grow((void **)&zone_of, &zone_cap, l.n, sizeof *zone_of)) {
+            rf_error_set(err, path, 0, 0, "out of memory");
+            goto fail;
         }
         for (size_t k = before; k < l.n; k++)
             zone_of[k] = zone;

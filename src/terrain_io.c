@@ -235,14 +235,8 @@ static rf_vec3 to_world(double x, double y, double z, char up)
 
 static int tri_push(rf_tri_list *l, rf_vec3 a, rf_vec3 b, rf_vec3 c)
 {
-    if (l->n == l->cap) {
-        size_t cap = l->cap ? 2 * l->cap : 1024;
-        rf_vec3 *v = realloc(l->v, 3 * cap * sizeof *v);
-        if (!v)
-            return -1;
-        l->v = v;
-        l->cap = cap;
-    }
+    if (rf_grow((void **)&l->v, &l->cap, l->n + 1, 3 * sizeof *l->v))
+        return -1;
     l->v[3 * l->n] = a;
     l->v[3 * l->n + 1] = b;
     l->v[3 * l->n + 2] = c;
@@ -384,14 +378,8 @@ static int obj_parse(scanner *s, char up, rf_tri_list *out, vert_list *vl, rf_er
             if (scan_number(s, 0, &x, err) || scan_number(s, 0, &y, err) ||
                 scan_number(s, 0, &z, err))
                 return -1;
-            if (vl->n == vl->cap) {
-                size_t cap = vl->cap ? 2 * vl->cap : 1024;
-                rf_vec3 *v = realloc(vl->v, cap * sizeof *v);
-                if (!v)
-                    return rf_error_set(err, s->path, 0, 0, "out of memory");
-                vl->v = v;
-                vl->cap = cap;
-            }
+            if (rf_grow((void **)&vl->v, &vl->cap, vl->n + 1, sizeof *vl->v))
+                return rf_error_set(err, s->path, 0, 0, "out of memory");
             vl->v[vl->n++] = to_world(x, y, z, up);
         } else if (token_is(a, b, "f")) {
             int fline = s->line, fcol = scan_column(s, a);

@@ -12,15 +12,6 @@
 
 /* ---- loading ----------------------------------------------------------------- */
 
-static char *dup_string(const char *s)
-{
-    size_t n = strlen(s) + 1;
-    char *c = malloc(n);
-    if (c)
-        memcpy(c, s, n);
-    return c;
-}
-
 /* 1-based line and column of a byte offset in the text (for reader errors, which
  * libyaml reports as an offset). */
 static rf_mark mark_of_offset(const char *text, size_t len, size_t offset)
@@ -104,7 +95,7 @@ int rf_ydoc_load_text(rf_ydoc *d, const char *file, const char *text, size_t len
                       rf_error *err)
 {
     memset(d, 0, sizeof *d);
-    d->file = dup_string(file ? file : "");
+    d->file = strdup(file ? file : "");
     d->text = malloc(len + 1);
     if (!d->file || !d->text) {
         rf_ydoc_free(d);
@@ -536,11 +527,4 @@ int rf_ydoc_opt_enum(rf_ydoc *d, const rf_ynode *map, const char *key,
 {
     rf_ynode *n = rf_ydoc_get(d, map, key);
     return n ? rf_ydoc_enum(d, n, key, names, out, err) : 0;
-}
-
-int rf_ydoc_opt_bool(rf_ydoc *d, const rf_ynode *map, const char *key, int *out,
-                     rf_error *err)
-{
-    rf_ynode *n = rf_ydoc_get(d, map, key);
-    return n ? rf_ydoc_bool(d, n, key, out, err) : 0;
 }

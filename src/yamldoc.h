@@ -107,8 +107,6 @@ int rf_ydoc_opt_integer(rf_ydoc *d, const rf_ynode *map, const char *key, rf_yra
                         long long *out, rf_error *err);
 int rf_ydoc_opt_enum(rf_ydoc *d, const rf_ynode *map, const char *key,
                      const char *const *names, int *out, rf_error *err);
-int rf_ydoc_opt_bool(rf_ydoc *d, const rf_ynode *map, const char *key, int *out,
-                     rf_error *err);
 
 /* Describes a range ("a number > 0", "an integer in 1..3") into buf. */
 const char *rf_yrange_describe(rf_yrange r, int integer, char *buf, size_t size);

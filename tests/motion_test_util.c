@@ -5,21 +5,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scenes.h"
 #include "test.h"
 
 void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_surface s)
 {
-    rf_terrain_spec spec;
-    memset(&spec, 0, sizeof spec);
-    spec.source = RF_TERRAIN_PROFILE;
-    spec.profile = (double *)pts;
-    spec.nprofile = n;
-    spec.width = width;
-    spec.up = 'z';
-    spec.surface = s;
     rf_error err;
     memset(&err, 0, sizeof err);
-    int rc = rf_terrain_build(&spec, t, &err);
+    int rc = rf_scene_profile_surface(t, pts, n, width, s, &err);
     ENSURE_MSG(rc == 0, "profile: %s", err.message);
 }
 

@@ -29,4 +29,16 @@ static inline rf_vec3 rf_v3_unit(rf_vec3 a)
 }
 static inline double rf_v3_hnorm(rf_vec3 a) { return hypot(a.x, a.y); } /* horizontal length */
 
+/* The point of the segment a-b closest to p (a when the segment is a point). */
+static inline rf_vec3 rf_v3_closest_on_segment(rf_vec3 a, rf_vec3 b, rf_vec3 p)
+{
+    rf_vec3 ab = rf_v3_sub(b, a);
+    double l2 = rf_v3_norm2(ab);
+    if (!(l2 > 0))
+        return a;
+    double s = rf_v3_dot(rf_v3_sub(p, a), ab) / l2;
+    s = s < 0 ? 0 : (s > 1 ? 1 : s);
+    return rf_v3_madd(a, s, ab);
+}
+
 #endif
