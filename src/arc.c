@@ -108,15 +108,7 @@ static int critical_points(const double *c, int deg, double t0, double t1, doubl
     if (deg <= 1)
         return 0;
     derivative(c, deg, d);
-    if (deg == 2) {
-        double r[2];
-        int k = rf_quadratic_roots(0.0, d[1], d[0], r);
-        for (int i = 0; i < k; i++)
-            if (r[i] > t0 && r[i] < t1)
-                cp[n++] = r[i];
-        return n;
-    }
-    if (deg == 3) {
+    if (deg <= 3) {
         double r[2];
         int k = rf_quadratic_roots(d[2], d[1], d[0], r);
         for (int i = 0; i < k; i++)

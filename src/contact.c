@@ -441,7 +441,7 @@ static int coplanar_with_support(const rf_terrain *t, const rf_support *ex, cons
         return 0;
     for (int k = 0; k < ex->n; k++) {
         const rf_triangle *S = &t->tri[ex->tri[k]];
-        if (rf_v3_norm(rf_v3_sub(S->n, T->n)) <= RF_COPLANAR_EPS && fabs(S->d - T->d) <= tol)
+        if (rf_coplanar(S, T, tol))
             return 1;
     }
     return 0;

@@ -56,30 +56,8 @@ static double column_exit(const rf_motion *m, const rf_face_edges *c, rf_vec3 p,
  * offset plane, which lifts it), or falls away (flight).  Returns -1 or an end. */
 static int leave_face(rf_motion *m, int edge, const rf_face_edges *c, rf_vec3 acc)
 {
-    int32_t from = m->sup.tri[0];
-    int32_t to = rf_face_after(m, from, edge, c, m->s.p, acc);
-    if (to < 0)
-        return RF_END_EXITED; /* a point or a centre over no face has left the terrain */
-    if (rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
-        rf_support_single(m, to, 0);
-        m->sup.left = from;
-        return -1;
-    }
-    switch (rf_next_face(m, to, acc)) {
-    case RF_NEXT_IMPACT:
-        rf_impact_on_face(m, to);
-        return -1;
-    case RF_NEXT_ON:
-        rf_support_single(m, to, 0);
-        m->sup.left = from;
-        return -1;
-    case RF_NEXT_AWAY:
-        break;
-    }
-    rf_go_flight(m, from); /* convex: the next face falls away */
-    return -1;
+    return rf_leave_face(m, 0, edge, c, acc) == RF_SURF_EXITED ? RF_END_EXITED : -1;
 }
-
 
 /* ---- one step of each phase: -1 to go on, or an end reason ------------------------- */
 

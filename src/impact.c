@@ -31,13 +31,11 @@ void rf_support_draw(rf_motion *m, int32_t tri)
     m->sup.mu_r = rf_draw_truncated(m->rng, s->rolling, 0.0, INFINITY);
 }
 
-double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n, double *mu_out)
+double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n)
 {
     const rf_surface *s = surface_of(m, tri);
     double e = rf_draw_truncated(m->rng, s->restitution, 0.0, 1.0);
     double mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
-    if (mu_out)
-        *mu_out = mu;
     return rf_impact_apply(m, n, e, mu);
 }
 
@@ -108,9 +106,7 @@ int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
             double a0 = sin((1 - f) * ang) / sin(ang), a1 = sin(f * ang) / sin(ang);
             rf_vec3 u = rf_v3_add(rf_v3_scale(u0, a0), rf_v3_scale(n, a1));
             rf_vec3 p = rf_v3_madd(q, m->rho, u);
-            double z;
-            double h = rf_terrain_height(m->terrain, p.x, p.y, &z) >= 0 ? p.z - z : 0.0;
-            sk->sample(sk->ctx, p, rf_v3_norm(m->s.v), ekj, h);
+            rf_motion_sample(m, p, m->s.v, ekj);
         }
         m->sample_acc = 0.0;
     }

@@ -102,7 +102,7 @@ static void note_energy(rf_motion *m)
         m->rec->max_energy_kj = e;
 }
 
-static void emit_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
+void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
 {
     double z;
     double h = rf_terrain_height(m->terrain, p.x, p.y, &z) >= 0 ? p.z - z : 0.0;
@@ -125,7 +125,8 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
         for (long k = 0; next <= L && k < 10000000; k++) {
             double ts = T * next / L;
             rf_vec3 v = rf_arc_vel(arc, ts);
-            emit_sample(m, rf_arc_pos(arc, ts), v, rf_kinetic_energy(m->body, v, m->s.w) / 1000.0);
+            rf_motion_sample(m, rf_arc_pos(arc, ts), v,
+                             rf_kinetic_energy(m->body, v, m->s.w) / 1000.0);
             last = next;
             next += sk->sample_spacing;
         }
@@ -149,7 +150,7 @@ void rf_motion_event(rf_motion *m)
         sk->path_point(sk->ctx, &pt);
     }
     if (sk->sample) {
-        emit_sample(m, m->s.p, m->s.v, e);
+        rf_motion_sample(m, m->s.p, m->s.v, e);
         m->sample_acc = 0.0;
     }
 }

@@ -187,7 +187,7 @@ int32_t rf_face_beyond(const rf_terrain *t, int32_t from, rf_vec3 q, rf_vec3 dir
 /* ---- impact.c --------------------------------------------------------------------- */
 /* Draws e_n, mu for the zone of triangle tri and applies the impact (Eq. 8) with unit
  * normal n at the current state.  Returns the rebound normal speed. */
-double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n, double *mu_out);
+double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n);
 /* The impact law itself (Eq. 8) with given e_n and mu, for slope and tree impacts. */
 double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu);
 /* Draws the surface phase's mu and mu_r of triangle tri's zone into m->sup. */
@@ -253,6 +253,10 @@ typedef enum rf_next_kind { RF_NEXT_IMPACT, RF_NEXT_ON, RF_NEXT_AWAY } rf_next_k
 rf_next_kind rf_next_face(const rf_motion *m, int32_t to, rf_vec3 acc);
 /* The impact on the next face at a concave edge (the point model is put on it). */
 void rf_impact_on_face(rf_motion *m, int32_t to);
+/* The contact point of support `slot` crossed edge `edge` of its face: onto the next
+ * face, an impact on it, a flight, or exited. */
+rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
+                             rf_vec3 acc);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);
 /* Puts the rock onto face tri after a landing or at the start (velocity made tangent,
@@ -291,6 +295,8 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
 /* Records the motion along an arc over [0, T] from the current state (path length,
  * energy, samples) and moves the state to its end: p, v, t; w is set by the caller. */
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T);
+/* A sample at p (speed |v|, energy ekj, height above the ground) to the sink. */
+void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj);
 /* A path point at the current state. */
 void rf_motion_event(rf_motion *m);
 /* Places the rock at the start of a trajectory: on the surface when it touches it

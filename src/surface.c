@@ -220,10 +220,8 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
     m->sup.tri[1] = b;
     m->sup.left = -1;
     m->sup.rolling = rolling;
-    if (rolling) {
-        rf_vec3 nm = rf_v3_unit(rf_v3_add(A->n, B->n));
-        m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
-    }
+    if (rolling)
+        rf_crease_spin(m);
     return 0;
 }
 
@@ -310,19 +308,16 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     }
     /* the border of the face's column the centre is crossing: nearest to it among
      * those it moves in through */
+    rf_face_edges fe;
+    rf_column_edges(T, &fe);
     rf_vec3 P[3] = {T->a, T->b, T->c};
-    double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
-    double sg = orient >= 0 ? 1.0 : -1.0, best = INFINITY;
+    double best = INFINITY;
     rf_vec3 in = rf_v3(0, 0, 0);
     for (int k = 0; k < 3; k++) {
-        rf_vec3 A = P[k], B = P[(k + 1) % 3];
-        double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
-        if (!(el > 0))
-            continue;
-        rf_vec3 mk = rf_v3(-sg * ey / el, sg * ex / el, 0.0);
+        rf_vec3 mk = fe.m[k];
         if (!(rf_v3_dot(m->s.v, mk) > 0))
             continue;
-        double e = mk.x * (m->s.p.x - A.x) + mk.y * (m->s.p.y - A.y);
+        double e = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
         if (e < best)
             best = e, in = mk;
     }
@@ -355,7 +350,7 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     }
     double e0 = rf_motion_energy(m);
     double vn = rf_v3_dot(m->s.v, n);
-    double rebound = rf_impact(m, c->tri, n, NULL);
+    double rebound = rf_impact(m, c->tri, n);
     count_impact(m, e0, -vn);
     if (rebound >= m->v_stay) {
         rf_go_flight(m, -1);
@@ -503,8 +498,8 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
 }
 
 /* The contact point crossed edge `edge` of the support face at the current state. */
-static rf_surface_end leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
-                                 rf_vec3 acc)
+rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
+                             rf_vec3 acc)
 {
     const rf_terrain *t = m->terrain;
     int32_t from = m->sup.tri[slot];
@@ -663,7 +658,7 @@ static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const r
         rf_motion_event(m);
         return RF_SURF_CONTINUE;
     case EV_EXIT: {
-        rf_surface_end r = leave_face(m, ev->slot, ev->edge, fe, acc);
+        rf_surface_end r = rf_leave_face(m, ev->slot, ev->edge, fe, acc);
         rf_motion_event(m);
         return r;
     }
@@ -700,7 +695,7 @@ static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex,
 
 /* A segment of constant acceleration on one face. */
 static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, rf_vec3 u0,
-                                  const rf_face_edges *fe)
+                                  const rf_face_edges *fe, int holds)
 {
     rf_support ex = segment_exclusion(m);
     rf_vec3 a = law_accel(f, dir);
@@ -717,7 +712,7 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
     } else if (speed > 0) {
         double as = rf_v3_dot(a, dir);
         if (as < 0) {
-            if (rf_surface_holds(m))
+            if (holds)
                 consider(&ev, EV_REST, speed > m->scene->sim->stop_speed
                                             ? (speed - m->scene->sim->stop_speed) / -as : 0.0);
             else
@@ -1006,7 +1001,8 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
     return te;
 }
 
-static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe)
+static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe,
+                               int holds)
 {
     rf_support ex = segment_exclusion(m);
     ode o = {f, f->mode == LAW_SLIDE ? 9 : 6};
@@ -1016,7 +1012,6 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
     double t = 0.0, tcap = m->t_end - m->s.t;
     double speed = rf_v3_norm(m->s.v);
     double h = m->ode_h > 0 ? m->ode_h : dmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
-    int holds = rf_surface_holds(m);
     double stop = m->scene->sim->stop_speed;
     for (long steps = 0;; steps++) {
         if (t >= tcap)
@@ -1130,12 +1125,6 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             m->s.v = ve;
             if (!m->point)
                 rf_set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(ye) : rf_v3(0, 0, 0));
-            if (ev.kind == EV_CONTACT) {
-                /* exactly at contact distance is restored by the resolver */
-                rf_contact_resolve(m, &ev.con);
-                rf_motion_event(m);
-                return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
-            }
             return dispatch(m, &ev, law_accel(f, f->e1), fe);
         }
         rf_motion_advance(m, &arc, hs);
@@ -1182,7 +1171,8 @@ static rf_surface_end face_step(rf_motion *m)
         }
     }
     double speed = rf_v3_norm(m->s.v);
-    if (speed <= m->scene->sim->stop_speed && f.mode != LAW_SLIDE && rf_surface_holds(m))
+    int holds = rf_surface_holds(m);
+    if (speed <= m->scene->sim->stop_speed && f.mode != LAW_SLIDE && holds)
         return RF_SURF_REST;
     rf_face_edges fe;
     edges_setup(m, T, &fe);
@@ -1197,8 +1187,8 @@ static rf_surface_end face_step(rf_motion *m)
         closed = f.G == 0.0 || along(m->s.v, f.e1);
     }
     if (closed)
-        return face_closed(m, &f, dir, u0, &fe);
-    return face_ode(m, &f, u0, &fe);
+        return face_closed(m, &f, dir, u0, &fe, holds);
+    return face_ode(m, &f, u0, &fe, holds);
 }
 
 /* ---- a crease ---------------------------------------------------------------------- */
