@@ -420,26 +420,32 @@ static double column_real(sqlite3_stmt *st, int col)
 
 /* Whether the project (its YAML text) gives `sel` for the measure named `name`: 1 yes,
  * 0 no, -1 unknown (no text, or text that does not parse). */
-static int project_gives_sel(const char *yaml, const char *name)
+/* The run's project text as a document in d; NULL when there is none or it does not
+ * load. */
+static rf_ydoc *project_doc(const char *yaml, rf_ydoc *d)
 {
-    if (!yaml)
-        return -1;
-    rf_ydoc d;
-    if (rf_ydoc_load_text(&d, "project", yaml, strlen(yaml), NULL))
+    if (!yaml || rf_ydoc_load_text(d, "project", yaml, strlen(yaml), NULL))
+        return NULL;
+    return d;
+}
+
+/* 1 when the project document gives measure `name` a sel, 0 when not, -1 when unknown. */
+static int project_gives_sel(rf_ydoc *d, const char *name)
+{
+    if (!d)
         return -1;
     int gives = -1;
-    rf_ynode *root = rf_ydoc_root(&d);
-    rf_ynode *seq = root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(&d, root, "measures")
+    rf_ynode *root = rf_ydoc_root(d);
+    rf_ynode *seq = root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(d, root, "measures")
                                                              : NULL;
     size_t n = seq && seq->type == YAML_SEQUENCE_NODE ? rf_ydoc_seq_size(seq) : 0;
     for (size_t i = 0; i < n && gives < 0; i++) {
-        rf_ynode *m = rf_ydoc_seq_item(&d, seq, i);
-        rf_ynode *mname = m && m->type == YAML_MAPPING_NODE ? rf_ydoc_get(&d, m, "name") : NULL;
+        rf_ynode *m = rf_ydoc_seq_item(d, seq, i);
+        rf_ynode *mname = m && m->type == YAML_MAPPING_NODE ? rf_ydoc_get(d, m, "name") : NULL;
         if (mname && mname->type == YAML_SCALAR_NODE &&
             !strcmp((const char *)mname->data.scalar.value, name))
-            gives = rf_ydoc_get(&d, m, "sel") != NULL;
+            gives = rf_ydoc_get(d, m, "sel") != NULL;
     }
-    rf_ydoc_free(&d);
     return gives;
 }
 
@@ -525,8 +531,14 @@ typedef struct measure_row {
     double capacity[RF_N_LIMIT_STATES];
 } measure_row;
 
-static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, const char *yaml,
-                            measure_row *m, rf_error *err)
+/* The measures of a run that the rules judge, in the columns read_measure_row reads. */
+static const char measures_sql[] =
+    "SELECT id, name, kind, importance, mel_kj, sel_kj, cap_serviceability_kj,"
+    " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj"
+    " FROM measures WHERE run_id = ?1 AND kind <> 'control' ORDER BY idx, id";
+
+static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, measure_row *m,
+                            rf_error *err)
 {
     m->id = sqlite3_column_int64(st, 0);
     m->name = (const char *)sqlite3_column_text(st, 1);
@@ -543,7 +555,7 @@ static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, const char *yam
         project[s] = column_real(st, 6 + s);
     /* The project loader fills sel = MEL / 3 when the project gives none; the rule
      * file's sel_default decides instead whenever the project text shows no sel. */
-    if (m->kind == RF_BARRIER && r->sel_divisor > 0 && project_gives_sel(yaml, m->name) == 0)
+    if (m->kind == RF_BARRIER && r->sel_divisor > 0 && project_gives_sel(doc, m->name) == 0)
         sel = NAN;
     rf_rules_capacities(r, m->kind, mel, sel, project, m->capacity);
     return 0;
@@ -631,6 +643,7 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
                     rf_error *err)
 {
     sqlite3_stmt *runs = NULL, *measures = NULL, *ins_class = NULL, *ins_check = NULL;
+    rf_ydoc doc, *pd = NULL;
     long *n_within = calloc(r->nchecks + 1, sizeof *n_within);
     int status = -1;
     if (!n_within) {
@@ -648,11 +661,7 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
         goto done;
     }
     if (prepare(db, "SELECT project_yaml FROM runs WHERE id = ?1", &runs, err) ||
-        prepare(db,
-                "SELECT id, name, kind, importance, mel_kj, sel_kj, cap_serviceability_kj,"
-                " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj"
-                " FROM measures WHERE run_id = ?1 AND kind <> 'control' ORDER BY idx, id",
-                &measures, err) ||
+        prepare(db, measures_sql, &measures, err) ||
         prepare(db,
                 "INSERT INTO classifications (interception_id, action_level, importance,"
                 " limit_state, required_state, ok) VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
@@ -663,15 +672,15 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
                 &ins_check, err))
         goto done;
     sqlite3_bind_int64(runs, 1, run);
-    const char *yaml = sqlite3_step(runs) == SQLITE_ROW
-                           ? (const char *)sqlite3_column_text(runs, 0)
-                           : NULL;
+    pd = project_doc(sqlite3_step(runs) == SQLITE_ROW ? (const char *)sqlite3_column_text(runs, 0)
+                                                      : NULL,
+                     &doc);
     sqlite3_bind_int64(measures, 1, run);
     while ((rc = sqlite3_step(measures)) == SQLITE_ROW) {
         measure_row m;
         long n = 0, n_meeting = 0;
         memset(n_within, 0, (r->nchecks + 1) * sizeof *n_within);
-        if (read_measure_row(measures, r, yaml, &m, err) ||
+        if (read_measure_row(measures, r, pd, &m, err) ||
             classify_measure(db, r, &m, ins_class, &n, n_within, &n_meeting, err) ||
             write_checks(db, run, r, &m, ins_check, n, n_within, n_meeting, n_failed, err))
             goto done;
@@ -682,6 +691,8 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
     }
     status = 0;
 done:
+    if (pd)
+        rf_ydoc_free(pd);
     sqlite3_finalize(runs);
     sqlite3_finalize(measures);
     sqlite3_finalize(ins_class);
@@ -807,13 +818,10 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
 int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err)
 {
     sqlite3_stmt *runs = NULL, *measures = NULL, *checks = NULL;
+    rf_ydoc doc, *pd = NULL;
     int status = -1;
     if (prepare(db, "SELECT project, project_yaml FROM runs WHERE id = ?1", &runs, err) ||
-        prepare(db,
-                "SELECT id, name, kind, importance, mel_kj, sel_kj, cap_serviceability_kj,"
-                " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj"
-                " FROM measures WHERE run_id = ?1 AND kind <> 'control' ORDER BY idx, id",
-                &measures, err) ||
+        prepare(db, measures_sql, &measures, err) ||
         prepare(db, "SELECT count(*), coalesce(sum(NOT passed), 0) FROM checks"
                     " WHERE run_id = ?1",
                 &checks, err))
@@ -824,7 +832,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
                      (long long)run);
         goto done;
     }
-    const char *yaml = (const char *)sqlite3_column_text(runs, 1);
+    pd = project_doc((const char *)sqlite3_column_text(runs, 1), &doc);
     fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run,
             (const char *)sqlite3_column_text(runs, 0), r->path, r->name);
     fprintf(out, "%-16s %-10s %-14s", "measure", "kind", "importance");
@@ -833,7 +841,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
     while (sqlite3_step(measures) == SQLITE_ROW) {
         measure_row m;
         rf_measure_stats s;
-        if (read_measure_row(measures, r, yaml, &m, err) ||
+        if (read_measure_row(measures, r, pd, &m, err) ||
             rf_query_measure_stats(db, m.id, &s, err))
             goto done;
         fprintf(out, "%-16s %-10s %-14s", m.name, rf_measure_kind_name(m.kind),
@@ -846,7 +854,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
     while (sqlite3_step(measures) == SQLITE_ROW) {
         measure_row m;
         long n;
-        if (read_measure_row(measures, r, yaml, &m, err))
+        if (read_measure_row(measures, r, pd, &m, err))
             goto done;
         n = (long)query_count(db, m.id);
         fprintf(out, "\n%s (%s, %s)\n", m.name, rf_measure_kind_name(m.kind),
@@ -867,6 +875,8 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
     }
     status = 0;
 done:
+    if (pd)
+        rf_ydoc_free(pd);
     sqlite3_finalize(runs);
     sqlite3_finalize(measures);
     sqlite3_finalize(checks);
