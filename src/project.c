@@ -308,11 +308,8 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index)
         rf_ydoc_check_keys(&L->d, n, zone_keys, what, L->err) || read_name(L, n, what, &z->name))
         return -1;
     s->nzones = index + 1;
-    for (size_t j = 0; j < index; j++)
-        if (!strcmp(s->zones[j].name, z->name))
-            return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, n, "name"), L->err,
-                                 "duplicate zone name '%s' (zones item %zu has it too)",
-                                 z->name, j + 1);
+    if (check_unique(L, n, z->name, "zone", "zones", &s->zones[0].name, sizeof *z, index))
+        return -1;
     rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
     rf_ynode *file = rf_ydoc_get(&L->d, n, "file");
     if (polygon && file)
