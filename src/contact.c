@@ -318,6 +318,18 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
 {
     const rf_triangle *T = &s->m->terrain->tri[idx];
     const rf_arc *arc = s->arc;
+    double tol = s->m->tol_len;
+    double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->rho, rf_v3_dot(T->n, arc->v),
+                   0.5 * rf_v3_dot(T->n, arc->a)};
+    /* beyond reach of the plane over all of [t0, t1]: never met */
+    double fmin = dmin(f[0] + t0 * (f[1] + t0 * f[2]), f[0] + t1 * (f[1] + t1 * f[2]));
+    if (f[2] > 0.0) {
+        double tv = -f[1] / (2.0 * f[2]);
+        if (tv > t0 && tv < t1)
+            fmin = dmin(fmin, f[0] + tv * (f[1] + tv * f[2]));
+    }
+    if (fmin > tol)
+        return;
     double lo = t0, hi = t1;
     rf_vec3 P[3] = {T->a, T->b, T->c};
     double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
@@ -331,7 +343,6 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         /* inward distance of the centre: alpha + beta t */
         double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
-        double tol = s->m->tol_len;
         if (!(el > 0))
             return;
         if (beta > 0) {
@@ -344,11 +355,8 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     }
     if (!(lo <= hi))
         return;
-    double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->rho, rf_v3_dot(T->n, arc->v),
-                   0.5 * rf_v3_dot(T->n, arc->a)};
     double f_lo = f[0] + lo * (f[1] + lo * f[2]);
     double d_lo = f[1] + 2.0 * f[2] * lo;
-    double tol = s->m->tol_len;
     double t;
     if (lo > t0 && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) {
         t = lo; /* the centre moves over a face already within reach of its plane */
@@ -638,6 +646,13 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
     }
 }
 
+/* How far from a flight's horizontal line a triangle can be met: the reach of the
+ * sphere, or in centre mode (the face under the centre) the length tolerance. */
+static double line_reach(const rf_motion *m)
+{
+    return m->centre ? 4 * m->tol_len : m->rho + 4 * m->tol_len;
+}
+
 /* Room for the pending triangles of n candidates. */
 static void pend_reserve(rf_workspace *ws, size_t n)
 {
@@ -659,6 +674,7 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
     const rf_terrain *t = m->terrain;
     const rf_arc *arc = s->arc;
     double reach = m->rho + 4 * m->tol_len;
+    double hr = line_reach(m);
     uint32_t mark = ws->test_epoch;
     pend_reserve(ws, n);
     size_t npend = 0;
@@ -674,13 +690,13 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
         double pa = s->ux * Tr->a.y - s->uy * Tr->a.x - s->d0;
         double pb = s->ux * Tr->b.y - s->uy * Tr->b.x - s->d0;
         double pc = s->ux * Tr->c.y - s->uy * Tr->c.x - s->d0;
-        if ((pa > reach && pb > reach && pc > reach) || (pa < -reach && pb < -reach && pc < -reach))
+        if ((pa > hr && pb > hr && pc > hr) || (pa < -hr && pb < -hr && pc < -hr))
             continue;
         double qa = s->ux * Tr->a.x + s->uy * Tr->a.y - s->s0;
         double qb = s->ux * Tr->b.x + s->uy * Tr->b.y - s->s0;
         double qc = s->ux * Tr->c.x + s->uy * Tr->c.y - s->s0;
-        double tl = (dmin(qa, dmin(qb, qc)) - reach) / s->vh;
-        double th = (dmax(qa, dmax(qb, qc)) + reach) / s->vh;
+        double tl = (dmin(qa, dmin(qb, qc)) - hr) / s->vh;
+        double th = (dmax(qa, dmax(qb, qc)) + hr) / s->vh;
         if (tl < 0.0)
             tl = 0.0;
         if (th > T)
@@ -692,8 +708,17 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
         double z_l = arc->p.z + tl * (arc->v.z + 0.5 * tl * arc->a.z);
         double z_h = arc->p.z + th * (arc->v.z + 0.5 * th * arc->a.z);
         double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
-        if (zt < dmin(z_l, z_h) - reach)
+        if (m->centre) {
+            /* as test_candidates: the centre meets a face r / n.z above its plane */
+            double zc = dmax(z_l, z_h), tv = -arc->v.z / arc->a.z;
+            if (tv > tl && tv < th)
+                zc = dmax(zc, arc->p.z + tv * (arc->v.z + 0.5 * tv * arc->a.z));
+            if (zt < dmin(z_l, z_h) - reach / dmax(Tr->n.z, 1e-12) ||
+                dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zc + reach)
+                continue;
+        } else if (zt < dmin(z_l, z_h) - reach) {
             continue;
+        }
         if (excluded_tri(s->ex, idx))
             continue;
         double w0;
@@ -803,7 +828,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     if (!(T >= 0))
         return 0;
     double vh0 = sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
-    if (!m->centre && arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->rho) {
+    if (arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->rho) {
         s.line = 1;
         s.ux = arc->v.x / vh0;
         s.uy = arc->v.y / vh0;
@@ -845,7 +870,8 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
         if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
             continue;
-        size_t n = rf_gather(m, lo.x - reach, lo.y - reach, hi.x + reach, hi.y + reach);
+        double hr = s.line ? line_reach(m) : reach;
+        size_t n = rf_gather(m, lo.x - hr, lo.y - hr, hi.x + hr, hi.y + hr);
         if (s.line)
             test_line_candidates(&s, ws->cand, n, T);
         else
