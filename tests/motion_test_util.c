@@ -182,3 +182,19 @@ double mt_terrain_distance(const rf_terrain *t, rf_vec3 p)
     }
     return best;
 }
+
+char *mt_grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx)
+{
+    size_t cap = 128 + (size_t)nx * (size_t)ny * 24;
+    char *buf = malloc(cap);
+    size_t n = (size_t)snprintf(buf, cap,
+                                "ncols %d\nnrows %d\nxllcorner 0\nyllcorner 0\ncellsize %.17g\n"
+                                "NODATA_value -9999\n",
+                                nx, ny, cell);
+    for (int j = ny - 1; j >= 0; j--) {
+        for (int i = 0; i < nx; i++)
+            n += (size_t)snprintf(buf + n, cap - n, i ? " %.17g" : "%.17g", z(i, j, ctx));
+        n += (size_t)snprintf(buf + n, cap - n, "\n");
+    }
+    return buf;
+}

@@ -29,6 +29,10 @@ void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_sur
 void mt_dem_text(rf_terrain *t, const char *name, const char *text, rf_surface s);
 void mt_mesh_text(rf_terrain *t, const char *name, const char *text, rf_surface s);
 
+/* The text of an ESRI grid of nx * ny nodes at spacing cell, node (i, j) at height
+ * z(i, j, ctx) (-9999: nodata); malloc'd. */
+char *mt_grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx);
+
 rf_state mt_state(rf_vec3 p, rf_vec3 v);
 /* Simulation options of the tests (exact engine, stop_speed 0.1, max_time 300). */
 rf_simulation mt_sim(rf_rock_model model, rf_contact_kind contact, double max_time);

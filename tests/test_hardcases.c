@@ -14,23 +14,6 @@
 
 static const rf_surface ROCKY = {{0.35, 0.1}, {0.45, 0.15}, {0.12, 0.04}};
 
-/* Writes an ESRI grid of nx * ny nodes (row-major from the north row) into buf. */
-static char *grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx)
-{
-    size_t cap = 128 + (size_t)nx * (size_t)ny * 24;
-    char *buf = malloc(cap);
-    size_t n = (size_t)snprintf(buf, cap,
-                                "ncols %d\nnrows %d\nxllcorner 0\nyllcorner 0\ncellsize %.17g\n"
-                                "NODATA_value -9999\n",
-                                nx, ny, cell);
-    for (int j = ny - 1; j >= 0; j--) {
-        for (int i = 0; i < nx; i++)
-            n += (size_t)snprintf(buf + n, cap - n, i ? " %.17g" : "%.17g", z(i, j, ctx));
-        n += (size_t)snprintf(buf + n, cap - n, "\n");
-    }
-    return buf;
-}
-
 static void ensure_sane(const mt_run *r, double max_time)
 {
     ENSURE(!r->nan_seen);
@@ -156,7 +139,7 @@ static double pyramid_z(int i, int j, void *ctx)
 
 TEST(hard_exact_hits_on_vertices_edges_corners)
 {
-    char *txt = grid_text(11, 11, 1.0, pyramid_z, NULL);
+    char *txt = mt_grid_text(11, 11, 1.0, pyramid_z, NULL);
     rf_terrain t;
     mt_dem_text(&t, "pyr.asc", txt, ROCKY);
     free(txt);
@@ -202,7 +185,7 @@ static double step_z(int i, int j, void *ctx)
 
 TEST(hard_big_rock_against_step_no_penetration)
 {
-    char *txt = grid_text(61, 21, 0.5, step_z, NULL);
+    char *txt = mt_grid_text(61, 21, 0.5, step_z, NULL);
     rf_terrain t;
     mt_dem_text(&t, "step.asc", txt, ROCKY);
     free(txt);
@@ -272,7 +255,7 @@ static double holed_z(int i, int j, void *ctx)
 
 TEST(hard_nodata_holes_and_terrain_edges)
 {
-    char *txt = grid_text(21, 11, 1.0, holed_z, NULL);
+    char *txt = mt_grid_text(21, 11, 1.0, holed_z, NULL);
     rf_terrain t;
     mt_dem_text(&t, "hole.asc", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
     free(txt);
@@ -393,7 +376,7 @@ TEST(hard_random_rough_terrain_energy_never_increases)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 2385);
-    char *txt = grid_text(61, 41, 1.0, rough_z, rng);
+    char *txt = mt_grid_text(61, 41, 1.0, rough_z, rng);
     rf_terrain t;
     mt_dem_text(&t, "rough.asc", txt, ROCKY);
     free(txt);
@@ -440,7 +423,7 @@ TEST(hard_same_seed_bit_identical_records)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 99);
-    char *txt = grid_text(61, 41, 1.0, rough_z, rng);
+    char *txt = mt_grid_text(61, 41, 1.0, rough_z, rng);
     rf_terrain t;
     mt_dem_text(&t, "det.asc", txt, ROCKY);
     free(txt);

@@ -1,0 +1,116 @@
+/* The flight contact search (contact.c) against brute force: random flights over a
+ * random rough grid, for the sphere touching every feature, the centre-only contact
+ * (Eq. 6-7) and the point.  Sampled against every triangle, the rock penetrates nothing
+ * before the time the search returns, and touches at that time; with no contact
+ * returned, it penetrates nothing until it leaves the terrain.  A cull that drops a
+ * triangle it should have kept shows as a rock passing through a face. */
+#include "motion_private.h"
+#include "motion_test_util.h"
+#include "test.h"
+
+#include <gsl/gsl_rng.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum { FULL, CENTRE, POINT } mode;
+
+static const rf_surface PLAIN = {{0.3, 0.0}, {0.4, 0.0}, {0.0, 0.0}};
+
+static double bumpy_z(int i, int j, void *ctx)
+{
+    return 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(ctx);
+}
+
+/* How far the rock is from penetrating the terrain at centre p (< 0: it penetrates):
+ * the sphere's distance beyond rho from the nearest triangle; the centre's distance
+ * beyond rho from the plane of the face under it; the point's height above the face
+ * under it.  INFINITY off the terrain. */
+static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p)
+{
+    if (md == FULL)
+        return mt_terrain_distance(t, p) - rho;
+    int32_t k = rf_terrain_locate(t, p.x, p.y);
+    if (k < 0)
+        return INFINITY;
+    const rf_triangle *T = &t->tri[k];
+    if (md == POINT)
+        return p.z - rf_triangle_z_at(T, p.x, p.y);
+    return rf_v3_dot(T->n, p) - T->d - rho;
+}
+
+static void flights_against_brute_force(mode md, double rho, int nflights)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 3 + (unsigned long)md);
+    char *txt = mt_grid_text(16, 16, 1.0, bumpy_z, rng);
+    rf_terrain t;
+    mt_dem_text(&t, "bumpy.asc", txt, PLAIN);
+    free(txt);
+    rf_workspace *ws = rf_workspace_alloc(&t);
+    ENSURE(ws != NULL);
+    rf_motion m;
+    memset(&m, 0, sizeof m);
+    m.terrain = &t;
+    m.ws = ws;
+    m.point = md == POINT;
+    m.centre = md == CENTRE;
+    m.rho = rho;
+    m.tol_len = RF_LEN_TOL;
+    int hits = 0, misses = 0;
+    for (int k = 0; k < nflights; k++) {
+        /* a start clear of the terrain, a flight in any direction */
+        rf_vec3 p;
+        do {
+            p.x = 2.0 + 11.0 * gsl_rng_uniform(rng);
+            p.y = 2.0 + 11.0 * gsl_rng_uniform(rng);
+            double z;
+            ENSURE(rf_terrain_height(&t, p.x, p.y, &z) >= 0);
+            p.z = z + 1.5 * rho + 3.0 * gsl_rng_uniform(rng) * gsl_rng_uniform(rng);
+        } while (gap(&t, md, rho, p) < 0.05);
+        double az = 2.0 * M_PI * gsl_rng_uniform(rng), vh = 0.3 + 12.0 * gsl_rng_uniform(rng);
+        rf_arc arc = {p, rf_v3(vh * cos(az), vh * sin(az), -4.0 + 10.0 * gsl_rng_uniform(rng)),
+                      rf_v3(0, 0, -RF_GRAVITY)};
+        double te = rf_terrain_exit_time(&m, &arc, 4.0);
+        rf_contact c;
+        int found = rf_contact_search(&m, &arc, te, NULL, &c) && c.t <= te;
+        double tend = found ? c.t : te;
+        hits += found, misses += !found;
+        for (int i = 0; i < 1000; i++) {
+            double ts = tend * i / 1000.0;
+            double g = gap(&t, md, rho, rf_arc_pos(&arc, ts));
+            ENSURE_MSG(g >= -1e-6, "flight %d: penetrates by %.3g at t = %.9g, before %s at %.9g",
+                       k, -g, ts, found ? "the contact returned" : "leaving the terrain", tend);
+        }
+        if (found) {
+            rf_vec3 q = rf_arc_pos(&arc, c.t);
+            const rf_triangle *T = &t.tri[c.tri];
+            double g = md == FULL ? gap(&t, md, rho, q) : rf_v3_dot(T->n, q) - T->d - rho;
+            if (md == POINT)
+                g = q.z - rf_triangle_z_at(T, q.x, q.y);
+            ENSURE_MSG(md == CENTRE ? g <= 1e-6 : fabs(g) <= 1e-6,
+                       "flight %d: at the contact returned (t = %.9g) the gap is %.3g", k, c.t, g);
+        }
+    }
+    /* the flights exercise both outcomes */
+    ENSURE(hits > nflights / 2 && misses > 0);
+    rf_workspace_free(ws);
+    rf_terrain_free(&t);
+    gsl_rng_free(rng);
+}
+
+TEST(contact_flight_search_full_sphere_matches_brute_force)
+{
+    flights_against_brute_force(FULL, 0.74, 60);
+    flights_against_brute_force(FULL, 2.1, 30); /* a rock twice the cell */
+}
+
+TEST(contact_flight_search_centre_matches_brute_force)
+{
+    flights_against_brute_force(CENTRE, 0.74, 300);
+}
+
+TEST(contact_flight_search_point_matches_brute_force)
+{
+    flights_against_brute_force(POINT, 0.0, 300);
+}
