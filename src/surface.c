@@ -421,6 +421,13 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
                        0.5 * rf_v3_dot(fe->m[k], arc->a)};
         double r[3], t = INFINITY;
         double tol = m->tol_len;
+        /* inside the edge by more than tol over all of [0, min(T, best)]: not left there */
+        double tw = dmin(T, best);
+        double fminv = dmin(f[0], f[0] + tw * (f[1] + tw * f[2]));
+        if (f[2] > 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < tw)
+            fminv = dmin(fminv, f[0] - f[1] * f[1] / (4 * f[2]));
+        if (fminv > tol)
+            continue;
         double fmaxv = dmax(f[0], f[0] + T * (f[1] + T * f[2]));
         if (f[2] < 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < T)
             fmaxv = f[0] - f[1] * f[1] / (4 * f[2]);
