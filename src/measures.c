@@ -34,7 +34,7 @@ static double segment_crossing(const double *A, const double *B, rf_vec3 p, rf_v
         double y = p.y + v.y * t + 0.5 * a.y * t * t - A[1];
         double u = (x * dx + y * dy) / len2;
         if (u >= -U_TOL && u <= 1.0 + U_TOL) {
-            *u_out = fmin(fmax(u, 0.0), 1.0);
+            *u_out = rf_fmin(rf_fmax(u, 0.0), 1.0);
             return t;
         }
     }
@@ -47,7 +47,7 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
 {
     /* horizontal bounding box of the path over [t_after, T] */
     double xlo = INFINITY, xhi = -INFINITY, ylo = INFINITY, yhi = -INFINITY;
-    double ts[4] = {fmin(t_after, 0.0), T, -1.0, -1.0};
+    double ts[4] = {rf_fmin(t_after, 0.0), T, -1.0, -1.0};
     if (a.x != 0.0)
         ts[2] = -v.x / a.x;
     if (a.y != 0.0)
@@ -57,7 +57,7 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
         if (i >= 2 && !(t > ts[0] && t < T))
             continue;
         double x = p.x + v.x * t + 0.5 * a.x * t * t, y = p.y + v.y * t + 0.5 * a.y * t * t;
-        xlo = fmin(xlo, x), xhi = fmax(xhi, x), ylo = fmin(ylo, y), yhi = fmax(yhi, y);
+        xlo = rf_fmin(xlo, x), xhi = rf_fmax(xhi, x), ylo = rf_fmin(ylo, y), yhi = rf_fmax(yhi, y);
     }
     int count = 0;
     double best = INFINITY;
@@ -66,8 +66,8 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
         rf_crossing c = {(int)mi, 0, INFINITY, 0.0};
         for (size_t s = 0; s + 1 < l->n; s++) {
             const double *A = &l->xy[2 * s], *B = &l->xy[2 * s + 2];
-            if (fmax(A[0], B[0]) < xlo || fmin(A[0], B[0]) > xhi || fmax(A[1], B[1]) < ylo ||
-                fmin(A[1], B[1]) > yhi)
+            if (rf_fmax(A[0], B[0]) < xlo || rf_fmin(A[0], B[0]) > xhi || rf_fmax(A[1], B[1]) < ylo ||
+                rf_fmin(A[1], B[1]) > yhi)
                 continue;
             double u = 0.0, t = segment_crossing(A, B, p, v, a, t_after, T, &u);
             if (t < c.t) { /* strictly earlier: a vertex crossing stays on its first segment */

@@ -18,6 +18,10 @@
 
 /* ---- tolerances (docs/engine.md) ------------------------------------------------- */
 #define RF_TIME_TOL 1e-13          /* root finding in time (s) */
+/* fmin and fmax inline (the other argument when one is NaN) */
+static inline double rf_fmin(double a, double b) { return (a < b || b != b) ? a : b; }
+static inline double rf_fmax(double a, double b) { return (a > b || b != b) ? a : b; }
+
 #define RF_LEN_TOL 1e-9            /* lengths (m); scaled up for large coordinates */
 #define RF_APPROACH_EPS 1e-7       /* approach speeds below this (m/s) are grazing */
 #define RF_TOUCH_BAND 1000.0       /* a start within this many length tolerances behind a

@@ -28,10 +28,6 @@
 
 #define G_ACC RF_GRAVITY
 
-/* fmax and fmin (the other argument when one is NaN), inline */
-static inline double dmax(double a, double b) { return (a > b || b != b) ? a : b; }
-static inline double dmin(double a, double b) { return (a < b || b != b) ? a : b; }
-
 typedef enum ev_kind {
     EV_NONE, EV_MAX_TIME, EV_REST, EV_ZERO, EV_SLIP, EV_EXIT, EV_CONTACT, EV_SCENE
 } ev_kind;
@@ -209,7 +205,7 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
         p = rf_v3_madd(p, A->d + m->rho - rf_v3_dot(A->n, p), A->n);
         p = rf_v3_madd(p, B->d + m->rho - rf_v3_dot(B->n, p), B->n);
     }
-    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * dmax(m->rho, 0.01))
+    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * rf_fmax(m->rho, 0.01))
         return -1;
     m->s.p = p;
     if (m->sup.n == 0 || m->sup.zone != B->zone)
@@ -261,10 +257,10 @@ void rf_go_flight(rf_motion *m, int32_t exclude)
 static void hop(rf_motion *m, rf_vec3 u)
 {
     double speed = rf_v3_norm(m->s.v);
-    double vn = dmin(speed, m->v_stay);
+    double vn = rf_fmin(speed, m->v_stay);
     rf_vec3 vt = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, u), u);
     double vtl = rf_v3_norm(vt);
-    double st = sqrt(dmax(0.0, speed * speed - vn * vn));
+    double st = sqrt(rf_fmax(0.0, speed * speed - vn * vn));
     m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
     rf_go_flight(m, -1);
 }
@@ -422,18 +418,18 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
         double r[3], t = INFINITY;
         double tol = m->tol_len;
         /* inside the edge by more than tol over all of [0, min(T, best)]: not left there */
-        double tw = dmin(T, best);
-        double fminv = dmin(f[0], f[0] + tw * (f[1] + tw * f[2]));
+        double tw = rf_fmin(T, best);
+        double fminv = rf_fmin(f[0], f[0] + tw * (f[1] + tw * f[2]));
         if (f[2] > 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < tw)
-            fminv = dmin(fminv, f[0] - f[1] * f[1] / (4 * f[2]));
+            fminv = rf_fmin(fminv, f[0] - f[1] * f[1] / (4 * f[2]));
         if (fminv > tol)
             continue;
-        double fmaxv = dmax(f[0], f[0] + T * (f[1] + T * f[2]));
+        double fmaxv = rf_fmax(f[0], f[0] + T * (f[1] + T * f[2]));
         if (f[2] < 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < T)
             fmaxv = f[0] - f[1] * f[1] / (4 * f[2]);
         if (f[0] < -tol && (f[1] <= RF_APPROACH_EPS || fmaxv <= tol)) {
             t = 0.0; /* already beyond the edge and not coming back */
-        } else if (rf_poly_entries(f, 2, 0.0, dmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
+        } else if (rf_poly_entries(f, 2, 0.0, rf_fmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
             t = r[0];
         } else if (fabs(f[0]) <= tol && fabs(f[1]) <= RF_APPROACH_EPS && f[2] < -1e-12) {
             t = 0.0;
@@ -599,7 +595,7 @@ int rf_surface_holds(const rf_motion *m)
         if (c < 0)
             return 0; /* a slipping sphere first rolls */
         rf_vec3 n = t->tri[m->sup.tri[0]].n;
-        double G = G_ACC * sqrt(dmax(0.0, 1.0 - n.z * n.z));
+        double G = G_ACC * sqrt(rf_fmax(0.0, 1.0 - n.z * n.z));
         return G <= c * G_ACC * n.z;
     }
     if (m->sup.n == 2) {
@@ -816,7 +812,7 @@ static double dp_step(const ode *o, const double *y, double h, double *out, dp_s
     double err = 0.0;
     for (int i = 0; i < n; i++) {
         double ei = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
-        double sc = RF_ODE_TOL * (1.0 + dmax(fabs(y[i]), fabs(out[i])));
+        double sc = RF_ODE_TOL * (1.0 + rf_fmax(fabs(y[i]), fabs(out[i])));
         double r = fabs(ei) / sc;
         if (r > err)
             err = r;
@@ -920,7 +916,7 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
     double fhi = 1.0;
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
-        hi = dmin(h, guess + 1e-6 * h + 1e-12);
+        hi = rf_fmin(h, guess + 1e-6 * h + 1e-12);
         dp_dense(o, y, y1, st, hi, tmp);
         fhi = event_value(m, kind, ev, fe, c0, tmp);
     }
@@ -1018,7 +1014,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
     double yn[9];
     double t = 0.0, tcap = m->t_end - m->s.t;
     double speed = rf_v3_norm(m->s.v);
-    double h = m->ode_h > 0 ? m->ode_h : dmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
+    double h = m->ode_h > 0 ? m->ode_h : rf_fmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
     double stop = m->scene->sim->stop_speed;
     for (long steps = 0;; steps++) {
         if (t >= tcap)
@@ -1035,7 +1031,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             rf_motion_event(m);
             return RF_SURF_CONTINUE;
         }
-        double hs = dmin(h, tcap - t);
+        double hs = rf_fmin(h, tcap - t);
         if (f->mode == LAW_SLIDE) {
             rf_vec3 u = y_u(y);
             double ul = rf_v3_norm(u);
@@ -1048,7 +1044,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         dp_stages st;
         double err = dp_step(&o, y, hs, yn, &st);
         if (err > 1.0 && hs > 1e-12) {
-            h = hs * dmax(0.2, 0.9 * pow(err, -0.2));
+            h = hs * rf_fmax(0.2, 0.9 * pow(err, -0.2));
             continue;
         }
         /* accepted step [t, t + hs]: project back onto the plane */
@@ -1087,7 +1083,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         }
         if (!m->point && !m->centre) {
             rf_contact con;
-            double tl = ev.kind == EV_NONE ? hs : dmin(hs, ev.t + 0.1 * hs);
+            double tl = ev.kind == EV_NONE ? hs : rf_fmin(hs, ev.t + 0.1 * hs);
             if (rf_contact_search_near(m, &arc, tl, &ex, &con) && con.t <= ev.t) {
                 ev.kind = EV_CONTACT, ev.t = con.t, ev.con = con;
                 guess = con.t;
@@ -1141,7 +1137,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             rf_set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(yn) : rf_v3(0, 0, 0));
         memcpy(y, yn, sizeof y);
         t += hs;
-        h = hs * dmin(5.0, 0.9 * pow(dmax(err, 1e-10), -0.2));
+        h = hs * rf_fmin(5.0, 0.9 * pow(rf_fmax(err, 1e-10), -0.2));
         m->ode_h = h;
     }
 }
@@ -1257,7 +1253,7 @@ static rf_surface_end crease_step(rf_motion *m)
     rf_support ex = segment_exclusion(m);
     double stop = m->scene->sim->stop_speed;
     rf_vec3 a = rf_v3_scale(cr.l, cr.as);
-    seg_event ev = {EV_MAX_TIME, dmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
+    seg_event ev = {EV_MAX_TIME, rf_fmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
     if (cr.as < 0 && cr.s > 0) {
         if (cr.holds)
             consider(&ev, EV_REST, (cr.s - stop) / -cr.as);
