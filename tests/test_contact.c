@@ -1,6 +1,6 @@
 /* The flight contact search (contact.c) against brute force: random flights over a
- * random rough grid, for the sphere touching every feature, the centre-only contact
- * (Eq. 6-7) and the point.  Sampled against every triangle, the rock penetrates nothing
+ * random rough surface (a grid, and the same surface as a mesh), for the sphere
+ * touching every feature, the centre-only contact (Eq. 6-7) and the point.  Sampled against every triangle, the rock penetrates nothing
  * before the time the search returns, and touches at that time; with no contact
  * returned, it penetrates nothing until it leaves the terrain.  A cull that drops a
  * triangle it should have kept shows as a rock passing through a face. */
@@ -10,6 +10,7 @@
 
 #include <gsl/gsl_rng.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,9 +18,35 @@ typedef enum { FULL, CENTRE, POINT } mode;
 
 static const rf_surface PLAIN = {{0.3, 0.0}, {0.4, 0.0}, {0.0, 0.0}};
 
-static double bumpy_z(int i, int j, void *ctx)
+#define N 16 /* nodes a side, 1 m apart */
+
+static double node_z(int i, int j, void *ctx)
 {
-    return 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(ctx);
+    return ((const double *)ctx)[j * N + i];
+}
+
+/* The same surface as an ascii STL: each cell split along its SW-NE diagonal, as a
+ * grid is. */
+static char *mesh_text(const double *z)
+{
+    size_t cap = (size_t)(N - 1) * (N - 1) * 2 * 400 + 64, n = 0;
+    char *buf = malloc(cap);
+    n += (size_t)snprintf(buf + n, cap - n, "solid bumpy\n");
+    for (int j = 0; j + 1 < N; j++) {
+        for (int i = 0; i + 1 < N; i++) {
+            int tri[2][3][2] = {{{i, j}, {i + 1, j}, {i + 1, j + 1}}, {{i, j}, {i + 1, j + 1}, {i, j + 1}}};
+            for (int k = 0; k < 2; k++) {
+                n += (size_t)snprintf(buf + n, cap - n, "facet normal 0 0 0\nouter loop\n");
+                for (int v = 0; v < 3; v++) {
+                    int x = tri[k][v][0], y = tri[k][v][1];
+                    n += (size_t)snprintf(buf + n, cap - n, "vertex %d %d %.17g\n", x, y, z[y * N + x]);
+                }
+                n += (size_t)snprintf(buf + n, cap - n, "endloop\nendfacet\n");
+            }
+        }
+    }
+    snprintf(buf + n, cap - n, "endsolid bumpy\n");
+    return buf;
 }
 
 /* How far the rock is from penetrating the terrain at centre p (< 0: it penetrates):
@@ -39,14 +66,22 @@ static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p)
     return rf_v3_dot(T->n, p) - T->d - rho;
 }
 
-static void flights_against_brute_force(mode md, double rho, int nflights)
+static void flights_against_brute_force(mode md, double rho, int nflights, int mesh)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 3 + (unsigned long)md);
-    char *txt = mt_grid_text(16, 16, 1.0, bumpy_z, rng);
+    double z[N * N];
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            z[j * N + i] = 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(rng);
+    char *txt = mesh ? mesh_text(z) : mt_grid_text(N, N, 1.0, node_z, z);
     rf_terrain t;
-    mt_dem_text(&t, "bumpy.asc", txt, PLAIN);
+    if (mesh)
+        mt_mesh_text(&t, "bumpy.stl", txt, PLAIN);
+    else
+        mt_dem_text(&t, "bumpy.asc", txt, PLAIN);
     free(txt);
+    ENSURE(t.is_grid == !mesh && t.ntri == 2 * (N - 1) * (N - 1));
     rf_workspace *ws = rf_workspace_alloc(&t);
     ENSURE(ws != NULL);
     rf_motion m;
@@ -64,9 +99,9 @@ static void flights_against_brute_force(mode md, double rho, int nflights)
         do {
             p.x = 2.0 + 11.0 * gsl_rng_uniform(rng);
             p.y = 2.0 + 11.0 * gsl_rng_uniform(rng);
-            double z;
-            ENSURE(rf_terrain_height(&t, p.x, p.y, &z) >= 0);
-            p.z = z + 1.5 * rho + 3.0 * gsl_rng_uniform(rng) * gsl_rng_uniform(rng);
+            double zs;
+            ENSURE(rf_terrain_height(&t, p.x, p.y, &zs) >= 0);
+            p.z = zs + 1.5 * rho + 3.0 * gsl_rng_uniform(rng) * gsl_rng_uniform(rng);
         } while (gap(&t, md, rho, p) < 0.05);
         double az = 2.0 * M_PI * gsl_rng_uniform(rng), vh = 0.3 + 12.0 * gsl_rng_uniform(rng);
         rf_arc arc = {p, rf_v3(vh * cos(az), vh * sin(az), -4.0 + 10.0 * gsl_rng_uniform(rng)),
@@ -101,16 +136,20 @@ static void flights_against_brute_force(mode md, double rho, int nflights)
 
 TEST(contact_flight_search_full_sphere_matches_brute_force)
 {
-    flights_against_brute_force(FULL, 0.74, 60);
-    flights_against_brute_force(FULL, 2.1, 30); /* a rock twice the cell */
+    for (int mesh = 0; mesh < 2; mesh++) {
+        flights_against_brute_force(FULL, 0.74, 60, mesh);
+        flights_against_brute_force(FULL, 2.1, 30, mesh); /* a rock twice the cell */
+    }
 }
 
 TEST(contact_flight_search_centre_matches_brute_force)
 {
-    flights_against_brute_force(CENTRE, 0.74, 300);
+    for (int mesh = 0; mesh < 2; mesh++)
+        flights_against_brute_force(CENTRE, 0.74, 300, mesh);
 }
 
 TEST(contact_flight_search_point_matches_brute_force)
 {
-    flights_against_brute_force(POINT, 0.0, 300);
+    for (int mesh = 0; mesh < 2; mesh++)
+        flights_against_brute_force(POINT, 0.0, 300, mesh);
 }
