@@ -322,12 +322,8 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->rho, rf_v3_dot(T->n, arc->v),
                    0.5 * rf_v3_dot(T->n, arc->a)};
     /* beyond reach of the plane over all of [t0, t1]: never met */
-    double fmin = dmin(f[0] + t0 * (f[1] + t0 * f[2]), f[0] + t1 * (f[1] + t1 * f[2]));
-    if (f[2] > 0.0) {
-        double tv = -f[1] / (2.0 * f[2]);
-        if (tv > t0 && tv < t1)
-            fmin = dmin(fmin, f[0] + tv * (f[1] + tv * f[2]));
-    }
+    double fmin, fmax;
+    rf_quadratic_range(f, t0, t1, &fmin, &fmax);
     if (fmin > tol)
         return;
     double lo = t0, hi = t1;
@@ -675,6 +671,7 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
     const rf_arc *arc = s->arc;
     double reach = m->rho + 4 * m->tol_len;
     double hr = line_reach(m);
+    double zq[3] = {arc->p.z, arc->v.z, 0.5 * arc->a.z};
     uint32_t mark = ws->test_epoch;
     pend_reserve(ws, n);
     size_t npend = 0;
@@ -705,18 +702,15 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
             th = s->best;
         if (!(tl <= th))
             continue;
-        double z_l = arc->p.z + tl * (arc->v.z + 0.5 * tl * arc->a.z);
-        double z_h = arc->p.z + th * (arc->v.z + 0.5 * th * arc->a.z);
+        double zlo, zhi; /* the centre's height over [tl, th] */
+        rf_quadratic_range(zq, tl, th, &zlo, &zhi);
         double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
         if (m->centre) {
             /* as test_candidates: the centre meets a face r / n.z above its plane */
-            double zc = dmax(z_l, z_h), tv = -arc->v.z / arc->a.z;
-            if (tv > tl && tv < th)
-                zc = dmax(zc, arc->p.z + tv * (arc->v.z + 0.5 * tv * arc->a.z));
-            if (zt < dmin(z_l, z_h) - reach / dmax(Tr->n.z, 1e-12) ||
-                dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zc + reach)
+            if (zt < zlo - reach / dmax(Tr->n.z, 1e-12) ||
+                dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zhi + reach)
                 continue;
-        } else if (zt < dmin(z_l, z_h) - reach) {
+        } else if (zt < zlo - reach) {
             continue;
         }
         if (excluded_tri(s->ex, idx))

@@ -16,12 +16,12 @@
 #include "rockfall/sim.h"
 #include "measures.h"
 
-/* ---- tolerances (docs/engine.md) ------------------------------------------------- */
-#define RF_TIME_TOL 1e-13          /* root finding in time (s) */
 /* fmin and fmax inline (the other argument when one is NaN) */
 static inline double rf_fmin(double a, double b) { return (a < b || b != b) ? a : b; }
 static inline double rf_fmax(double a, double b) { return (a > b || b != b) ? a : b; }
 
+/* ---- tolerances (docs/engine.md) ------------------------------------------------- */
+#define RF_TIME_TOL 1e-13          /* root finding in time (s) */
 #define RF_LEN_TOL 1e-9            /* lengths (m); scaled up for large coordinates */
 #define RF_APPROACH_EPS 1e-7       /* approach speeds below this (m/s) are grazing */
 #define RF_TOUCH_BAND 1000.0       /* a start within this many length tolerances behind a
@@ -54,6 +54,8 @@ double rf_arc_length(rf_vec3 v, rf_vec3 a, double T);
 int rf_quadratic_roots(double c2, double c1, double c0, double r[2]);
 /* Value of the polynomial c[0] + c[1] t + ... + c[deg] t^deg. */
 double rf_poly_eval(const double *c, int deg, double t);
+/* Smallest and largest value of c[0] + c[1] t + c[2] t^2 over [t0, t1]. */
+void rf_quadratic_range(const double c[3], double t0, double t1, double *lo, double *hi);
 /* Entering roots of P (deg <= 4) on [t0, t1]: times where P falls through 0 with
  * P' < -slope_eps, after having been above tol (a start with -RF_TOUCH_BAND tol <= P(t0)
  * <= tol counts only when P'(t0) < -slope_eps: touching and approaching).  Writes up to 3 roots in

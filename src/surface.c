@@ -418,15 +418,11 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
         double r[3], t = INFINITY;
         double tol = m->tol_len;
         /* inside the edge by more than tol over all of [0, min(T, best)]: not left there */
-        double tw = rf_fmin(T, best);
-        double fminv = rf_fmin(f[0], f[0] + tw * (f[1] + tw * f[2]));
-        if (f[2] > 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < tw)
-            fminv = rf_fmin(fminv, f[0] - f[1] * f[1] / (4 * f[2]));
+        double fminv, fmaxv;
+        rf_quadratic_range(f, 0.0, rf_fmin(T, best), &fminv, &fmaxv);
         if (fminv > tol)
             continue;
-        double fmaxv = rf_fmax(f[0], f[0] + T * (f[1] + T * f[2]));
-        if (f[2] < 0 && -f[1] / (2 * f[2]) > 0 && -f[1] / (2 * f[2]) < T)
-            fmaxv = f[0] - f[1] * f[1] / (4 * f[2]);
+        rf_quadratic_range(f, 0.0, T, &fminv, &fmaxv);
         if (f[0] < -tol && (f[1] <= RF_APPROACH_EPS || fmaxv <= tol)) {
             t = 0.0; /* already beyond the edge and not coming back */
         } else if (rf_poly_entries(f, 2, 0.0, rf_fmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
