@@ -51,13 +51,14 @@ static char *mesh_text(const double *z)
 
 /* How far the rock is from penetrating the terrain at centre p (< 0: it penetrates):
  * the sphere's distance beyond rho from the nearest triangle; the centre's distance
- * beyond rho from the plane of the face under it; the point's height above the face
- * under it.  INFINITY off the terrain. */
-static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p)
+ * beyond rho from the plane of face k (-1: the face under it); the point's height
+ * above that face.  INFINITY off the terrain. */
+static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p, int32_t k)
 {
     if (md == FULL)
         return mt_terrain_distance(t, p) - rho;
-    int32_t k = rf_terrain_locate(t, p.x, p.y);
+    if (k < 0)
+        k = rf_terrain_locate(t, p.x, p.y);
     if (k < 0)
         return INFINITY;
     const rf_triangle *T = &t->tri[k];
@@ -102,7 +103,7 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
             double zs;
             ENSURE(rf_terrain_height(&t, p.x, p.y, &zs) >= 0);
             p.z = zs + 1.5 * rho + 3.0 * gsl_rng_uniform(rng) * gsl_rng_uniform(rng);
-        } while (gap(&t, md, rho, p) < 0.05);
+        } while (gap(&t, md, rho, p, -1) < 0.05);
         double az = 2.0 * M_PI * gsl_rng_uniform(rng), vh = 0.3 + 12.0 * gsl_rng_uniform(rng);
         rf_arc arc = {p, rf_v3(vh * cos(az), vh * sin(az), -4.0 + 10.0 * gsl_rng_uniform(rng)),
                       rf_v3(0, 0, -RF_GRAVITY)};
@@ -113,16 +114,12 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
         hits += found, misses += !found;
         for (int i = 0; i < 1000; i++) {
             double ts = tend * i / 1000.0;
-            double g = gap(&t, md, rho, rf_arc_pos(&arc, ts));
+            double g = gap(&t, md, rho, rf_arc_pos(&arc, ts), -1);
             ENSURE_MSG(g >= -1e-6, "flight %d: penetrates by %.3g at t = %.9g, before %s at %.9g",
                        k, -g, ts, found ? "the contact returned" : "leaving the terrain", tend);
         }
         if (found) {
-            rf_vec3 q = rf_arc_pos(&arc, c.t);
-            const rf_triangle *T = &t.tri[c.tri];
-            double g = md == FULL ? gap(&t, md, rho, q) : rf_v3_dot(T->n, q) - T->d - rho;
-            if (md == POINT)
-                g = q.z - rf_triangle_z_at(T, q.x, q.y);
+            double g = gap(&t, md, rho, rf_arc_pos(&arc, c.t), c.tri);
             ENSURE_MSG(md == CENTRE ? g <= 1e-6 : fabs(g) <= 1e-6,
                        "flight %d: at the contact returned (t = %.9g) the gap is %.3g", k, c.t, g);
         }
