@@ -659,6 +659,41 @@ static void pend_reserve(rf_workspace *ws, size_t n)
         ws->pend_cap = ci;
 }
 
+/* Triangle idx's edges and vertices to test from w0 on: kept pending, or tested now
+ * (up to t1) when the pending list is full. */
+static void pend_push(search *s, int32_t idx, double w0, double t1, size_t *npend)
+{
+    rf_workspace *ws = s->m->ws;
+    if (*npend < ws->pend_cap) {
+        ws->pend_idx[*npend] = idx;
+        ws->pend_w0[*npend] = w0;
+        (*npend)++;
+    } else {
+        test_edges(s, idx, w0, t1);
+    }
+}
+
+/* The edges and vertices of the pending triangles up to tb (lo, hi: the arc's box,
+ * unused in a flight): through the table of shared features when it stays at most a
+ * third full (a flight's pieces share one table, other searches start afresh),
+ * otherwise triangle by triangle. */
+static void test_pending(search *s, size_t npend, double tb, rf_vec3 lo, rf_vec3 hi)
+{
+    rf_workspace *ws = s->m->ws;
+    if (npend == 0)
+        return;
+    size_t p0 = 0;
+    if (npend * 6 <= RF_FEAT_SLOTS / 3) {
+        if (!s->line || ws->feat_used + npend * 6 > RF_FEAT_SLOTS / 3)
+            feat_reset(ws);
+        test_features(s, npend, tb, lo, hi);
+        p0 = npend;
+    }
+    for (size_t k = p0; k < npend; k++)
+        if (ws->pend_w0[k] < s->best)
+            test_edges(s, ws->pend_idx[k], ws->pend_w0[k], tb);
+}
+
 /* A flight (s->line) over [0, T]: the candidates not yet tested in this search, each
  * over the whole time it is within reach of the centre (so once per search); faces
  * first, then the edges and vertices of the triangles whose planes are reached before
@@ -721,29 +756,11 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
                 w0 = tl;
             if (w0 > th)
                 continue;
-            if (npend < ws->pend_cap) {
-                ws->pend_idx[npend] = idx;
-                ws->pend_w0[npend] = w0;
-                npend++;
-            } else {
-                test_edges(s, idx, w0, T);
-            }
+            pend_push(s, idx, w0, T, &npend);
         }
     }
-    if (npend == 0)
-        return;
-    size_t p0 = 0;
-    if (npend * 6 <= RF_FEAT_SLOTS / 3) {
-        /* a feature table at most a third full */
-        if (ws->feat_used + npend * 6 > RF_FEAT_SLOTS / 3)
-            feat_reset(ws);
-        rf_vec3 z = rf_v3(0, 0, 0);
-        test_features(s, npend, T, z, z);
-        p0 = npend;
-    }
-    for (size_t k = p0; k < npend; k++)
-        if (ws->pend_w0[k] < s->best)
-            test_edges(s, ws->pend_idx[k], ws->pend_w0[k], T);
+    rf_vec3 z = rf_v3(0, 0, 0);
+    test_pending(s, npend, T, z, z);
 }
 
 /* Tests candidates over [ta, tb] (lo, hi: the arc's box over it): faces first, then
@@ -779,26 +796,10 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
         if (excluded_tri(ex, idx))
             continue;
         double w0;
-        if (test_face(s, idx, ta, tb, &w0)) {
-            if (npend < ws->pend_cap) {
-                ws->pend_idx[npend] = idx;
-                ws->pend_w0[npend] = w0;
-                npend++;
-            } else {
-                test_edges(s, idx, w0, tb);
-            }
-        }
+        if (test_face(s, idx, ta, tb, &w0))
+            pend_push(s, idx, w0, tb, &npend);
     }
-    /* a feature table at most a third full */
-    size_t p0 = 0;
-    if (npend * 6 <= RF_FEAT_SLOTS / 3) {
-        feat_reset(ws);
-        test_features(s, npend, tb, lo, hi);
-        p0 = npend;
-    }
-    for (size_t k = p0; k < npend; k++)
-        if (ws->pend_w0[k] < s->best)
-            test_edges(s, ws->pend_idx[k], ws->pend_w0[k], tb);
+    test_pending(s, npend, tb, lo, hi);
 }
 
 /* Contact normal at the contact time. */

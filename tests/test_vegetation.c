@@ -16,6 +16,7 @@
 #include "scenes.h"
 #include "store.h"
 #include "db_test_util.h"
+#include "motion_test_util.h"
 #include "test.h"
 #include "vegetation.h"
 
@@ -157,26 +158,12 @@ static rf_forest forest(double density, double h_mean, double h_sd, double diame
     return f;
 }
 
+/* The motion tests' options, with this engine and no stored paths. */
 static rf_simulation sim_opts(rf_rock_model model, rf_engine_kind engine, double max_time)
 {
-    rf_simulation s;
-    memset(&s, 0, sizeof s);
-    s.model = model;
+    rf_simulation s = mt_sim(model, RF_CONTACT_FULL, max_time);
     s.engine = engine;
-    s.dt = 0.001;
-    s.contact = RF_CONTACT_FULL;
-    s.stop_speed = 0.1;
-    s.max_time = max_time;
     s.paths = 0;
-    return s;
-}
-
-static rf_state state(rf_vec3 p, rf_vec3 v)
-{
-    rf_state s;
-    memset(&s, 0, sizeof s);
-    s.p = p;
-    s.v = v;
     return s;
 }
 
@@ -214,7 +201,7 @@ static void hit_rate(const rf_forest *fs, size_t nf, rf_body body, rf_engine_kin
     for (long k = 0; k < n; k++) {
         rf_vec3 p0 = rf_v3(0.5 * FLAT_SIZE, 0.5 * FLAT_SIZE, z0);
         rf_trajectory_record rec;
-        runner_go(&R, (unsigned long)k, state(p0, rf_v3(speed, 0.0, 0.0)), &rec);
+        runner_go(&R, (unsigned long)k, mt_state(p0, rf_v3(speed, 0.0, 0.0)), &rec);
         ENSURE_MSG(rec.reason == RF_END_MAX_TIME, "trajectory %ld ended as %s", k,
                    rf_stop_reason_name(rec.reason));
         /* the speed is kept: the path is as long as planned (the fixed step adds the
@@ -490,11 +477,11 @@ TEST(vegetation_above_the_trees_never_hit)
     for (unsigned long k = 0; k < 200; k++) {
         rf_trajectory_record rec;
         /* up to 25 m at 2 s and back to 5.4 m at 4 s: never below the tops */
-        runner_go(&R, k, state(rf_v3(100, 1000, 5.4), rf_v3(30, 0.0, 19.62)), &rec);
+        runner_go(&R, k, mt_state(rf_v3(100, 1000, 5.4), rf_v3(30, 0.0, 19.62)), &rec);
         ENSURE(rec.reason == RF_END_MAX_TIME && rec.n_impacts == 0);
         ENSURE(rec.n_tree_hits == 0);
         /* the same flight 1 m lower ends inside the canopy */
-        runner_go(&R, k, state(rf_v3(100, 1000, 4.4), rf_v3(30, 0.0, 19.62)), &rec);
+        runner_go(&R, k, mt_state(rf_v3(100, 1000, 4.4), rf_v3(30, 0.0, 19.62)), &rec);
         low += rec.n_tree_hits;
     }
     ENSURE(low > 0);
@@ -522,7 +509,7 @@ TEST(vegetation_polygon_affects_only_crossing_rocks)
     long crossing_hits = 0, crossing = 0, missing = 0;
     for (unsigned long k = 0; k < 400; k++) {
         double y = 1000.0 + 100.0 * ((double)k + 0.5) / 400.0;
-        rf_state s0 = state(rf_v3(1000, y, 0.0), rf_v3(10.0, 0.0, 0.0));
+        rf_state s0 = mt_state(rf_v3(1000, y, 0.0), rf_v3(10.0, 0.0, 0.0));
         rf_trajectory_record a, c;
         runner_go(&with, k, s0, &a);
         runner_go(&without, k, s0, &c);
@@ -590,7 +577,7 @@ TEST(vegetation_tree_impacts_never_add_energy)
         long hits = 0;
         int n = engine ? 40 : 400;
         for (int k = 0; k < n; k++) {
-            rf_state s0 = state(rf_v3(5.0, 100.0, 120.0), rf_v3(2.0, 0.5 * (k % 7 - 3), 0.0));
+            rf_state s0 = mt_state(rf_v3(5.0, 100.0, 120.0), rf_v3(2.0, 0.5 * (k % 7 - 3), 0.0));
             s0.w = rf_v3(0.3 * (k % 5), -5.0 + k % 11, 2.0 - k % 3);
             rf_trajectory_record rec;
             runner_go(&R, (unsigned long)k, s0, &rec);
@@ -632,7 +619,7 @@ TEST(vegetation_tree_hit_in_flight_leaves_rock_in_place)
         long hits = 0, high = 0;
         for (int k = 0; k < 100; k++) {
             rf_trajectory_record rec;
-            runner_go(&R, (unsigned long)k, state(rf_v3(50, 100, b.radius), rf_v3(25, 0, 0)), &rec);
+            runner_go(&R, (unsigned long)k, mt_state(rf_v3(50, 100, b.radius), rf_v3(25, 0, 0)), &rec);
             hits += rec.n_tree_hits;
             high += R.obs.have_first && R.obs.first.p.z > 3.0 + b.radius + 1.0;
             ENSURE_MSG(R.obs.tree_jump_max <= 1e-6, "engine %d trajectory %d: a tree hit moved "
@@ -688,7 +675,7 @@ TEST(vegetation_no_forest_random_stream_untouched)
     runner_init(&R3, &t, &sim, both, 2, NULL, 0, b);
     long impacts = 0;
     for (unsigned long k = 0; k < 200; k++) {
-        rf_state s0 = state(rf_v3(3.0, 50.0, 80.0 - 0.7 * 3.0 + 5.0), rf_v3(1.0, 0.0, 0.0));
+        rf_state s0 = mt_state(rf_v3(3.0, 50.0, 80.0 - 0.7 * 3.0 + 5.0), rf_v3(1.0, 0.0, 0.0));
         rf_trajectory_record a, c1, c2, c3;
         runner_go(&R0, k, s0, &a);
         runner_go(&R1, k, s0, &c1);
