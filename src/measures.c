@@ -87,12 +87,8 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
         if (count < cap)
             out[count++] = c;
     }
-    /* the crossings kept must all be at the earliest time */
-    int k = 0;
-    for (int i = 0; i < count; i++)
-        if (out[i].t <= best + RF_CROSSING_EPS)
-            out[k++] = out[i];
-    return k;
+    /* all kept are within RF_CROSSING_EPS of best: it only falls with a reset */
+    return count;
 }
 
 int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,

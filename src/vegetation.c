@@ -19,11 +19,18 @@ double rf_forest_rate(const rf_forest *f, double h_r, double phi_r)
     return rf_forest_density_above(f, h_r) * (phi_r + f->diameter); /* Eq. 12, per metre */
 }
 
+/* Forest f's rate with every tree taller than the rock's centre (Eq. 12 with the
+ * density of Eq. 11 at its largest): its share of the thinning bound. */
+static double forest_bound(const rf_forest *f, double phi_r)
+{
+    return f->density * (phi_r + f->diameter);
+}
+
 double rf_vegetation_rate_bound(const rf_forest *fs, size_t n, double phi_r)
 {
     double b = 0.0;
     for (size_t i = 0; i < n; i++)
-        b += fs[i].density * (phi_r + fs[i].diameter);
+        b += forest_bound(&fs[i], phi_r);
     return b;
 }
 
@@ -57,7 +64,7 @@ int rf_vegetation_accept(const rf_forest *fs, size_t n, double x, double y, doub
 {
     double target = u * bound, acc = 0.0;
     for (size_t i = 0; i < n; i++) {
-        double share = fs[i].density * (phi_r + fs[i].diameter); /* forest i's bound */
+        double share = forest_bound(&fs[i], phi_r);
         if (target < acc + share) {
             /* inside forest i's share: accepted with its true rate */
             if (!rf_forest_covers(&fs[i], x, y))
