@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hazard.h"
+#include "rockfall/records.h"
 #include "util.h"
 
 int rf_query_db_error(sqlite3 *db, rf_error *err)
@@ -81,14 +82,12 @@ int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s,
         const char *o = (const char *)sqlite3_column_text(st, 0);
         long c = (long)sqlite3_column_int64(st, 1);
         s->n += c;
-        if (!strcmp(o, "stopped"))
-            s->n_stopped = c;
-        else if (!strcmp(o, "overtopped"))
-            s->n_overtopped = c;
-        else if (!strcmp(o, "broke_through"))
-            s->n_broke_through = c;
-        else
-            s->n_passed = c;
+        switch (rf_outcome_from_name(o)) {
+        case RF_OUT_STOPPED: s->n_stopped = c; break;
+        case RF_OUT_OVERTOPPED: s->n_overtopped = c; break;
+        case RF_OUT_BROKE_THROUGH: s->n_broke_through = c; break;
+        case RF_OUT_PASSED: s->n_passed = c; break;
+        }
     }
     sqlite3_finalize(st);
     float *v;

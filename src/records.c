@@ -3,6 +3,7 @@
 #include "rockfall/records.h"
 
 #include <assert.h>
+#include <string.h>
 
 const char *rf_stop_reason_name(rf_stop_reason r)
 {
@@ -26,4 +27,12 @@ const char *rf_outcome_name(rf_outcome o)
     }
     assert(!"unknown outcome");
     return "?";
+}
+
+rf_outcome rf_outcome_from_name(const char *text)
+{
+    for (int o = RF_OUT_STOPPED; text && o <= RF_OUT_PASSED; o++)
+        if (!strcmp(text, rf_outcome_name((rf_outcome)o)))
+            return (rf_outcome)o;
+    return RF_OUT_PASSED;
 }

@@ -513,15 +513,6 @@ static int kind_of(const char *text)
     return RF_CONTROL;
 }
 
-static rf_outcome outcome_of(const char *text)
-{
-    static const char *const names[] = {"stopped", "overtopped", "broke_through", "passed"};
-    for (int i = 0; text && i < 4; i++)
-        if (!strcmp(text, names[i]))
-            return (rf_outcome)i;
-    return RF_OUT_PASSED;
-}
-
 /* One measure of the run as the classification needs it. */
 typedef struct measure_row {
     int64_t id;
@@ -583,7 +574,7 @@ static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m
                                   (long long)sqlite3_column_int64(st, 0), level);
             break;
         }
-        rf_outcome outcome = outcome_of((const char *)sqlite3_column_text(st, 2));
+        rf_outcome outcome = rf_outcome_from_name((const char *)sqlite3_column_text(st, 2));
         int reached = rf_rules_reached(r, m->capacity, column_real(st, 1), outcome);
         int required = rf_rules_required(r, level, (rf_importance)m->importance);
         int ok = rf_rules_meets(r, reached, required);

@@ -58,5 +58,8 @@ typedef struct rf_hazard_cell_record {
 
 const char *rf_stop_reason_name(rf_stop_reason r);
 const char *rf_outcome_name(rf_outcome o);
+/* The outcome named `text` (as rf_outcome_name writes it); RF_OUT_PASSED for any other
+ * text or NULL. */
+rf_outcome rf_outcome_from_name(const char *text);
 
 #endif
