@@ -58,6 +58,18 @@ rf_state mt_state(rf_vec3 p, rf_vec3 v)
     return s;
 }
 
+void mt_incline(rf_terrain *t, double theta, double L, double width, rf_surface s)
+{
+    double prof[4] = {0.0, L * tan(theta), L, 0.0};
+    mt_profile(t, prof, 2, width, s);
+}
+
+rf_state mt_incline_state(double theta, double L, double x, double y, double lift, rf_vec3 v)
+{
+    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    return mt_state(rf_v3_madd(rf_v3(x, y, (L - x) * tan(theta)), lift, n), v);
+}
+
 rf_simulation mt_sim(rf_rock_model model, rf_contact_kind contact, double max_time)
 {
     rf_simulation sim;

@@ -34,6 +34,13 @@ void mt_mesh_text(rf_terrain *t, const char *name, const char *text, rf_surface 
 char *mt_grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx);
 
 rf_state mt_state(rf_vec3 p, rf_vec3 v);
+
+/* A plane falling along +x at theta, from height L tan(theta) at x = 0 to 0 at x = L,
+ * width wide. */
+void mt_incline(rf_terrain *t, double theta, double L, double width, rf_surface s);
+/* A state with velocity v whose centre is lift above the incline's point at (x, y),
+ * along the plane's normal. */
+rf_state mt_incline_state(double theta, double L, double x, double y, double lift, rf_vec3 v);
 /* Simulation options of the tests (exact engine, stop_speed 0.1, max_time 300). */
 rf_simulation mt_sim(rf_rock_model model, rf_contact_kind contact, double max_time);
 

@@ -27,9 +27,8 @@ static void ensure_sane(const mt_run *r, double max_time)
 
 TEST(hard_bounce_to_rest_on_flat_ground)
 {
-    double prof[4] = {0.0, 0.0, 100.0, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 100.0, (rf_surface){{0.55, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
+    mt_incline(&t, 0.0, 100.0, 100.0, (rf_surface){{0.55, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(2385.0, 2650.0, md);
@@ -51,15 +50,12 @@ TEST(hard_bounce_to_rest_on_flat_ground)
 TEST(hard_resting_rock_stays_put)
 {
     const double theta = 20.0 * PI / 180.0;
-    double prof[4] = {0.0, 100.0 * tan(theta), 100.0, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 50.0, (rf_surface){{0.3, 0.0}, {0.8, 0.0}, {0.5, 0.0}});
-    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
+    mt_incline(&t, theta, 100.0, 50.0, (rf_surface){{0.3, 0.0}, {0.8, 0.0}, {0.5, 0.0}});
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(4500.0, 2650.0, md);
-        rf_vec3 ground = rf_v3(40.0, 20.0, 60.0 * tan(theta));
-        rf_state s = mt_state(rf_v3_madd(ground, model ? 0.0 : b.radius, n), rf_v3(0, 0, 0));
+        rf_state s = mt_incline_state(theta, 100.0, 40.0, 20.0, model ? 0.0 : b.radius, rf_v3(0, 0, 0));
         mt_run r;
         mt_simulate(&t, md, 4500.0, RF_CONTACT_FULL, &s, 7, &r);
         ENSURE(r.rec.reason == RF_END_REST);
@@ -324,9 +320,8 @@ TEST(hard_restitution_and_friction_at_limits)
 
 TEST(hard_e_one_bounces_forever_without_loss)
 {
-    double prof[4] = {0.0, 0.0, 100.0, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 100.0, (rf_surface){{1.0, 0.0}, {0.5, 0.0}, {0.1, 0.0}});
+    mt_incline(&t, 0.0, 100.0, 100.0, (rf_surface){{1.0, 0.0}, {0.5, 0.0}, {0.1, 0.0}});
     rf_state s = mt_state(rf_v3(50.0, 50.0, 2.5), rf_v3(0, 0, 0));
     mt_run r;
     mt_simulate_t(&t, RF_MODEL_POINT, 10.0, RF_CONTACT_FULL, &s, 1, 20.0, &r);

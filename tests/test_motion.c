@@ -17,9 +17,8 @@ TEST(motion_point_slides_eq1_eq2)
 {
     const double theta = 33.7 * PI / 180.0, mu = 0.385, L = 120.0;
     const double top = L * tan(theta);
-    double prof[4] = {0.0, top, L, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 40.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu, 0.0}});
+    mt_incline(&t, theta, L, 40.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu, 0.0}});
     const double heights[] = {2.385, 17.3, 48.9, top - 0.01};
     for (size_t k = 0; k < sizeof heights / sizeof *heights; k++) {
         double H = heights[k];
@@ -48,10 +47,9 @@ TEST(motion_point_slides_eq1_eq2)
 TEST(motion_point_slides_across_fall_line_energy_balance)
 {
     const double theta = 31.0 * PI / 180.0, mu = 0.21, L = 200.0;
-    double prof[4] = {0.0, L * tan(theta), L, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 400.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu, 0.0}});
-    rf_state s = mt_state(rf_v3(20.0, 100.0, (L - 20.0) * tan(theta)), rf_v3(3.0, 9.5, -3.0 * tan(theta)));
+    mt_incline(&t, theta, L, 400.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu, 0.0}});
+    rf_state s = mt_incline_state(theta, L, 20.0, 100.0, 0.0, rf_v3(3.0, 9.5, -3.0 * tan(theta)));
     mt_run r;
     mt_simulate(&t, RF_MODEL_POINT, 1000.0, RF_CONTACT_FULL, &s, 1, &r);
     ENSURE(r.rec.reason == RF_END_EXITED);
@@ -69,13 +67,10 @@ TEST(motion_point_slides_across_fall_line_energy_balance)
 TEST(motion_sphere_rolls_five_sevenths)
 {
     const double theta = 27.3 * PI / 180.0, mu = 0.9, mu_r = 0.115, L = 300.0;
-    double prof[4] = {0.0, L * tan(theta), L, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
+    mt_incline(&t, theta, L, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
     rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
-    double x0 = 30.0, z0 = (L - x0) * tan(theta);
-    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
-    rf_state s = mt_state(rf_v3_madd(rf_v3(x0, 23.85, z0), b.radius, n), rf_v3(0, 0, 0));
+    rf_state s = mt_incline_state(theta, L, 30.0, 23.85, b.radius, rf_v3(0, 0, 0));
     const double T[] = {0.75, 2.385, 4.1};
     for (size_t k = 0; k < 3; k++) {
         mt_run r;
@@ -100,13 +95,10 @@ TEST(motion_sphere_rolls_five_sevenths)
 TEST(motion_sphere_at_rest_on_steep_face_slides)
 {
     const double theta = 62.0 * PI / 180.0, mu = 0.2, mu_r = 0.05, L = 300.0;
-    double prof[4] = {0.0, L * tan(theta), L, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
+    mt_incline(&t, theta, L, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
     rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
-    double x0 = 100.0, z0 = (L - x0) * tan(theta);
-    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
-    rf_state s = mt_state(rf_v3_madd(rf_v3(x0, 23.85, z0), b.radius, n), rf_v3(0, 0, 0));
+    rf_state s = mt_incline_state(theta, L, 100.0, 23.85, b.radius, rf_v3(0, 0, 0));
     const double T[] = {0.3, 1.7};
     for (size_t k = 0; k < 2; k++) {
         mt_run r;
@@ -171,9 +163,8 @@ TEST(motion_launch_from_cliff_lands_at_v0_sqrt_2h_over_g)
 TEST(motion_bounce_heights_h_e2k)
 {
     const double e = 0.615, h = 3.85;
-    double prof[4] = {0.0, 0.0, 100.0, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 100.0, (rf_surface){{e, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
+    mt_incline(&t, 0.0, 100.0, 100.0, (rf_surface){{e, 0.0}, {0.4, 0.0}, {0.1, 0.0}});
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(2385.0, 2650.0, md);
@@ -206,9 +197,8 @@ TEST(motion_flight_path_length_and_max_energy)
 {
     /* a throw onto flat ground that stops dead at the landing (e = 0, huge mu): the
      * path length is the parabola's arc length */
-    double prof[4] = {0.0, 0.0, 1000.0, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 100.0, (rf_surface){{0.0, 0.0}, {1e3, 0.0}, {1e3, 0.0}});
+    mt_incline(&t, 0.0, 1000.0, 100.0, (rf_surface){{0.0, 0.0}, {1e3, 0.0}, {1e3, 0.0}});
     rf_state s = mt_state(rf_v3(10.0, 50.0, 0.0), rf_v3(13.1, 0.0, 17.9));
     mt_run r;
     mt_simulate(&t, RF_MODEL_POINT, 1.0, RF_CONTACT_FULL, &s, 1, &r);
@@ -428,9 +418,8 @@ TEST(motion_samples_every_spacing)
 TEST(motion_max_time_ends_a_trajectory)
 {
     const double theta = 30.0 * PI / 180.0;
-    double prof[4] = {0.0, 500.0 * tan(theta), 500.0, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 40.0, (rf_surface){{0.3, 0.0}, {0.2, 0.0}, {0.1, 0.0}});
+    mt_incline(&t, theta, 500.0, 40.0, (rf_surface){{0.3, 0.0}, {0.2, 0.0}, {0.1, 0.0}});
     rf_state s = mt_state(rf_v3(3.0, 20.0, 497.0 * tan(theta) + 5.0), rf_v3(0, 0, 0));
     mt_run r;
     mt_simulate_t(&t, RF_MODEL_POINT, 100.0, RF_CONTACT_FULL, &s, 1, 2.385, &r);
@@ -494,13 +483,10 @@ TEST(motion_centre_contact_rolls_five_sevenths_on_a_plane)
 {
     /* on one plane the paper's centre test and the full test agree */
     const double theta = 24.1 * PI / 180.0, mu_r = 0.2, L = 200.0;
-    double prof[4] = {0.0, L * tan(theta), L, 0.0};
     rf_terrain t;
-    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {0.9, 0.0}, {mu_r, 0.0}});
+    mt_incline(&t, theta, L, 60.0, (rf_surface){{0.0, 0.0}, {0.9, 0.0}, {mu_r, 0.0}});
     rf_body b = rf_body_make(900.0, 2650.0, RF_MODEL_SPHERE);
-    rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
-    rf_state s = mt_state(rf_v3_madd(rf_v3(20.0, 30.0, (L - 20.0) * tan(theta)), b.radius, n),
-                          rf_v3(0, 0, 0));
+    rf_state s = mt_incline_state(theta, L, 20.0, 30.0, b.radius, rf_v3(0, 0, 0));
     for (int contact = 0; contact < 2; contact++) {
         mt_run r;
         mt_simulate_t(&t, RF_MODEL_SPHERE, 900.0, contact ? RF_CONTACT_CENTRE : RF_CONTACT_FULL,
@@ -516,10 +502,9 @@ TEST(motion_centre_contact_rolls_five_sevenths_on_a_plane)
 TEST(motion_rolling_sphere_decelerates_to_rest)
 {
     /* rolling on level ground: rest where the speed falls to stop_speed, v^2 - s^2 = 2 a d */
-    double prof[4] = {0.0, 0.0, 300.0, 0.0};
     rf_terrain t;
     const double mu_r = 0.13;
-    mt_profile(&t, prof, 2, 60.0, (rf_surface){{0.0, 0.0}, {0.9, 0.0}, {mu_r, 0.0}});
+    mt_incline(&t, 0.0, 300.0, 60.0, (rf_surface){{0.0, 0.0}, {0.9, 0.0}, {mu_r, 0.0}});
     rf_body b = rf_body_make(900.0, 2650.0, RF_MODEL_SPHERE);
     rf_state s = mt_state(rf_v3(10.0, 30.0, b.radius), rf_v3(7.3, 0, 0));
     s.w = rf_v3(0, 7.3 / b.radius, 0);
