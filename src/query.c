@@ -41,70 +41,85 @@ int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err)
     return status;
 }
 
-/* Reads a column of doubles of one measure's interceptions into a malloc'd array. */
-static int read_column(sqlite3 *db, const char *col, int64_t measure_id, float **out, size_t *n,
+int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size_t *n,
                        rf_error *err)
 {
-    char sql[160];
-    snprintf(sql, sizeof sql, "SELECT %s FROM interceptions WHERE measure_id = ?1", col);
+    *rows = NULL;
+    *n = 0;
     sqlite3_stmt *st;
-    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK)
+    if (sqlite3_prepare_v2(db,
+                           "SELECT energy_kj, passing_height_m, outcome FROM interceptions"
+                           " WHERE measure_id = ?1 ORDER BY id",
+                           -1, &st, NULL) != SQLITE_OK)
         return rf_query_db_error(db, err);
     sqlite3_bind_int64(st, 1, measure_id);
     size_t cap = 0;
-    *out = NULL;
-    *n = 0;
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)out, &cap, *n + 1, sizeof **out)) {
+        if (rf_grow((void **)rows, &cap, *n + 1, sizeof **rows)) {
             sqlite3_finalize(st);
+            free(*rows);
+            *rows = NULL;
+            *n = 0;
             return rf_error_set(err, "", 0, 0, "out of memory");
         }
-        if (sqlite3_column_type(st, 0) == SQLITE_NULL)
-            continue; /* e.g. a passing height over a hole */
-        (*out)[(*n)++] = (float)sqlite3_column_double(st, 0);
+        rf_crossing *x = &(*rows)[(*n)++];
+        x->energy = sqlite3_column_type(st, 0) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 0);
+        x->height = sqlite3_column_type(st, 1) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 1);
+        x->outcome = rf_outcome_from_name((const char *)sqlite3_column_text(st, 2));
     }
     sqlite3_finalize(st);
     return rc == SQLITE_DONE ? 0 : rf_query_db_error(db, err);
 }
 
-int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s, rf_error *err)
+/* The values of one field of the rows that have one (NULL in the database is NAN
+ * here, e.g. a passing height over a hole), as floats in v. */
+static size_t gather(const rf_crossing *x, size_t n, int height, float *v)
+{
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        double d = height ? x[i].height : x[i].energy;
+        if (!isnan(d))
+            v[m++] = (float)d;
+    }
+    return m;
+}
+
+int rf_measure_stats_of(const rf_crossing *x, size_t n, rf_measure_stats *s, rf_error *err)
 {
     memset(s, 0, sizeof *s);
-    sqlite3_stmt *st;
-    if (sqlite3_prepare_v2(db,
-                           "SELECT outcome, count(*) FROM interceptions WHERE measure_id = ?1 "
-                           "GROUP BY outcome",
-                           -1, &st, NULL) != SQLITE_OK)
-        return rf_query_db_error(db, err);
-    sqlite3_bind_int64(st, 1, measure_id);
-    while (sqlite3_step(st) == SQLITE_ROW) {
-        const char *o = (const char *)sqlite3_column_text(st, 0);
-        long c = (long)sqlite3_column_int64(st, 1);
-        s->n += c;
-        switch (rf_outcome_from_name(o)) {
-        case RF_OUT_STOPPED: s->n_stopped = c; break;
-        case RF_OUT_OVERTOPPED: s->n_overtopped = c; break;
-        case RF_OUT_BROKE_THROUGH: s->n_broke_through = c; break;
-        case RF_OUT_PASSED: s->n_passed = c; break;
+    s->n = (long)n;
+    for (size_t i = 0; i < n; i++)
+        switch (x[i].outcome) {
+        case RF_OUT_STOPPED: s->n_stopped++; break;
+        case RF_OUT_OVERTOPPED: s->n_overtopped++; break;
+        case RF_OUT_BROKE_THROUGH: s->n_broke_through++; break;
+        case RF_OUT_PASSED: s->n_passed++; break;
         }
-    }
-    sqlite3_finalize(st);
-    float *v;
-    size_t n;
-    if (read_column(db, "energy_kj", measure_id, &v, &n, err))
-        return -1;
-    s->energy_p50 = rf_percentile_nearest_rank(v, n, 0.50); /* sorts v */
-    s->energy_p90 = rf_percentile_sorted(v, n, 0.90);
-    s->energy_p95 = rf_percentile_sorted(v, n, 0.95);
-    s->energy_p99 = rf_percentile_sorted(v, n, 0.99);
-    s->energy_max = n ? v[n - 1] : NAN;
-    free(v);
-    if (read_column(db, "passing_height_m", measure_id, &v, &n, err))
-        return -1;
-    s->height_p95 = rf_percentile_nearest_rank(v, n, 0.95);
+    float *v = malloc((n ? n : 1) * sizeof *v);
+    if (!v)
+        return rf_error_set(err, "", 0, 0, "out of memory");
+    size_t m = gather(x, n, 0, v);
+    s->energy_p50 = rf_percentile_nearest_rank(v, m, 0.50); /* sorts v */
+    s->energy_p90 = rf_percentile_sorted(v, m, 0.90);
+    s->energy_p95 = rf_percentile_sorted(v, m, 0.95);
+    s->energy_p99 = rf_percentile_sorted(v, m, 0.99);
+    s->energy_max = m ? v[m - 1] : NAN;
+    m = gather(x, n, 1, v);
+    s->height_p95 = rf_percentile_nearest_rank(v, m, 0.95);
     free(v);
     return 0;
+}
+
+int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s, rf_error *err)
+{
+    rf_crossing *x;
+    size_t n;
+    if (rf_query_crossings(db, measure_id, &x, &n, err))
+        return -1;
+    int rc = rf_measure_stats_of(x, n, s, err);
+    free(x);
+    return rc;
 }
 
 /* A number of the statistics columns, "-" when there is none. */

@@ -8,6 +8,7 @@
 #include <sqlite3.h>
 
 #include "rockfall/error.h"
+#include "rockfall/records.h"
 
 /* Sets err to the database's last error (file: the database); returns -1. */
 int rf_query_db_error(sqlite3 *db, rf_error *err);
@@ -23,6 +24,19 @@ typedef struct rf_measure_stats {
     double height_p95;
 } rf_measure_stats;
 
+/* One interception of a measure as the statistics need it; NAN where the database
+ * holds NULL. */
+typedef struct rf_crossing {
+    double energy, height; /* energy_kj, passing_height_m */
+    rf_outcome outcome;
+} rf_crossing;
+
+/* Every interception of the measure, in id order, into a malloc'd array. */
+int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size_t *n,
+                       rf_error *err);
+/* The statistics of these rows (the percentiles over the rows that have the value). */
+int rf_measure_stats_of(const rf_crossing *x, size_t n, rf_measure_stats *st, rf_error *err);
+/* Both: one read of the measure's interceptions. */
 int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *st,
                            rf_error *err);
 /* The statistics columns of a measure's row (count, E50, E90, E95, E99, Emax, h95;
