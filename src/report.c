@@ -34,9 +34,11 @@ static const char *const RELEASE_COLOURS[] = {"#1f77b4", "#2ca02c", "#9467bd", "
                                               "#e377c2", "#bcbd22", "#ff7f0e", "#7f7f7f"};
 #define N_RELEASE_COLOURS (sizeof RELEASE_COLOURS / sizeof RELEASE_COLOURS[0])
 
+/* The energy figure's stacks, bottom up: the stack of each outcome, then the labels
+ * and colours of the stacks. */
 #define N_OUTCOMES 4
-static const char *const OUTCOME_NAMES[N_OUTCOMES] = {"stopped", "passed", "overtopped",
-                                                      "broke_through"};
+static const int OUTCOME_STACK[N_OUTCOMES] = {[RF_OUT_STOPPED] = 0, [RF_OUT_PASSED] = 1,
+                                              [RF_OUT_OVERTOPPED] = 2, [RF_OUT_BROKE_THROUGH] = 3};
 static const char *const OUTCOME_LABELS[N_OUTCOMES] = {"stopped", "passed", "overtopped",
                                                        "broke through"};
 static const char *const OUTCOME_COLOURS[N_OUTCOMES] = {"#4daf4a", "#9ecae1", "#ff7f0e",
@@ -1560,58 +1562,27 @@ static size_t capacity_lines(const rep_measure *m, capacity_line *out)
     return n;
 }
 
-/* A crossing of a measure: its energy and outcome (an index of OUTCOME_NAMES). */
-typedef struct rep_crossing {
-    double e;
-    int o;
-} rep_crossing;
-
-static int crossing_row(report *r, sqlite3_stmt *st, void *ctx)
+static int figure_measure(report *r, const rep_measure *m, const rf_crossing *x, size_t n,
+                          const char *file)
 {
-    rep_crossing *x = next_elem(r, ctx);
-    if (!x)
-        return -1;
-    x->e = col_real(st, 0);
-    const char *out = (const char *)sqlite3_column_text(st, 1);
-    x->o = 1;
-    for (int k = 0; k < N_OUTCOMES; k++)
-        if (out && !strcmp(out, OUTCOME_NAMES[k]))
-            x->o = k;
-    return 0;
-}
-
-static int figure_measure(report *r, const rep_measure *m, const char *file)
-{
-    rep_crossing *x = NULL;
-    size_t n = 0;
-    if (load_rows(r,
-                  "SELECT energy_kj, outcome FROM interceptions WHERE measure_id = ?1"
-                  " ORDER BY id",
-                  m->id, crossing_row, (void **)&x, &n, sizeof *x)) {
-        free(x);
-        return -1;
-    }
     capacity_line caps[RF_N_LIMIT_STATES + 2];
     size_t ncaps = capacity_lines(m, caps);
     double hi = 1.0;
     for (size_t i = 0; i < n; i++)
-        grow(&hi, &hi, x[i].e);
+        grow(&hi, &hi, x[i].energy);
     for (size_t k = 0; k < ncaps; k++)
         grow(&hi, &hi, caps[k].kj);
     hi *= 1.06;
     double lo = 0.0, bw = rf_svg_nice_step(hi, 30);
     size_t nb = make_bins(&lo, &hi, bw);
     double *counts = calloc(N_OUTCOMES * nb, sizeof *counts);
-    if (!counts) {
-        free(x);
+    if (!counts)
         return oom(r);
-    }
     for (size_t i = 0; i < n; i++) {
-        long b = (long)floor(x[i].e / bw);
-        if (isfinite(x[i].e) && b >= 0 && (size_t)b < nb)
-            counts[(size_t)x[i].o * nb + (size_t)b] += 1;
+        long b = (long)floor(x[i].energy / bw);
+        if (isfinite(x[i].energy) && b >= 0 && (size_t)b < nb)
+            counts[(size_t)OUTCOME_STACK[x[i].outcome] * nb + (size_t)b] += 1;
     }
-    free(x);
     double cmax = fmax(1.0, max_stack(counts, N_OUTCOMES, nb));
     char title[600];
     snprintf(title, sizeof title, "Energy at %s (%s) against its capacities", m->name, m->kind);
@@ -1742,6 +1713,37 @@ static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, lon
     return c.rows;
 }
 
+/* A measure's interceptions, read once for its statistics, share and figure. */
+typedef struct measure_crossings {
+    rf_crossing *x;
+    size_t n;
+    rf_measure_stats stats;
+    double share; /* % within serviceability, not overtopped; NAN when not defined */
+} measure_crossings;
+
+static void free_measure_crossings(measure_crossings *mc, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        free(mc[k].x);
+    free(mc);
+}
+
+/* The share of the crossings with an energy within `capacity` that are not
+ * overtopped, counted as SQL's avg(energy_kj <= capacity AND outcome <> 'overtopped'):
+ * a crossing without an energy counts (as outside) only when overtopped. */
+static double share_within(const rf_crossing *x, size_t n, double capacity)
+{
+    long within = 0, counted = 0;
+    for (size_t i = 0; i < n; i++) {
+        int over = x[i].outcome == RF_OUT_OVERTOPPED;
+        if (isnan(x[i].energy) && !over)
+            continue;
+        counted++;
+        within += !over && x[i].energy <= capacity;
+    }
+    return counted ? (double)within / (double)counted : NAN;
+}
+
 static int section_measures(report *r, long *npass, long *nfail)
 {
     FILE *f = r->body;
@@ -1756,31 +1758,22 @@ static int section_measures(report *r, long *npass, long *nfail)
           "<th>h95 (m)</th><th>SEL / serviceability (kJ)</th><th>MEL / ultimate (kJ)</th>"
           "<th>within serviceability, not overtopped (%)</th></tr>\n",
           f);
-    rf_measure_stats *stats = calloc(r->nmea, sizeof *stats);
-    double *share = calloc(r->nmea, sizeof *share);
-    if (!stats || !share) {
-        free(stats);
-        free(share);
+    measure_crossings *mc = calloc(r->nmea, sizeof *mc);
+    if (!mc)
         return oom(r);
-    }
     for (size_t k = 0; k < r->nmea; k++) {
         const rep_measure *m = &r->mea[k];
-        rf_measure_stats *s = &stats[k];
-        if (rf_query_measure_stats(r->db, m->id, s, r->err)) {
-            free(stats);
-            free(share);
+        measure_crossings *c = &mc[k];
+        if (rf_query_crossings(r->db, m->id, &c->x, &c->n, r->err) ||
+            rf_measure_stats_of(c->x, c->n, &c->stats, r->err)) {
+            free_measure_crossings(mc, r->nmea);
             return -1;
         }
+        const rf_measure_stats *s = &c->stats;
         double service = isfinite(m->cap[RF_SERVICEABILITY]) ? m->cap[RF_SERVICEABILITY] : m->sel;
-        share[k] = NAN;
-        if (!is_control(m) && isfinite(service) && s->n) {
-            char sql[200];
-            snprintf(sql, sizeof sql,
-                     "SELECT avg(energy_kj <= %.17g AND outcome <> 'overtopped') FROM"
-                     " interceptions WHERE measure_id = ?1",
-                     service);
-            share[k] = 100.0 * query_real(r, sql, m->id);
-        }
+        c->share = !is_control(m) && isfinite(service) && s->n
+                       ? 100.0 * share_within(c->x, c->n, service)
+                       : NAN;
         fputs("<tr>", f);
         td_text(f, m->name);
         td_text(f, m->kind);
@@ -1796,7 +1789,7 @@ static int section_measures(report *r, long *npass, long *nfail)
         td_num(f, s->height_p95, 2);
         td_num(f, service, 0);
         td_num(f, isfinite(m->cap[RF_ULTIMATE]) ? m->cap[RF_ULTIMATE] : m->mel, 0);
-        td_num(f, share[k], 1);
+        td_num(f, c->share, 1);
         fputs("</tr>\n", f);
     }
     fputs("</table>\n<p>Energies in kJ, nearest-rank percentiles over all crossings. The "
@@ -1806,6 +1799,7 @@ static int section_measures(report *r, long *npass, long *nfail)
     int status = 0;
     for (size_t k = 0; k < r->nmea && !status; k++) {
         const rep_measure *m = &r->mea[k];
+        const rf_measure_stats *s = &mc[k].stats;
         fputs("<h3>", f);
         rf_svg_escape(f, m->name);
         fputs(" (", f);
@@ -1816,8 +1810,7 @@ static int section_measures(report *r, long *npass, long *nfail)
             rf_svg_escape(r->summary, m->name);
             fprintf(r->summary,
                     " (%s): %ld crossings, %ld stopped, %ld overtopped, %ld broke through",
-                    m->kind, stats[k].n,
-                    stats[k].n_stopped, stats[k].n_overtopped, stats[k].n_broke_through);
+                    m->kind, s->n, s->n_stopped, s->n_overtopped, s->n_broke_through);
             /* the verdict is the rules engine's, as stored in `checks` */
             double stored = NAN, passed = NAN;
             sqlite3_stmt *st = prep(r,
@@ -1834,20 +1827,20 @@ static int section_measures(report *r, long *npass, long *nfail)
                 put_num(r->summary, 100.0 * stored, 1);
                 fprintf(r->summary, " %% (%s the serviceability check)",
                         passed == 1.0 ? "passes" : "fails");
-            } else if (isfinite(share[k])) {
+            } else if (isfinite(mc[k].share)) {
                 fputs("; within serviceability: ", r->summary);
-                put_num(r->summary, share[k], 1);
+                put_num(r->summary, mc[k].share, 1);
                 fputs(" % (no design check stored for this run: rockfall check)", r->summary);
             }
             fputs(".</li>\n", r->summary);
         }
-        if (stats[k].n == 0) {
+        if (s->n == 0) {
             fputs("<p>No rock crossed this measure.</p>\n", f);
             continue;
         }
         char file[64], cap[600];
         snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
-        if (figure_measure(r, m, file)) {
+        if (figure_measure(r, m, mc[k].x, mc[k].n, file)) {
             status = -1;
             break;
         }
@@ -1862,8 +1855,7 @@ static int section_measures(report *r, long *npass, long *nfail)
         if (checks_table(r, f, m->id, npass, nfail) < 0)
             status = -1;
     }
-    free(stats);
-    free(share);
+    free_measure_crossings(mc, r->nmea);
     return status;
 }
 
