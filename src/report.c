@@ -1359,20 +1359,47 @@ static int section_road(report *r)
 
 /* ---- section: hazard map (Fig. 12) ------------------------------------------------------ */
 
-static double hazard_cell_size(report *r)
+/* What the hazard section says about the run's cells, from one read of them. */
+typedef struct hazard_summary {
+    long ncells;
+    long p95_over[2];      /* cells whose 95th percentile reaches 3 000 and 6 000 kJ */
+    double emax, p95max;   /* kJ */
+    double step_x, step_y; /* spacing of the cell centres; NAN with one column (row) */
+} hazard_summary;
+
+static void read_hazard_summary(report *r, hazard_summary *h)
+{
+    char sql[600];
+    snprintf(sql, sizeof sql,
+             "SELECT count(*), max(energy_max_kj), max(energy_p95_kj),"
+             " count(*) FILTER (WHERE energy_p95_kj >= %.0f),"
+             " count(*) FILTER (WHERE energy_p95_kj >= %.0f),"
+             " CASE WHEN max(ix) > min(ix) THEN (max(x) - min(x)) / (max(ix) - min(ix)) END,"
+             " CASE WHEN max(iy) > min(iy) THEN (max(y) - min(y)) / (max(iy) - min(iy)) END"
+             " FROM hazard_cells WHERE run_id = ?1",
+             rf_report_energy_limits[1], rf_report_energy_limits[2]);
+    *h = (hazard_summary){0, {0, 0}, NAN, NAN, NAN, NAN};
+    sqlite3_stmt *st = prep(r, sql, r->run);
+    if (st && sqlite3_step(st) == SQLITE_ROW) {
+        h->ncells = (long)sqlite3_column_int64(st, 0);
+        h->emax = col_real(st, 1);
+        h->p95max = col_real(st, 2);
+        h->p95_over[0] = (long)sqlite3_column_int64(st, 3);
+        h->p95_over[1] = (long)sqlite3_column_int64(st, 4);
+        h->step_x = col_real(st, 5);
+        h->step_y = col_real(st, 6);
+    }
+    sqlite3_finalize(st);
+}
+
+/* The project's cell size, else the spacing of the cells (5 m when unknown). */
+static double hazard_cell_size(const report *r, const hazard_summary *h)
 {
     if (r->have_project && r->proj.hazard_cell > 0)
         return r->proj.hazard_cell;
-    double c = query_real(r,
-                          "SELECT (max(x) - min(x)) / (max(ix) - min(ix)) FROM hazard_cells"
-                          " WHERE run_id = ?1 HAVING max(ix) > min(ix)",
-                          r->run);
-    if (!(c > 0))
-        c = query_real(r,
-                       "SELECT (max(y) - min(y)) / (max(iy) - min(iy)) FROM hazard_cells"
-                       " WHERE run_id = ?1 HAVING max(iy) > min(iy)",
-                       r->run);
-    return c > 0 ? c : 5.0;
+    if (h->step_x > 0)
+        return h->step_x;
+    return h->step_y > 0 ? h->step_y : 5.0;
 }
 
 /* The class of v: the number of the ascending limits lim[0 .. nlim-1] it reaches. */
@@ -1481,40 +1508,29 @@ static int section_hazard(report *r)
 {
     FILE *f = r->body;
     fputs("<h2 id=\"hazard\">Hazard map (Fig. 12)</h2>\n", f);
-    long ncells = (long)query_real(r, "SELECT count(*) FROM hazard_cells WHERE run_id = ?1",
-                                   r->run);
-    if (ncells <= 0) {
+    hazard_summary h;
+    read_hazard_summary(r, &h);
+    if (h.ncells <= 0) {
         fputs("<p>The run has no hazard cells.</p>\n", f);
         fputs("<li>No hazard cells in this run: no hazard maps.</li>\n", r->notes);
         return 0;
     }
+    r->hazard_cell = hazard_cell_size(r, &h);
     long counts[RF_REPORT_N_ENERGY_LIMITS + 1] = {0};
     if (figure_hazard(r, 0, counts) || figure_hazard(r, 1, NULL))
         return -1;
-    double emax = query_real(r, "SELECT max(energy_max_kj) FROM hazard_cells WHERE run_id = ?1",
-                             r->run);
-    double p95max = query_real(r, "SELECT max(energy_p95_kj) FROM hazard_cells WHERE run_id = ?1",
-                               r->run);
-    long p95_over[2];
-    for (int k = 0; k < 2; k++) {
-        char sql[160];
-        snprintf(sql, sizeof sql,
-                 "SELECT count(*) FROM hazard_cells WHERE run_id = ?1 AND energy_p95_kj >= %.0f",
-                 rf_report_energy_limits[k + 1]);
-        p95_over[k] = (long)query_real(r, sql, r->run);
-    }
     long over3000 = counts[2] + counts[3], over6000 = counts[3];
     fprintf(f,
             "<p>%ld cells of %g m were crossed. The largest kinetic energy of the rocks per cell "
             "is shown in classes with limits at %.0f, %.0f and %.0f kJ: %ld cells reach %.0f kJ "
             "or more, %ld of them %.0f kJ or more (the 95th percentile per cell: %ld and %ld). "
             "The largest energy anywhere is ",
-            ncells, r->hazard_cell, rf_report_energy_limits[0], rf_report_energy_limits[1],
+            h.ncells, r->hazard_cell, rf_report_energy_limits[0], rf_report_energy_limits[1],
             rf_report_energy_limits[2], over3000, rf_report_energy_limits[1], over6000,
-            rf_report_energy_limits[2], p95_over[0], p95_over[1]);
-    put_num(f, emax, 0);
+            rf_report_energy_limits[2], h.p95_over[0], h.p95_over[1]);
+    put_num(f, h.emax, 0);
     fputs(" kJ (95th percentile ", f);
-    put_num(f, p95max, 0);
+    put_num(f, h.p95max, 0);
     fputs(" kJ).</p>\n", f);
     figure_html(f, "hazard-energy.svg",
                 "Fig. 12: hazard map, largest kinetic energy per cell (kJ) in classes");
@@ -1522,8 +1538,8 @@ static int section_hazard(report *r)
                 "Reach probability: share of all trajectories that crossed each cell");
     fprintf(r->summary, "<li>Hazard map: %ld cells; %ld reach 3000 kJ or more, %ld reach 6000 kJ "
                         "or more; largest energy ",
-            ncells, over3000, over6000);
-    put_num(r->summary, emax, 0);
+            h.ncells, over3000, over6000);
+    put_num(r->summary, h.emax, 0);
     fputs(" kJ.</li>\n", r->summary);
     return 0;
 }
@@ -2064,7 +2080,6 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
         status = compute_extent(&r) || build_contour_grid(&r) ? -1 : 0;
     }
     if (!status) {
-        r.hazard_cell = hazard_cell_size(&r);
         fprintf(r.summary, "<li>%ld trajectories from %zu release point%s.</li>\n", r.n_traj,
                 r.nrel, r.nrel == 1 ? "" : "s");
         status = write_sections(&r, &npass, &nfail);
