@@ -1633,76 +1633,98 @@ static int figure_measure(report *r, const rep_measure *m, const rf_crossing *x,
     return rf_svg_close(&s, r->err);
 }
 
-/* A table written row by row: the header goes out before the first row. */
+/* A table of a query's rows: the table and its header row go out before the first
+ * row, so a query without rows writes nothing. */
 typedef struct table_ctx {
     FILE *f;
+    const char *header; /* the <tr> of <th> cells */
     int rows;
-    double total;       /* classifications: all of the measure's */
-    long *npass, *nfail; /* checks */
+    row_fn cells;       /* writes the <td> cells of one row */
+    void *ctx;
 } table_ctx;
 
-static int classification_row(report *r, sqlite3_stmt *st, void *ctx)
+static int table_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    table_ctx *t = ctx;
+    if (!t->rows++) {
+        fputs("<table>", t->f);
+        fputs(t->header, t->f);
+    }
+    fputs("<tr>", t->f);
+    if (t->cells(r, st, t->ctx))
+        return -1;
+    fputs("</tr>\n", t->f);
+    return 0;
+}
+
+/* Writes the table of the rows of sql (?1 = id) to f; returns the number of rows, or
+ * -1 with r->err set. */
+static int query_table(report *r, FILE *f, const char *header, const char *sql, int64_t id,
+                       row_fn cells, void *ctx)
+{
+    table_ctx t = {f, header, 0, cells, ctx};
+    if (each_row(r, sql, id, table_row, &t))
+        return -1;
+    if (t.rows)
+        fputs("</table>\n", f);
+    return t.rows;
+}
+
+static int classification_cells(report *r, sqlite3_stmt *st, void *ctx)
 {
     (void)r;
-    table_ctx *c = ctx;
-    FILE *f = c->f;
-    if (!c->rows++)
-        fputs("<table><tr><th>limit state reached</th><th>crossings</th><th>share (%)</th>"
-              "<th>meet the required state</th></tr>\n",
-              f);
-    fputs("<tr>", f);
+    FILE *f = ctx;
     const char *ls = (const char *)sqlite3_column_text(st, 0);
     td_text(f, ls ? ls : "(none)");
     double n = sqlite3_column_double(st, 1);
     fprintf(f, "<td>%.0f</td>", n);
-    td_num(f, pct(n, c->total), 1);
-    fprintf(f, "<td>%.0f</td></tr>\n", sqlite3_column_double(st, 2));
+    td_num(f, pct(n, sqlite3_column_double(st, 3)), 1);
+    fprintf(f, "<td>%.0f</td>", sqlite3_column_double(st, 2));
     return 0;
 }
 
 /* Shares of the limit states from `rockfall check` (classifications), when present. */
 static int measure_classifications(report *r, const rep_measure *m)
 {
-    table_ctx c = {r->body, 0, 0.0, NULL, NULL};
-    c.total = query_real(r,
-                         "SELECT count(*) FROM classifications c JOIN interceptions i"
-                         " ON i.id = c.interception_id WHERE i.measure_id = ?1",
-                         m->id);
-    if (each_row(r,
-                 "SELECT c.limit_state, count(*), sum(c.ok) FROM classifications c"
-                 " JOIN interceptions i ON i.id = c.interception_id"
-                 " WHERE i.measure_id = ?1 GROUP BY c.limit_state"
-                 " ORDER BY CASE c.limit_state WHEN 'serviceability' THEN 0"
-                 " WHEN 'restorability' THEN 1 WHEN 'ultimate' THEN 2"
-                 " WHEN 'near_collapse' THEN 3 WHEN 'collapse' THEN 4"
-                 " WHEN 'overtopped' THEN 5 ELSE 6 END, c.limit_state",
-                 m->id, classification_row, &c))
+    FILE *f = r->body;
+    /* the total over the groups is the measure's count of classifications */
+    int rows = query_table(r, f,
+                           "<tr><th>limit state reached</th><th>crossings</th><th>share (%)</th>"
+                           "<th>meet the required state</th></tr>\n",
+                           "SELECT c.limit_state, count(*), sum(c.ok), sum(count(*)) OVER ()"
+                           " FROM classifications c"
+                           " JOIN interceptions i ON i.id = c.interception_id"
+                           " WHERE i.measure_id = ?1 GROUP BY c.limit_state"
+                           " ORDER BY CASE c.limit_state WHEN 'serviceability' THEN 0"
+                           " WHEN 'restorability' THEN 1 WHEN 'ultimate' THEN 2"
+                           " WHEN 'near_collapse' THEN 3 WHEN 'collapse' THEN 4"
+                           " WHEN 'overtopped' THEN 5 ELSE 6 END, c.limit_state",
+                           m->id, classification_cells, f);
+    if (rows < 0)
         return -1;
-    if (c.rows)
-        fputs("</table>\n", c.f);
-    else
+    if (!rows)
         fputs("<p>No classifications stored for this measure (run <code>rockfall check</code> "
               "to classify each crossing against Table 3).</p>\n",
-              c.f);
+              f);
     return 0;
 }
 
-static int check_row(report *r, sqlite3_stmt *st, void *ctx)
+/* The cells of a check, counted as passed or failed. */
+typedef struct check_tally {
+    FILE *f;
+    long *npass, *nfail;
+} check_tally;
+
+static int check_cells(report *r, sqlite3_stmt *st, void *ctx)
 {
     (void)r;
-    table_ctx *c = ctx;
+    check_tally *c = ctx;
     FILE *f = c->f;
-    if (!c->rows++)
-        fputs("<table><tr><th>check</th><th>value</th><th>threshold</th><th>result</th>"
-              "</tr>\n",
-              f);
     int passed = sqlite3_column_int(st, 3);
-    fputs("<tr>", f);
     td_text(f, (const char *)sqlite3_column_text(st, 0));
     td_num(f, col_real(st, 1), 3);
     td_num(f, col_real(st, 2), 3);
-    fprintf(f, "<td class=\"%s\">%s</td></tr>\n", passed ? "pass" : "fail",
-            passed ? "pass" : "FAIL");
+    fprintf(f, "<td class=\"%s\">%s</td>", passed ? "pass" : "fail", passed ? "pass" : "FAIL");
     if (passed)
         (*c->npass)++;
     else
@@ -1710,23 +1732,18 @@ static int check_row(report *r, sqlite3_stmt *st, void *ctx)
     return 0;
 }
 
+/* The checks of a measure, or with measure_id 0 those of the whole run; returns the
+ * number of rows or -1. */
 static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, long *nfail)
 {
-    table_ctx c = {f, 0, 0.0, npass, nfail};
-    int rc = measure_id > 0
-                 ? each_row(r,
-                            "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
-                            " ORDER BY id",
-                            measure_id, check_row, &c)
-                 : each_row(r,
-                            "SELECT rule, value, threshold, passed FROM checks WHERE run_id = ?1"
-                            " AND measure_id IS NULL ORDER BY id",
-                            r->run, check_row, &c);
-    if (rc)
-        return -1;
-    if (c.rows)
-        fputs("</table>\n", f);
-    return c.rows;
+    check_tally c = {f, npass, nfail};
+    return query_table(r, f,
+                       "<tr><th>check</th><th>value</th><th>threshold</th><th>result</th></tr>\n",
+                       measure_id > 0 ? "SELECT rule, value, threshold, passed FROM checks"
+                                        " WHERE measure_id = ?1 ORDER BY id"
+                                      : "SELECT rule, value, threshold, passed FROM checks"
+                                        " WHERE run_id = ?1 AND measure_id IS NULL ORDER BY id",
+                       measure_id > 0 ? measure_id : r->run, check_cells, &c);
 }
 
 /* A measure's interceptions, read once for its statistics, share and figure. */
