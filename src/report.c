@@ -93,6 +93,7 @@ typedef struct report {
     char *project, *project_path, *seed, *status, *started, *finished, *version, *yaml;
     rep_release *rel;
     size_t nrel;
+    const char **rel_fills, **rel_names; /* of each release (at least one), for the charts */
     rep_measure *mea;
     size_t nmea;
     long n_traj, n_path_traj;
@@ -304,10 +305,21 @@ static int release_row(report *r, sqlite3_stmt *st, void *ctx)
 
 static int load_releases(report *r)
 {
-    return load_rows(r,
-                     "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
-                     " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
-                     r->run, release_row, (void **)&r->rel, &r->nrel, sizeof *r->rel);
+    if (load_rows(r,
+                  "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
+                  " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
+                  r->run, release_row, (void **)&r->rel, &r->nrel, sizeof *r->rel))
+        return -1;
+    size_t n = r->nrel ? r->nrel : 1;
+    r->rel_fills = calloc(n, sizeof *r->rel_fills);
+    r->rel_names = calloc(n, sizeof *r->rel_names);
+    if (!r->rel_fills || !r->rel_names)
+        return oom(r);
+    for (size_t k = 0; k < r->nrel; k++) {
+        r->rel_fills[k] = release_colour(k);
+        r->rel_names[k] = r->rel[k].name;
+    }
+    return 0;
 }
 
 static int vertex_row(report *r, sqlite3_stmt *st, void *ctx)
@@ -957,93 +969,92 @@ static size_t make_bins(double *lo, double *hi, double bw)
     return (size_t)lround((*hi - *lo) / bw);
 }
 
-static double max_stack(const double *counts, size_t nseries, size_t nbins)
+/* A histogram of ns series stacked over bins of width bw, drawn in an 820 px chart with
+ * a legend of its first nlegend series beside the plot. */
+typedef struct hist_chart {
+    size_t ns, nlegend;
+    const char *const *fills, *const *labels; /* of each series */
+    double *counts;                           /* ns x nb */
+    size_t nb;
+    double lo, hi, bw;
+    rf_svg s;
+} hist_chart;
+
+/* Empty bins [*lo, *hi) of width bw, widened to whole bins. */
+static int hist_bins(report *r, hist_chart *h, double *lo, double *hi, double bw)
 {
-    double m = 0;
-    for (size_t i = 0; i < nbins; i++) {
-        double t = 0;
-        for (size_t k = 0; k < nseries; k++)
-            t += counts[k * nbins + i];
-        m = fmax(m, t);
-    }
-    return m;
+    h->nb = make_bins(lo, hi, bw);
+    h->lo = *lo;
+    h->hi = *hi;
+    h->bw = bw;
+    h->counts = calloc(h->ns * h->nb, sizeof *h->counts);
+    return h->counts ? 0 : oom(r);
 }
 
-static int open_chart(report *r, rf_svg *s, const char *file, const char *title)
+/* Counts v in series k; a value outside the bins (or NAN) is left out. */
+static void hist_add(hist_chart *h, size_t k, double v)
+{
+    double b = floor((v - h->lo) / h->bw);
+    if (b >= 0 && b < (double)h->nb)
+        h->counts[k * h->nb + (size_t)b] += 1;
+}
+
+/* The highest stack, at least 1. */
+static double hist_top(const hist_chart *h)
+{
+    double m = 0;
+    for (size_t i = 0; i < h->nb; i++) {
+        double t = 0;
+        for (size_t k = 0; k < h->ns; k++)
+            t += h->counts[k * h->nb + i];
+        m = fmax(m, t);
+    }
+    return fmax(1.0, m);
+}
+
+/* Opens the chart's file and draws the bars, under a y axis up to ytop. */
+static int hist_open(report *r, hist_chart *h, const char *file, const char *title, double ytop)
 {
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", r->dir, file);
-    if (rf_svg_open(s, path, 820, 420, title, r->err))
+    if (rf_svg_open(&h->s, path, 820, 420, title, r->err)) {
+        free(h->counts);
         return -1;
-    s->y_counts = 1;
+    }
+    h->s.y_counts = 1;
+    rf_svg_frame(&h->s, 80, 45, CHART_RIGHT, 360, h->lo, h->hi, 0, ytop);
+    rf_svg_stacked_bars(&h->s, h->counts, h->ns, h->nb, h->lo, h->bw, h->fills);
     return 0;
 }
 
-static void release_legend_in_chart(report *r, rf_svg *s)
+/* The axes, the legend and the end of the chart. */
+static int hist_close(report *r, hist_chart *h, const char *xlabel, const char *ylabel)
 {
-    if (r->nrel < 2)
-        return;
-    legend l = {s, s->right + 18, s->top + 10};
-    for (size_t k = 0; k < r->nrel && k < 12; k++) {
+    rf_svg_axes(&h->s, xlabel, ylabel);
+    legend l = {&h->s, h->s.right + 18, h->s.top + 10};
+    for (size_t k = 0; k < h->nlegend; k++) {
         char attrs[80];
         snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#222\" stroke-width=\"0.5\"",
-                 release_colour(k));
-        legend_swatch(&l, attrs, r->rel[k].name);
+                 h->fills[k]);
+        legend_swatch(&l, attrs, h->labels[k]);
     }
-}
-
-static const char **release_fills(report *r)
-{
-    const char **fills = malloc((r->nrel ? r->nrel : 1) * sizeof *fills);
-    if (fills)
-        for (size_t k = 0; k < r->nrel; k++)
-            fills[k] = release_colour(k);
-    return fills;
-}
-
-/* Arrivals counted per release (stacked) over bins of width bw. */
-typedef struct release_hist {
-    double *counts; /* ns x nb */
-    const char **fills;
-    size_t ns, nb;
-    double cmax; /* the highest stack, at least 1 */
-} release_hist;
-
-static void release_hist_free(release_hist *h)
-{
     free(h->counts);
-    free(h->fills);
+    return rf_svg_close(&h->s, r->err);
 }
 
-/* The arrivals' speeds (speed) or positions along the line in bins [*lo, *hi) of width
- * bw (widened to whole bins). */
-static int release_hist_make(report *r, const road_stats *rs, int speed, double *lo, double *hi,
-                             double bw, release_hist *h)
+/* The arrivals' speeds (speed) or positions along the line per release, in bins
+ * [*lo, *hi) of width bw; the legend names the releases when there are several. */
+static int arrivals_hist(report *r, const road_stats *rs, int speed, double *lo, double *hi,
+                         double bw, hist_chart *h)
 {
-    h->nb = make_bins(lo, hi, bw);
-    h->ns = r->nrel ? r->nrel : 1;
-    h->counts = calloc(h->ns * h->nb, sizeof *h->counts);
-    h->fills = release_fills(r);
-    if (!h->counts || !h->fills) {
-        release_hist_free(h);
-        return oom(r);
-    }
-    for (size_t i = 0; i < rs->n; i++) {
-        long b = (long)floor(((speed ? rs->a[i].speed : rs->a[i].s) - *lo) / bw);
-        if (b >= 0 && (size_t)b < h->nb)
-            h->counts[rs->a[i].rel * h->nb + (size_t)b] += 1;
-    }
-    h->cmax = fmax(1.0, max_stack(h->counts, h->ns, h->nb));
+    *h = (hist_chart){.ns = r->nrel ? r->nrel : 1,
+                      .nlegend = r->nrel < 2 ? 0 : r->nrel < 12 ? r->nrel : 12,
+                      .fills = r->rel_fills, .labels = r->rel_names};
+    if (hist_bins(r, h, lo, hi, bw))
+        return -1;
+    for (size_t i = 0; i < rs->n; i++)
+        hist_add(h, rs->a[i].rel, speed ? rs->a[i].speed : rs->a[i].s);
     return 0;
-}
-
-/* The axes, the releases' legend and the end of a chart of h. */
-static int release_hist_close(report *r, rf_svg *s, const char *xlabel, release_hist *h)
-{
-    rf_svg_axes(s, xlabel, "number of rocks");
-    release_legend_in_chart(r, s);
-    release_hist_free(h);
-    return rf_svg_close(s, r->err);
 }
 
 static int figure_road_position(report *r, const rep_measure *m, const road_stats *rs,
@@ -1060,22 +1071,18 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     double bw = rf_svg_nice_step(fmax(spread, 1.0), 15);
     while ((hi - lo) / bw > 300)
         bw = rf_svg_nice_step(bw * 2.1, 1);
-    release_hist h;
-    if (release_hist_make(r, rs, 0, &lo, &hi, bw, &h))
+    hist_chart h;
+    if (arrivals_hist(r, rs, 0, &lo, &hi, bw, &h))
         return -1;
-    double cmax = h.cmax;
+    double cmax = hist_top(&h);
     double band = 0.09 * cmax;
     double ytop = cmax * 1.08 + band * (double)r->nrel + band * 0.5;
 
     char title[600];
     snprintf(title, sizeof title, "Arrival position along %s (Fig. 10a)", m->name);
-    rf_svg s;
-    if (open_chart(r, &s, file, title)) {
-        release_hist_free(&h);
+    if (hist_open(r, &h, file, title, ytop))
         return -1;
-    }
-    rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, ytop);
-    rf_svg_stacked_bars(&s, h.counts, h.ns, h.nb, lo, bw, h.fills);
+    rf_svg *s = &h.s;
     /* Fig. 1b: attainment range of each release at beta = 45 degrees */
     for (size_t k = 0; k < r->nrel; k++) {
         if (!isfinite(cc[k].L))
@@ -1085,10 +1092,10 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
         double b = fmin(hi, cc[k].s_centre + cc[k].width / 2);
         char attrs[120];
         snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"3\"", release_colour(k));
-        rf_svg_line(&s, a, y, b, y, attrs);
-        rf_svg_line(&s, a, y - band * 0.3, a, y + band * 0.3, attrs);
-        rf_svg_line(&s, b, y - band * 0.3, b, y + band * 0.3, attrs);
-        rf_svg_text(&s, rf_svg_px(&s, 0.5 * (a + b)), rf_svg_py(&s, y) - 5,
+        rf_svg_line(s, a, y, b, y, attrs);
+        rf_svg_line(s, a, y - band * 0.3, a, y + band * 0.3, attrs);
+        rf_svg_line(s, b, y - band * 0.3, b, y + band * 0.3, attrs);
+        rf_svg_text(s, rf_svg_px(s, 0.5 * (a + b)), rf_svg_py(s, y) - 5,
                     "text-anchor=\"middle\" font-size=\"11\" stroke=\"white\" stroke-width=\"3\" "
                     "paint-order=\"stroke\"",
                     "empirical attainment range from %s (Fig. 1b, beta = 45 deg): %.0f m",
@@ -1096,7 +1103,7 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     }
     char xlabel[600];
     snprintf(xlabel, sizeof xlabel, "position along %s from its first point (m)", m->name);
-    return release_hist_close(r, &s, xlabel, &h);
+    return hist_close(r, &h, xlabel, "number of rocks");
 }
 
 static int figure_road_velocity(report *r, const rep_measure *m, const road_stats *rs,
@@ -1111,19 +1118,15 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     hi = fmax(hi * 1.05, 1.0);
     double lo = 0.0;
     double bw = rf_svg_nice_step(hi, 25);
-    release_hist h;
-    if (release_hist_make(r, rs, 1, &lo, &hi, bw, &h))
+    hist_chart h;
+    if (arrivals_hist(r, rs, 1, &lo, &hi, bw, &h))
         return -1;
-    double cmax = h.cmax;
+    double cmax = hist_top(&h);
     char title[600];
     snprintf(title, sizeof title, "Velocity at %s (Fig. 10b)", m->name);
-    rf_svg s;
-    if (open_chart(r, &s, file, title)) {
-        release_hist_free(&h);
+    if (hist_open(r, &h, file, title, cmax * 1.15))
         return -1;
-    }
-    rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, cmax * 1.15);
-    rf_svg_stacked_bars(&s, h.counts, h.ns, h.nb, lo, bw, h.fills);
+    rf_svg *s = &h.s;
     for (size_t k = 0; lines && k < r->nrel; k++) {
         double v[2] = {cc[k].v_class_d, cc[k].v_project};
         const char *what[2] = {"mu = 0.35 (Table 2, D)", "mu of the project"};
@@ -1139,20 +1142,20 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
             char attrs[120];
             snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"",
                      j ? "#555" : "#000", j ? "3 3" : "8 4");
-            rf_svg_line(&s, v[j], 0, v[j], cmax * 1.15, attrs);
-            double px = rf_svg_px(&s, v[j]) - 4, py = s.top + 8;
+            rf_svg_line(s, v[j], 0, v[j], cmax * 1.15, attrs);
+            double px = rf_svg_px(s, v[j]) - 4, py = s->top + 8;
             char tattrs[200];
             snprintf(tattrs, sizeof tattrs,
                      "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
                      "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
                      px, py);
-            rf_svg_text(&s, px, py, tattrs, "Eq. 1 from %s, %s: %.1f m/s", r->rel[k].name,
+            rf_svg_text(s, px, py, tattrs, "Eq. 1 from %s, %s: %.1f m/s", r->rel[k].name,
                         what[j], v[j]);
         }
     }
     char xlabel[600];
     snprintf(xlabel, sizeof xlabel, "velocity at %s (m/s)", m->name);
-    return release_hist_close(r, &s, xlabel, &h);
+    return hist_close(r, &h, xlabel, "number of rocks");
 }
 
 /* ---- HTML helpers ------------------------------------------------------------------- */
@@ -1590,47 +1593,31 @@ static int figure_measure(report *r, const rep_measure *m, const rf_crossing *x,
         grow(&hi, &hi, caps[k].kj);
     hi *= 1.06;
     double lo = 0.0, bw = rf_svg_nice_step(hi, 30);
-    size_t nb = make_bins(&lo, &hi, bw);
-    double *counts = calloc(N_OUTCOMES * nb, sizeof *counts);
-    if (!counts)
-        return oom(r);
-    for (size_t i = 0; i < n; i++) {
-        long b = (long)floor(x[i].energy / bw);
-        if (isfinite(x[i].energy) && b >= 0 && (size_t)b < nb)
-            counts[(size_t)OUTCOME_STACK[x[i].outcome] * nb + (size_t)b] += 1;
-    }
-    double cmax = fmax(1.0, max_stack(counts, N_OUTCOMES, nb));
+    hist_chart h = {.ns = N_OUTCOMES, .nlegend = N_OUTCOMES, .fills = OUTCOME_COLOURS,
+                    .labels = OUTCOME_LABELS};
+    if (hist_bins(r, &h, &lo, &hi, bw))
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        hist_add(&h, (size_t)OUTCOME_STACK[x[i].outcome], x[i].energy);
+    double cmax = hist_top(&h);
     char title[600];
     snprintf(title, sizeof title, "Energy at %s (%s) against its capacities", m->name, m->kind);
-    rf_svg s;
-    if (open_chart(r, &s, file, title)) {
-        free(counts);
+    if (hist_open(r, &h, file, title, cmax * 1.12))
         return -1;
-    }
-    rf_svg_frame(&s, 80, 45, CHART_RIGHT, 360, lo, hi, 0, cmax * 1.12);
-    rf_svg_stacked_bars(&s, counts, N_OUTCOMES, nb, lo, bw, OUTCOME_COLOURS);
+    rf_svg *s = &h.s;
     for (size_t k = 0; k < ncaps; k++) {
-        rf_svg_line(&s, caps[k].kj, 0, caps[k].kj, cmax * 1.12,
+        rf_svg_line(s, caps[k].kj, 0, caps[k].kj, cmax * 1.12,
                     "class=\"capacity\" stroke=\"#000\" stroke-width=\"1.5\" "
                     "stroke-dasharray=\"6 3\"");
-        double px = rf_svg_px(&s, caps[k].kj) - 4, py = s.top + 8;
+        double px = rf_svg_px(s, caps[k].kj) - 4, py = s->top + 8;
         char tattrs[200];
         snprintf(tattrs, sizeof tattrs,
                  "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
                  "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
                  px, py);
-        rf_svg_text(&s, px, py, tattrs, "%s", caps[k].label);
+        rf_svg_text(s, px, py, tattrs, "%s", caps[k].label);
     }
-    rf_svg_axes(&s, "kinetic energy at the crossing (kJ)", "number of crossings");
-    legend l = {&s, s.right + 18, s.top + 10};
-    for (int k = 0; k < N_OUTCOMES; k++) {
-        char attrs[80];
-        snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#222\" stroke-width=\"0.5\"",
-                 OUTCOME_COLOURS[k]);
-        legend_swatch(&l, attrs, OUTCOME_LABELS[k]);
-    }
-    free(counts);
-    return rf_svg_close(&s, r->err);
+    return hist_close(r, &h, "kinetic energy at the crossing (kJ)", "number of crossings");
 }
 
 /* A table of a query's rows: the table and its header row go out before the first
@@ -2025,6 +2012,8 @@ static void free_report(report *r)
         free(r->rel[k].rock);
     }
     free(r->rel);
+    free(r->rel_fills);
+    free(r->rel_names);
     for (size_t k = 0; k < r->nmea; k++) {
         free(r->mea[k].name);
         free(r->mea[k].kind);
