@@ -1057,6 +1057,19 @@ static int arrivals_hist(report *r, const road_stats *rs, int speed, double *lo,
     return 0;
 }
 
+/* A vertical line at x across the plot, with its label along it from the top. */
+static void vertical_marker(rf_svg *s, double x, const char *line_attrs, const char *label)
+{
+    rf_svg_line(s, x, s->y0, x, s->y1, line_attrs);
+    double px = rf_svg_px(s, x) - 4, py = s->top + 8;
+    char attrs[200];
+    snprintf(attrs, sizeof attrs,
+             "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
+             "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
+             px, py);
+    rf_svg_text(s, px, py, attrs, "%s", label);
+}
+
 static int figure_road_position(report *r, const rep_measure *m, const road_stats *rs,
                                 const crosscheck *cc, const char *file)
 {
@@ -1142,15 +1155,10 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
             char attrs[120];
             snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"",
                      j ? "#555" : "#000", j ? "3 3" : "8 4");
-            rf_svg_line(s, v[j], 0, v[j], cmax * 1.15, attrs);
-            double px = rf_svg_px(s, v[j]) - 4, py = s->top + 8;
-            char tattrs[200];
-            snprintf(tattrs, sizeof tattrs,
-                     "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
-                     "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
-                     px, py);
-            rf_svg_text(s, px, py, tattrs, "Eq. 1 from %s, %s: %.1f m/s", r->rel[k].name,
-                        what[j], v[j]);
+            char label[2048]; /* as long as rf_svg_text's */
+            snprintf(label, sizeof label, "Eq. 1 from %s, %s: %.1f m/s", r->rel[k].name,
+                     what[j], v[j]);
+            vertical_marker(s, v[j], attrs, label);
         }
     }
     char xlabel[600];
@@ -1605,18 +1613,11 @@ static int figure_measure(report *r, const rep_measure *m, const rf_crossing *x,
     if (hist_open(r, &h, file, title, cmax * 1.12))
         return -1;
     rf_svg *s = &h.s;
-    for (size_t k = 0; k < ncaps; k++) {
-        rf_svg_line(s, caps[k].kj, 0, caps[k].kj, cmax * 1.12,
-                    "class=\"capacity\" stroke=\"#000\" stroke-width=\"1.5\" "
-                    "stroke-dasharray=\"6 3\"");
-        double px = rf_svg_px(s, caps[k].kj) - 4, py = s->top + 8;
-        char tattrs[200];
-        snprintf(tattrs, sizeof tattrs,
-                 "text-anchor=\"end\" font-size=\"11\" transform=\"rotate(-90 %.1f %.1f)\" "
-                 "stroke=\"white\" stroke-width=\"3\" paint-order=\"stroke\"",
-                 px, py);
-        rf_svg_text(s, px, py, tattrs, "%s", caps[k].label);
-    }
+    for (size_t k = 0; k < ncaps; k++)
+        vertical_marker(s, caps[k].kj,
+                        "class=\"capacity\" stroke=\"#000\" stroke-width=\"1.5\" "
+                        "stroke-dasharray=\"6 3\"",
+                        caps[k].label);
     return hist_close(r, &h, "kinetic energy at the crossing (kJ)", "number of crossings");
 }
 
