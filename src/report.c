@@ -534,20 +534,12 @@ static int cell_segments(const double c[4], double level, int seg[4])
     case 4: case 11: seg[0] = 1; seg[1] = 2; return 1;
     case 6: case 9: seg[0] = 0; seg[1] = 2; return 1;
     case 7: case 8: seg[0] = 3; seg[1] = 2; return 1;
-    case 5:
-        if (centre >= level) {
-            seg[0] = 0; seg[1] = 1; seg[2] = 2; seg[3] = 3;
-        } else {
-            seg[0] = 3; seg[1] = 0; seg[2] = 1; seg[3] = 2;
-        }
+    case 5: case 10: {
+        /* a saddle: the two corners on the centre's side of the level are joined */
+        static const int pairs[2][4] = {{3, 0, 1, 2}, {0, 1, 2, 3}};
+        memcpy(seg, pairs[(centre >= level) == (idx == 5)], sizeof pairs[0]);
         return 2;
-    case 10:
-        if (centre >= level) {
-            seg[0] = 3; seg[1] = 0; seg[2] = 1; seg[3] = 2;
-        } else {
-            seg[0] = 0; seg[1] = 1; seg[2] = 2; seg[3] = 3;
-        }
-        return 2;
+    }
     default: return 0;
     }
 }
