@@ -743,6 +743,50 @@ static void legend_contours(report *r, legend *l)
     }
 }
 
+/* The classes of a map, the highest first: their colour and limits ("< a", "a - b",
+ * ">= b"), shown as scale times the limits in the unit. */
+static void legend_classes(legend *l, const char *title, const double *lim, int nlim,
+                           double scale, const char *unit, const char *const *colours,
+                           const char *swatch_class)
+{
+    legend_title(l, title);
+    for (int c = nlim; c >= 0; c--) {
+        char label[120], attrs[120];
+        if (c == nlim)
+            snprintf(label, sizeof label, ">= %g %s", scale * lim[c - 1], unit);
+        else if (c == 0)
+            snprintf(label, sizeof label, "< %g %s", scale * lim[0], unit);
+        else
+            snprintf(label, sizeof label, "%g - %g %s", scale * lim[c - 1], scale * lim[c], unit);
+        snprintf(attrs, sizeof attrs, "%sfill=\"%s\" stroke=\"#444\" stroke-width=\"0.5\"",
+                 swatch_class, colours[c]);
+        legend_swatch(l, attrs, label);
+    }
+}
+
+/* Over a plan's own layers: the measures, the releases, the north arrow, the scale bar
+ * and the axes.  Returns the legend beside the plot, for the plan's own entries. */
+static legend plan_overlays(report *r, rf_svg *s)
+{
+    draw_measures(r, s);
+    draw_releases(r, s);
+    draw_north_and_scale(s);
+    rf_svg_axes(s, "x (m)", "y (m)");
+    return (legend){s, s->right + 20, s->top + 10};
+}
+
+/* The measures and the contours in the legend, below the plan's own entries, and the
+ * end of the plan. */
+static int close_plan(report *r, legend *l)
+{
+    l->y += 8;
+    legend_title(l, "Measures");
+    legend_measures(r, l);
+    l->y += 8;
+    legend_contours(r, l);
+    return rf_svg_close(l->s, r->err);
+}
+
 /* ---- figure: plan view (Fig. 9, 11) -------------------------------------------------- */
 
 static int figure_plan(report *r)
@@ -816,12 +860,7 @@ static int figure_plan(report *r)
     sqlite3_finalize(st);
     rf_svg_raw(&s, "</g>\n");
 
-    draw_measures(r, &s);
-    draw_releases(r, &s);
-    draw_north_and_scale(&s);
-    rf_svg_axes(&s, "x (m)", "y (m)");
-
-    legend l = {&s, s.right + 20, s.top + 10};
+    legend l = plan_overlays(r, &s);
     legend_title(&l, "Releases and sampled paths");
     for (size_t k = 0; k < r->nrel; k++) {
         char attrs[80];
@@ -829,12 +868,7 @@ static int figure_plan(report *r)
         legend_line(&l, attrs, r->rel[k].name);
     }
     legend_swatch(&l, "fill=\"black\" fill-opacity=\"0.55\" rx=\"6\"", "end points");
-    l.y += 8;
-    legend_title(&l, "Measures");
-    legend_measures(r, &l);
-    l.y += 8;
-    legend_contours(r, &l);
-    return rf_svg_close(&s, r->err);
+    return close_plan(r, &l);
 }
 
 /* ---- figures: arrivals at a control line (Fig. 10) ----------------------------------- */
@@ -1460,51 +1494,14 @@ static int figure_hazard(report *r, int reach, long *class_counts)
         return db_error(r);
     }
     draw_contours(r, &s, 1);
-    draw_measures(r, &s);
-    draw_releases(r, &s);
-    draw_north_and_scale(&s);
-    rf_svg_axes(&s, "x (m)", "y (m)");
-
-    legend l = {&s, s.right + 20, s.top + 10};
-    char label[120];
-    if (reach) {
-        legend_title(&l, "Reach probability");
-        for (int c = N_REACH_CLASSES - 1; c >= 0; c--) {
-            if (c == N_REACH_CLASSES - 1)
-                snprintf(label, sizeof label, ">= %g %%", 100 * REACH_LIMITS[c - 1]);
-            else if (c == 0)
-                snprintf(label, sizeof label, "< %g %%", 100 * REACH_LIMITS[0]);
-            else
-                snprintf(label, sizeof label, "%g - %g %%", 100 * REACH_LIMITS[c - 1],
-                         100 * REACH_LIMITS[c]);
-            char attrs[80];
-            snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#444\" stroke-width=\"0.5\"",
-                     REACH_COLOURS[c]);
-            legend_swatch(&l, attrs, label);
-        }
-    } else {
-        legend_title(&l, "Largest energy (kJ)");
-        for (int c = RF_REPORT_N_ENERGY_LIMITS; c >= 0; c--) {
-            if (c == RF_REPORT_N_ENERGY_LIMITS)
-                snprintf(label, sizeof label, ">= %.0f kJ", rf_report_energy_limits[c - 1]);
-            else if (c == 0)
-                snprintf(label, sizeof label, "< %.0f kJ", rf_report_energy_limits[0]);
-            else
-                snprintf(label, sizeof label, "%.0f - %.0f kJ", rf_report_energy_limits[c - 1],
-                         rf_report_energy_limits[c]);
-            char attrs[80];
-            snprintf(attrs, sizeof attrs, "class=\"class\" fill=\"%s\" stroke=\"#444\" "
-                                          "stroke-width=\"0.5\"",
-                     ENERGY_COLOURS[c]);
-            legend_swatch(&l, attrs, label);
-        }
-    }
-    l.y += 8;
-    legend_title(&l, "Measures");
-    legend_measures(r, &l);
-    l.y += 8;
-    legend_contours(r, &l);
-    return rf_svg_close(&s, r->err);
+    legend l = plan_overlays(r, &s);
+    if (reach)
+        legend_classes(&l, "Reach probability", REACH_LIMITS, N_REACH_CLASSES - 1, 100.0, "%",
+                       REACH_COLOURS, "");
+    else
+        legend_classes(&l, "Largest energy (kJ)", rf_report_energy_limits,
+                       RF_REPORT_N_ENERGY_LIMITS, 1.0, "kJ", ENERGY_COLOURS, "class=\"class\" ");
+    return close_plan(r, &l);
 }
 
 static int section_hazard(report *r)
