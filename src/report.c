@@ -1448,7 +1448,25 @@ static int class_of(double v, const double *lim, int nlim)
     return c;
 }
 
-static int figure_hazard(report *r, int reach, long *class_counts)
+/* A hazard cell as the maps draw it: its centre (m), largest energy (kJ) and reach
+ * probability. */
+typedef struct map_cell {
+    double x, y, energy, reach;
+} map_cell;
+
+static int map_cell_row(report *r, sqlite3_stmt *st, void *ctx)
+{
+    map_cell *c = next_elem(r, ctx);
+    if (!c)
+        return -1;
+    *c = (map_cell){col_real(st, 0), col_real(st, 1), col_real(st, 2), col_real(st, 3)};
+    return 0;
+}
+
+/* The energy map, or with reach the reach map, of the cells; class_counts (may be
+ * NULL) gets the number of cells in each class. */
+static int figure_hazard(report *r, const map_cell *cells, size_t n, int reach,
+                         long *class_counts)
 {
     rf_svg s;
     char title[200];
@@ -1460,19 +1478,10 @@ static int figure_hazard(report *r, int reach, long *class_counts)
                  "Hazard map: largest kinetic energy per %g m cell (Fig. 12)", cell);
     if (open_plan(r, &s, reach ? "hazard-reach.svg" : "hazard-energy.svg", title))
         return -1;
-    sqlite3_stmt *st = prep(r,
-                            "SELECT x, y, energy_max_kj, reach_probability FROM hazard_cells"
-                            " WHERE run_id = ?1 ORDER BY iy, ix",
-                            r->run);
-    if (!st) {
-        rf_svg_close(&s, NULL);
-        return -1;
-    }
     rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" shape-rendering=\"crispEdges\">\n");
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        double x = col_real(st, 0), y = col_real(st, 1);
-        double v = col_real(st, reach ? 3 : 2);
+    for (size_t i = 0; i < n; i++) {
+        double x = cells[i].x, y = cells[i].y;
+        double v = reach ? cells[i].reach : cells[i].energy;
         if (!isfinite(x) || !isfinite(y))
             continue;
         const char *fill = "#cccccc";
@@ -1487,12 +1496,7 @@ static int figure_hazard(report *r, int reach, long *class_counts)
         snprintf(attrs, sizeof attrs, "class=\"cell\" fill=\"%s\"", fill);
         rf_svg_rect(&s, x - cell / 2, y - cell / 2, x + cell / 2, y + cell / 2, attrs);
     }
-    sqlite3_finalize(st);
     rf_svg_raw(&s, "</g>\n");
-    if (rc != SQLITE_DONE) {
-        rf_svg_close(&s, NULL);
-        return db_error(r);
-    }
     draw_contours(r, &s, 1);
     legend l = plan_overlays(r, &s);
     if (reach)
@@ -1516,8 +1520,18 @@ static int section_hazard(report *r)
         return 0;
     }
     r->hazard_cell = hazard_cell_size(r, &h);
+    /* both maps draw the same cells: one read */
+    map_cell *cells = NULL;
+    size_t n = 0;
     long counts[RF_REPORT_N_ENERGY_LIMITS + 1] = {0};
-    if (figure_hazard(r, 0, counts) || figure_hazard(r, 1, NULL))
+    int status = load_rows(r,
+                           "SELECT x, y, energy_max_kj, reach_probability FROM hazard_cells"
+                           " WHERE run_id = ?1 ORDER BY iy, ix",
+                           r->run, map_cell_row, (void **)&cells, &n, sizeof *cells);
+    if (!status)
+        status = figure_hazard(r, cells, n, 0, counts) || figure_hazard(r, cells, n, 1, NULL);
+    free(cells);
+    if (status)
         return -1;
     long over3000 = counts[2] + counts[3], over6000 = counts[3];
     fprintf(f,
