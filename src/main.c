@@ -20,7 +20,7 @@
 
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_BAD_INPUT = 2 };
 
-static const char *USAGE =
+static const char USAGE[] =
     "usage: rockfall COMMAND [OPTIONS]\n"
     "\n"
     "Design checks for rockfall protection measures (Masuya et al. 2009).\n"
@@ -40,7 +40,7 @@ static const char *USAGE =
     "\n"
     "exit status: 0 success, 1 a design check fails, 2 bad usage or input\n";
 
-static const char *RUN_HELP =
+static const char RUN_HELP[] =
     "usage: rockfall run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
     "\n"
     "Loads and validates the project, runs every release's Monte Carlo trajectories\n"
@@ -53,7 +53,7 @@ static const char *RUN_HELP =
     "  --threads N         worker threads (default 1; results do not depend on it)\n"
     "  -q, --quiet         no progress or summary\n";
 
-static const char *CHECK_HELP =
+static const char CHECK_HELP[] =
     "usage: rockfall check results.db [--rules FILE] [--run ID]\n"
     "\n"
     "Classifies every interception of a run (default: the newest complete run) into\n"
@@ -69,7 +69,7 @@ static const char *CHECK_HELP =
     "\n"
     "exit status: 0 every check passes, 1 a check fails, 2 bad usage or input\n";
 
-static const char *REPORT_HELP =
+static const char REPORT_HELP[] =
     "usage: rockfall report results.db [--run ID] --out DIR\n"
     "\n"
     "Writes DIR/index.html: the run, where its trajectories ended and what every\n"
@@ -78,7 +78,7 @@ static const char *REPORT_HELP =
     "  --run ID    the run (default: the newest complete run)\n"
     "  --out DIR   output folder (created when missing)\n";
 
-static const char *EMPIRICAL_HELP =
+static const char EMPIRICAL_HELP[] =
     "usage: rockfall empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L] [--beta DEG]\n"
     "\n"
     "Velocity at the foot of an equivalent straight slope, Eq. 1-2:\n"
@@ -154,10 +154,6 @@ static int check_run(rf_store *s, int64_t run, const rf_rules *rules, int print)
 
 static int cmd_run(int argc, char **argv)
 {
-    if (wants_help(argc, argv)) {
-        fputs(RUN_HELP, stdout);
-        return EXIT_OK;
-    }
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"seed", required_argument, 0, 's'},
         {"count", required_argument, 0, 'c'},  {"threads", required_argument, 0, 't'},
@@ -314,10 +310,6 @@ static int begin_db_command(const char *cmd, int argc, char **argv, db_args *a, 
 
 static int cmd_check(int argc, char **argv)
 {
-    if (wants_help(argc, argv)) {
-        fputs(CHECK_HELP, stdout);
-        return EXIT_OK;
-    }
     db_args a;
     rf_store *s;
     int64_t run;
@@ -343,10 +335,6 @@ static int cmd_check(int argc, char **argv)
 
 static int cmd_report(int argc, char **argv)
 {
-    if (wants_help(argc, argv)) {
-        fputs(REPORT_HELP, stdout);
-        return EXIT_OK;
-    }
     db_args a;
     rf_store *s;
     int64_t run;
@@ -367,10 +355,6 @@ static int cmd_report(int argc, char **argv)
 
 static int cmd_empirical(int argc, char **argv)
 {
-    if (wants_help(argc, argv)) {
-        fputs(EMPIRICAL_HELP, stdout);
-        return EXIT_OK;
-    }
     static const struct option opts[] = {
         {"height", required_argument, 0, 'H'}, {"slope", required_argument, 0, 'S'},
         {"mu", required_argument, 0, 'm'},     {"class", required_argument, 0, 'C'},
@@ -438,6 +422,18 @@ static int cmd_empirical(int argc, char **argv)
     return EXIT_OK;
 }
 
+/* The commands with their help texts: `rockfall NAME --help` prints the text. */
+static const struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *help;
+} commands[] = {
+    {"run", cmd_run, RUN_HELP},
+    {"check", cmd_check, CHECK_HELP},
+    {"report", cmd_report, REPORT_HELP},
+    {"empirical", cmd_empirical, EMPIRICAL_HELP},
+};
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -453,14 +449,16 @@ int main(int argc, char **argv)
         printf("rockfall %s\n", ROCKFALL_VERSION);
         return EXIT_OK;
     }
-    if (!strcmp(cmd, "run"))
-        return cmd_run(argc - 1, argv + 1);
-    if (!strcmp(cmd, "check"))
-        return cmd_check(argc - 1, argv + 1);
-    if (!strcmp(cmd, "report"))
-        return cmd_report(argc - 1, argv + 1);
-    if (!strcmp(cmd, "empirical"))
-        return cmd_empirical(argc - 1, argv + 1);
+    for (size_t i = 0; i < sizeof commands / sizeof *commands; i++) {
+        if (strcmp(cmd, commands[i].name))
+            continue;
+        /* --help anywhere among a command's arguments wins over parsing them */
+        if (wants_help(argc - 1, argv + 1)) {
+            fputs(commands[i].help, stdout);
+            return EXIT_OK;
+        }
+        return commands[i].run(argc - 1, argv + 1);
+    }
     fprintf(stderr, "rockfall: unknown command '%s'\n\n%s", cmd, USAGE);
     return EXIT_BAD_INPUT;
 }
