@@ -91,24 +91,34 @@ static int parse_text(rf_ydoc *d, rf_error *err)
     return 0;
 }
 
-int rf_ydoc_load_text(rf_ydoc *d, const char *file, const char *text, size_t len,
-                      rf_error *err)
+/* Takes `text` (len bytes and a NUL, malloc'd; NULL when that failed) into d and
+ * parses it: the text is read into memory once and kept, not copied again. */
+static int load_owned(rf_ydoc *d, const char *file, char *text, size_t len, rf_error *err)
 {
     memset(d, 0, sizeof *d);
+    d->text = text;
+    d->len = len;
     d->file = strdup(file ? file : "");
-    d->text = malloc(len + 1);
     if (!d->file || !d->text) {
         rf_ydoc_free(d);
         return rf_error_set(err, file, 0, 0, "out of memory");
     }
-    memcpy(d->text, text, len);
-    d->text[len] = '\0';
-    d->len = len;
     if (parse_text(d, err)) {
         rf_ydoc_free(d);
         return -1;
     }
     return 0;
+}
+
+int rf_ydoc_load_text(rf_ydoc *d, const char *file, const char *text, size_t len,
+                      rf_error *err)
+{
+    char *copy = malloc(len + 1);
+    if (copy) {
+        memcpy(copy, text, len);
+        copy[len] = '\0';
+    }
+    return load_owned(d, file, copy, len, err);
 }
 
 int rf_ydoc_load_file(rf_ydoc *d, const char *path, rf_error *err)
@@ -118,9 +128,7 @@ int rf_ydoc_load_file(rf_ydoc *d, const char *path, rf_error *err)
     size_t len;
     if (rf_read_file(path, &text, &len, err))
         return -1;
-    int rc = rf_ydoc_load_text(d, path, text, len, err);
-    free(text);
-    return rc;
+    return load_owned(d, path, text, len, err);
 }
 
 void rf_ydoc_free(rf_ydoc *d)
