@@ -46,14 +46,16 @@ static const char *const release_keys[] = {"name", "point", "rock", "count", "he
                                            "velocity", "jitter", NULL};
 static const char *const measure_keys[] = {"name", "kind", "line", "height", "importance",
                                            "behaviour", "mel", "sel", "capacity", NULL};
-static const char *const capacity_keys[] = {"serviceability", "restorability", "ultimate",
-                                            "near_collapse", NULL};
 static const char *const simulation_keys[] = {"model", "engine", "dt", "contact",
                                               "stop_speed", "max_time", "paths", NULL};
 static const char *const hazard_keys[] = {"cell", NULL};
 
+const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1] = {
+    "serviceability", "restorability", "ultimate", "near_collapse", NULL};
+const char *const rf_importance_names[RF_N_IMPORTANCES + 1] = {"most_important", "important",
+                                                               "usual", NULL};
+
 static const char *const kind_names[] = {"barrier", "embankment", "control", NULL};
-static const char *const importance_names[] = {"most_important", "important", "usual", NULL};
 static const char *const behaviour_names[] = {"stop", "collect", NULL};
 static const char *const model_names[] = {"sphere", "point", NULL};
 static const char *const engine_names[] = {"exact", "fixed_step", NULL};
@@ -68,7 +70,7 @@ const char *rf_measure_kind_name(rf_measure_kind k)
 
 const char *rf_importance_name(rf_importance i)
 {
-    return (unsigned)i < 3 ? importance_names[i] : "?";
+    return (unsigned)i < RF_N_IMPORTANCES ? rf_importance_names[i] : "?";
 }
 
 const char *rf_behaviour_name(rf_behaviour b)
@@ -78,9 +80,9 @@ const char *rf_behaviour_name(rf_behaviour b)
 
 const char *rf_limit_state_name(rf_limit_state s)
 {
-    static const char *const names[] = {"serviceability", "restorability", "ultimate",
-                                        "near_collapse", "collapse"};
-    return (unsigned)s < 5 ? names[s] : "?";
+    if (s == RF_COLLAPSE)
+        return "collapse";
+    return (unsigned)s < RF_N_LIMIT_STATES ? rf_limit_state_names[s] : "?";
 }
 
 /* ---- helpers ----------------------------------------------------------------- */
@@ -576,26 +578,26 @@ static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode
         return 0;
     }
     if (rf_ydoc_mapping(&L->d, cap, "'capacity'", L->err) ||
-        rf_ydoc_check_keys(&L->d, cap, capacity_keys, "'capacity'", L->err))
+        rf_ydoc_check_keys(&L->d, cap, rf_limit_state_names, "'capacity'", L->err))
         return -1;
     if (rf_ydoc_map_size(cap) == 0)
         return rf_ydoc_error(&L->d, cap, L->err,
                              "'capacity' must give at least one of serviceability, "
                              "restorability, ultimate, near_collapse (kJ)");
     for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
-        rf_ynode *v = rf_ydoc_get(&L->d, cap, capacity_keys[s]);
+        rf_ynode *v = rf_ydoc_get(&L->d, cap, rf_limit_state_names[s]);
         if (!v)
             continue;
         if (m->kind == RF_BARRIER && (s == RF_SERVICEABILITY || s == RF_ULTIMATE))
             return rf_ydoc_error(&L->d, v, L->err,
                                  "a barrier's %s capacity comes from '%s'; remove it from "
                                  "'capacity'",
-                                 capacity_keys[s], s == RF_ULTIMATE ? "mel" : "sel");
+                                 rf_limit_state_names[s], s == RF_ULTIMATE ? "mel" : "sel");
         if (m->kind == RF_BARRIER && s == RF_NEAR_COLLAPSE)
             return rf_ydoc_error(&L->d, v, L->err,
                                  "a barrier's last limit state is its MEL (ultimate); "
                                  "'near_collapse' is for embankments");
-        if (rf_ydoc_number(&L->d, v, capacity_keys[s], RF_YR_POSITIVE, &m->capacity[s],
+        if (rf_ydoc_number(&L->d, v, rf_limit_state_names[s], RF_YR_POSITIVE, &m->capacity[s],
                            L->err))
             return -1;
         nodes[s] = v;
@@ -629,7 +631,7 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i)
     L->line_nodes[i] = line;
     m->kind = (rf_measure_kind)k;
     int importance = RF_IMPORTANT, behaviour = RF_STOP;
-    if (rf_ydoc_opt_enum(&L->d, n, "importance", importance_names, &importance, L->err))
+    if (rf_ydoc_opt_enum(&L->d, n, "importance", rf_importance_names, &importance, L->err))
         return -1;
     rf_ynode *behaviour_node = rf_ydoc_get(&L->d, n, "behaviour");
     if (behaviour_node &&
@@ -692,8 +694,8 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i)
                                  "%s capacity (%g kJ) must not be below the %s capacity "
                                  "(%g kJ): capacities must not decrease from serviceability "
                                  "to near_collapse",
-                                 capacity_keys[s], m->capacity[s], capacity_keys[prev],
-                                 m->capacity[prev]);
+                                 rf_limit_state_names[s], m->capacity[s],
+                                 rf_limit_state_names[prev], m->capacity[prev]);
         prev = s;
     }
     return 0;

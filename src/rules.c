@@ -10,9 +10,6 @@
 #include "query.h"
 #include "yamldoc.h"
 
-static const char *const state_names[] = {"serviceability", "restorability", "ultimate",
-                                          "near_collapse", NULL};
-static const char *const importance_names[] = {"most_important", "important", "usual", NULL};
 static const char *const kind_names[] = {"barrier", "embankment", NULL};
 static const char *const source_names[] = {"none", "mel", "sel", "project", NULL};
 static const char *const comparison_names[] = {">", ">=", NULL};
@@ -36,7 +33,7 @@ static int out_of_memory(loader *L)
 static int read_state(loader *L, const rf_ynode *n, const char *key, int *out)
 {
     int s;
-    if (rf_ydoc_enum(&L->d, n, key, state_names, &s, L->err))
+    if (rf_ydoc_enum(&L->d, n, key, rf_limit_state_names, &s, L->err))
         return -1;
     for (int i = 0; i < L->r->nstates; i++) {
         if ((int)L->r->states[i] == s) {
@@ -46,7 +43,7 @@ static int read_state(loader *L, const rf_ynode *n, const char *key, int *out)
     }
     return rf_ydoc_error(&L->d, n, L->err,
                          "'%s' is not one of the limit states listed in 'limit_states'",
-                         state_names[s]);
+                         rf_limit_state_names[s]);
 }
 
 static int read_limit_states(loader *L, rf_ynode *root)
@@ -64,12 +61,12 @@ static int read_limit_states(loader *L, rf_ynode *root)
     for (size_t i = 0; i < n; i++) {
         rf_ynode *item = rf_ydoc_seq_item(&L->d, seq, i);
         int s;
-        if (rf_ydoc_enum(&L->d, item, "limit_states", state_names, &s, L->err))
+        if (rf_ydoc_enum(&L->d, item, "limit_states", rf_limit_state_names, &s, L->err))
             return -1;
         for (size_t j = 0; j < i; j++)
             if ((int)L->r->states[j] == s)
-                return rf_ydoc_error(&L->d, item, L->err,
-                                     "'%s' is listed twice in 'limit_states'", state_names[s]);
+                return rf_ydoc_error(&L->d, item, L->err, "'%s' is listed twice in 'limit_states'",
+                                     rf_limit_state_names[s]);
         L->r->states[i] = (rf_limit_state)s;
     }
     L->r->nstates = (int)n;
@@ -80,8 +77,8 @@ static int read_limit_states(loader *L, rf_ynode *root)
         rf_ydoc_string(&L->d, beyond, "beyond_last", &text, L->err))
         return -1;
     int taken = !strcmp(text, "overtopped");
-    for (int s = 0; state_names[s]; s++)
-        taken |= !strcmp(text, state_names[s]);
+    for (int s = 0; rf_limit_state_names[s]; s++)
+        taken |= !strcmp(text, rf_limit_state_names[s]);
     if (taken)
         return rf_ydoc_error(&L->d, beyond, L->err,
                              "'beyond_last' must name a state other than the limit states "
@@ -106,12 +103,12 @@ static int read_required(loader *L, rf_ynode *root)
         rf_ynode *row;
         if (rf_ydoc_require(&L->d, table, levels[level], "'required_state'", &row, L->err) ||
             rf_ydoc_mapping(&L->d, row, what, L->err) ||
-            rf_ydoc_check_keys(&L->d, row, importance_names, what, L->err))
+            rf_ydoc_check_keys(&L->d, row, rf_importance_names, what, L->err))
             return -1;
         for (int imp = 0; imp < 3; imp++) {
             rf_ynode *cell;
-            if (rf_ydoc_require(&L->d, row, importance_names[imp], what, &cell, L->err) ||
-                read_state(L, cell, importance_names[imp], &L->r->required[level][imp]))
+            if (rf_ydoc_require(&L->d, row, rf_importance_names[imp], what, &cell, L->err) ||
+                read_state(L, cell, rf_importance_names[imp], &L->r->required[level][imp]))
                 return -1;
         }
     }
@@ -128,16 +125,17 @@ static int read_kind_capacities(loader *L, rf_ynode *caps, int kind)
     rf_ynode *map;
     if (rf_ydoc_require(&L->d, caps, kind_names[kind], "'capacities'", &map, L->err) ||
         rf_ydoc_mapping(&L->d, map, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, map, kind == 0 ? barrier_keys : state_names, what, L->err))
+        rf_ydoc_check_keys(&L->d, map, kind == 0 ? barrier_keys : rf_limit_state_names, what,
+                           L->err))
         return -1;
     int uses_sel = 0, any = 0;
     for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
-        rf_ynode *v = rf_ydoc_get(&L->d, map, state_names[s]);
+        rf_ynode *v = rf_ydoc_get(&L->d, map, rf_limit_state_names[s]);
         L->r->capacity[kind][s] = RF_CAP_NONE;
         if (!v)
             continue;
         int source;
-        if (rf_ydoc_enum(&L->d, v, state_names[s], source_names + 1, &source, L->err))
+        if (rf_ydoc_enum(&L->d, v, rf_limit_state_names[s], source_names + 1, &source, L->err))
             return -1;
         source += 1;
         if (kind == 1 && (source == RF_CAP_MEL || source == RF_CAP_SEL))
@@ -190,7 +188,7 @@ static int read_capacities(loader *L, rf_ynode *root)
             for (size_t i = 0; i < n; i++) {
                 rf_ynode *k = rf_ydoc_map_key(&L->d, map, i);
                 if (k && k->type == YAML_SCALAR_NODE &&
-                    !strcmp((const char *)k->data.scalar.value, state_names[s]) &&
+                    !strcmp((const char *)k->data.scalar.value, rf_limit_state_names[s]) &&
                     read_state(L, k, "capacities", &index))
                     return -1;
             }
@@ -499,7 +497,7 @@ done:
 static int importance_of(const char *text)
 {
     for (int i = 0; text && i < 3; i++)
-        if (!strcmp(text, importance_names[i]))
+        if (!strcmp(text, rf_importance_names[i]))
             return i;
     return -1;
 }
@@ -586,7 +584,7 @@ static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m
         const char *reached_name = rf_rules_state_name(r, reached);
         sqlite3_bind_int64(ins, 1, sqlite3_column_int64(st, 0));
         sqlite3_bind_int(ins, 2, level);
-        sqlite3_bind_text(ins, 3, importance_names[m->importance], -1, SQLITE_STATIC);
+        sqlite3_bind_text(ins, 3, rf_importance_names[m->importance], -1, SQLITE_STATIC);
         if (reached_name)
             sqlite3_bind_text(ins, 4, reached_name, -1, SQLITE_STATIC);
         else
@@ -836,7 +834,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
             rf_query_measure_stats(db, m.id, &s, err))
             goto done;
         fprintf(out, "%-16s %-10s %-14s", m.name, rf_measure_kind_name(m.kind),
-                importance_names[m.importance]);
+                rf_importance_names[m.importance]);
         rf_query_print_stats(out, &s);
     }
     fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
@@ -849,7 +847,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
             goto done;
         n = (long)query_count(db, m.id);
         fprintf(out, "\n%s (%s, %s)\n", m.name, rf_measure_kind_name(m.kind),
-                importance_names[m.importance]);
+                rf_importance_names[m.importance]);
         print_capacities(r, &m, out);
         if ((n > 0 && print_states(db, r, &m, n, out, err)) ||
             print_checks(db, r, &m, out, err))

@@ -50,6 +50,7 @@ typedef struct rf_release {
 
 typedef enum rf_measure_kind { RF_BARRIER, RF_EMBANKMENT, RF_CONTROL } rf_measure_kind;
 typedef enum rf_importance { RF_MOST_IMPORTANT, RF_IMPORTANT, RF_USUAL } rf_importance;
+#define RF_N_IMPORTANCES 3
 typedef enum rf_behaviour { RF_STOP, RF_COLLECT } rf_behaviour;
 /* Limit states in order (Table 3); RF_COLLAPSE is beyond the last. */
 typedef enum rf_limit_state {
@@ -111,5 +112,11 @@ const char *rf_measure_kind_name(rf_measure_kind k);
 const char *rf_importance_name(rf_importance i);
 const char *rf_behaviour_name(rf_behaviour b);
 const char *rf_limit_state_name(rf_limit_state s);
+
+/* The names of the limit states in order (RF_SERVICEABILITY .. RF_NEAR_COLLAPSE; collapse,
+ * beyond the last, is no key) and of the importances, NULL-ended: the keys and values
+ * the project and the rule files use. */
+extern const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1];
+extern const char *const rf_importance_names[RF_N_IMPORTANCES + 1];
 
 #endif
