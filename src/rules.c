@@ -416,8 +416,6 @@ static double column_real(sqlite3_stmt *st, int col)
     return sqlite3_column_type(st, col) == SQLITE_NULL ? NAN : sqlite3_column_double(st, col);
 }
 
-/* Whether the project (its YAML text) gives `sel` for the measure named `name`: 1 yes,
- * 0 no, -1 unknown (no text, or text that does not parse). */
 /* The run's project text as a document in d; NULL when there is none or it does not
  * load. */
 static rf_ydoc *project_doc(const char *yaml, rf_ydoc *d)
@@ -427,15 +425,22 @@ static rf_ydoc *project_doc(const char *yaml, rf_ydoc *d)
     return d;
 }
 
-/* 1 when the project document gives measure `name` a sel, 0 when not, -1 when unknown. */
+/* The value of a top-level key of the project document d (may be NULL), NULL when there
+ * is none. */
+static rf_ynode *project_get(rf_ydoc *d, const char *key)
+{
+    rf_ynode *root = d ? rf_ydoc_root(d) : NULL;
+    return root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(d, root, key) : NULL;
+}
+
+/* 1 when the project document gives measure `name` a sel, 0 when not, -1 when unknown
+ * (no document). */
 static int project_gives_sel(rf_ydoc *d, const char *name)
 {
     if (!d)
         return -1;
     int gives = -1;
-    rf_ynode *root = rf_ydoc_root(d);
-    rf_ynode *seq = root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(d, root, "measures")
-                                                             : NULL;
+    rf_ynode *seq = project_get(d, "measures");
     size_t n = seq && seq->type == YAML_SEQUENCE_NODE ? rf_ydoc_seq_size(seq) : 0;
     for (size_t i = 0; i < n && gives < 0; i++) {
         rf_ynode *m = rf_ydoc_seq_item(d, seq, i);
@@ -461,17 +466,11 @@ int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err)
         goto done;
     }
     const char *project = (const char *)sqlite3_column_text(st, 0);
-    const char *yaml = (const char *)sqlite3_column_text(st, 1);
-    const char *rules = NULL;
-    rf_ydoc d = {0};
-    if (yaml && rf_ydoc_load_text(&d, project ? project : "project", yaml, strlen(yaml),
-                                  NULL) == 0) {
-        rf_ynode *root = rf_ydoc_root(&d);
-        rf_ynode *n = root && root->type == YAML_MAPPING_NODE ? rf_ydoc_get(&d, root, "rules")
-                                                               : NULL;
-        if (n && n->type == YAML_SCALAR_NODE)
-            rules = (const char *)n->data.scalar.value;
-    }
+    rf_ydoc doc, *pd = project_doc((const char *)sqlite3_column_text(st, 1), &doc);
+    rf_ynode *given = project_get(pd, "rules");
+    const char *rules = given && given->type == YAML_SCALAR_NODE
+                            ? (const char *)given->data.scalar.value
+                            : NULL;
     if (!rules) {
         status = rf_error_set(err, file, 0, 0,
                               "the project of run %lld names no rule file ('rules:'); pass "
@@ -488,7 +487,8 @@ int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err)
             status = rf_error_set(err, file, 0, 0, "out of memory");
         }
     }
-    rf_ydoc_free(&d);
+    if (pd)
+        rf_ydoc_free(pd);
 done:
     sqlite3_finalize(st);
     return status;
