@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "query.h"
+#include "util.h"
 #include "yamldoc.h"
 
 static const char *const kind_names[] = {"barrier", "embankment", NULL};
@@ -708,21 +709,6 @@ int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_faile
 
 /* ---- printing -------------------------------------------------------------------- */
 
-/* Number of interceptions of a measure. */
-static int64_t query_count(sqlite3 *db, int64_t measure_id)
-{
-    sqlite3_stmt *st;
-    int64_t n = 0;
-    if (sqlite3_prepare_v2(db, "SELECT count(*) FROM interceptions WHERE measure_id = ?1", -1,
-                           &st, NULL) != SQLITE_OK)
-        return 0;
-    sqlite3_bind_int64(st, 1, measure_id);
-    if (sqlite3_step(st) == SQLITE_ROW)
-        n = sqlite3_column_int64(st, 0);
-    sqlite3_finalize(st);
-    return n;
-}
-
 static void print_capacities(const rf_rules *r, const measure_row *m, FILE *out)
 {
     fprintf(out, "  capacities (kJ):");
@@ -804,10 +790,19 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
     return 0;
 }
 
+/* A measure of the printout: read once for the table, kept for its details. */
+typedef struct printed_measure {
+    measure_row m; /* m.name is name */
+    char *name;
+    long n;        /* interceptions */
+} printed_measure;
+
 int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err)
 {
     sqlite3_stmt *runs = NULL, *measures = NULL, *checks = NULL;
     rf_ydoc doc, *pd = NULL;
+    printed_measure *shown = NULL;
+    size_t nshown = 0, cap = 0;
     int status = -1;
     if (prepare(db, "SELECT project, project_yaml FROM runs WHERE id = ?1", &runs, err) ||
         prepare(db, measures_sql, &measures, err) ||
@@ -828,29 +823,35 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
     rf_query_print_stats_header(out);
     sqlite3_bind_int64(measures, 1, run);
     while (sqlite3_step(measures) == SQLITE_ROW) {
-        measure_row m;
-        rf_measure_stats s;
-        if (read_measure_row(measures, r, pd, &m, err) ||
-            rf_query_measure_stats(db, m.id, &s, err))
+        if (rf_grow((void **)&shown, &cap, nshown + 1, sizeof *shown)) {
+            rf_error_set(err, "", 0, 0, "out of memory");
             goto done;
-        fprintf(out, "%-16s %-10s %-14s", m.name, rf_measure_kind_name(m.kind),
-                rf_importance_names[m.importance]);
+        }
+        printed_measure *p = &shown[nshown];
+        rf_measure_stats s;
+        if (read_measure_row(measures, r, pd, &p->m, err) ||
+            rf_query_measure_stats(db, p->m.id, &s, err))
+            goto done;
+        if (!(p->name = strdup(p->m.name))) {
+            rf_error_set(err, "", 0, 0, "out of memory");
+            goto done;
+        }
+        p->m.name = p->name;
+        p->n = s.n;
+        nshown++;
+        fprintf(out, "%-16s %-10s %-14s", p->name, rf_measure_kind_name(p->m.kind),
+                rf_importance_names[p->m.importance]);
         rf_query_print_stats(out, &s);
     }
     fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
                  "maximum; h95: 95th-percentile passing height\n");
-    sqlite3_reset(measures);
-    while (sqlite3_step(measures) == SQLITE_ROW) {
-        measure_row m;
-        long n;
-        if (read_measure_row(measures, r, pd, &m, err))
-            goto done;
-        n = (long)query_count(db, m.id);
-        fprintf(out, "\n%s (%s, %s)\n", m.name, rf_measure_kind_name(m.kind),
-                rf_importance_names[m.importance]);
-        print_capacities(r, &m, out);
-        if ((n > 0 && print_states(db, r, &m, n, out, err)) ||
-            print_checks(db, r, &m, out, err))
+    for (size_t i = 0; i < nshown; i++) {
+        const measure_row *m = &shown[i].m;
+        fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
+                rf_importance_names[m->importance]);
+        print_capacities(r, m, out);
+        if ((shown[i].n > 0 && print_states(db, r, m, shown[i].n, out, err)) ||
+            print_checks(db, r, m, out, err))
             goto done;
     }
     sqlite3_bind_int64(checks, 1, run);
@@ -866,6 +867,9 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
 done:
     if (pd)
         rf_ydoc_free(pd);
+    for (size_t i = 0; i < nshown; i++)
+        free(shown[i].name);
+    free(shown);
     sqlite3_finalize(runs);
     sqlite3_finalize(measures);
     sqlite3_finalize(checks);
