@@ -307,48 +307,58 @@ static int begin_db_command(const char *cmd, int argc, char **argv, db_args *a, 
     return open_run(a, s, run);
 }
 
-
-static int cmd_check(int argc, char **argv)
+/* Runs check or report: begin_db_command, then the command's body on the open database,
+ * which is closed whatever the body returns. */
+static int db_command(const char *cmd, int argc, char **argv, int want_out,
+                      int (*body)(const db_args *a, rf_store *s, int64_t run))
 {
     db_args a;
     rf_store *s;
     int64_t run;
-    int rc = begin_db_command("check", argc, argv, &a, 0, &s, &run);
+    int rc = begin_db_command(cmd, argc, argv, &a, want_out, &s, &run);
     if (rc)
         return rc;
-    rf_error err;
-    char *path = NULL;
-    rf_rules rules;
-    if ((!a.rules && rf_rules_path_of_run(rf_store_db(s), run, &path, &err)) ||
-        rf_rules_load(a.rules ? a.rules : path, &rules, &err)) {
-        rf_error_print(&err, stderr);
-        free(path);
-        rf_store_close(s);
-        return EXIT_BAD_INPUT;
-    }
-    rc = check_run(s, run, &rules, 1);
-    rf_rules_free(&rules);
-    free(path);
+    rc = body(&a, s, run);
     rf_store_close(s);
     return rc;
 }
 
+static int check_body(const db_args *a, rf_store *s, int64_t run)
+{
+    rf_error err;
+    char *path = NULL;
+    rf_rules rules;
+    if ((!a->rules && rf_rules_path_of_run(rf_store_db(s), run, &path, &err)) ||
+        rf_rules_load(a->rules ? a->rules : path, &rules, &err)) {
+        rf_error_print(&err, stderr);
+        free(path);
+        return EXIT_BAD_INPUT;
+    }
+    int rc = check_run(s, run, &rules, 1);
+    rf_rules_free(&rules);
+    free(path);
+    return rc;
+}
+
+static int cmd_check(int argc, char **argv)
+{
+    return db_command("check", argc, argv, 0, check_body);
+}
+
+static int report_body(const db_args *a, rf_store *s, int64_t run)
+{
+    rf_error err;
+    if (rf_report_write(rf_store_db(s), run, a->out, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    printf("%s/index.html\n", a->out);
+    return EXIT_OK;
+}
+
 static int cmd_report(int argc, char **argv)
 {
-    db_args a;
-    rf_store *s;
-    int64_t run;
-    int rc = begin_db_command("report", argc, argv, &a, 1, &s, &run);
-    if (rc)
-        return rc;
-    rf_error err;
-    rc = rf_report_write(rf_store_db(s), run, a.out, &err);
-    if (rc)
-        rf_error_print(&err, stderr);
-    else
-        printf("%s/index.html\n", a.out);
-    rf_store_close(s);
-    return rc ? EXIT_BAD_INPUT : EXIT_OK;
+    return db_command("report", argc, argv, 1, report_body);
 }
 
 /* ---- empirical ---------------------------------------------------------------- */
