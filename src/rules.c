@@ -30,6 +30,32 @@ static int out_of_memory(loader *L)
     return rf_error_set(L->err, L->d.file, 0, 0, "out of memory reading the rule file");
 }
 
+/* The mapping under `key` of `parent` (required; `in` names parent when it is missing),
+ * with keys among `keys`: `what` names the mapping in messages, `keys_what` it in the
+ * message about a wrong key. */
+static int read_mapping(loader *L, const rf_ynode *parent, const char *key, const char *in,
+                        const char *what, const char *const *keys, const char *keys_what,
+                        rf_ynode **map)
+{
+    if (rf_ydoc_require(&L->d, parent, key, in, map, L->err) ||
+        rf_ydoc_mapping(&L->d, *map, what, L->err) ||
+        rf_ydoc_check_keys(&L->d, *map, keys, keys_what, L->err))
+        return -1;
+    return 0;
+}
+
+/* The rule file's list under `key`, of at least one item (`items` names them): its node
+ * and its size. */
+static int read_list(loader *L, const rf_ynode *root, const char *key, const char *items,
+                     rf_ynode **seq, size_t *n)
+{
+    if (rf_ydoc_require(&L->d, root, key, "the rule file", seq, L->err) ||
+        rf_ydoc_sequence(&L->d, *seq, key, 1, items, L->err))
+        return -1;
+    *n = rf_ydoc_seq_size(*seq);
+    return 0;
+}
+
 /* Index in r->states of a state named by a scalar node, or an error at the node. */
 static int read_state(loader *L, const rf_ynode *n, const char *key, int *out)
 {
@@ -50,10 +76,9 @@ static int read_state(loader *L, const rf_ynode *n, const char *key, int *out)
 static int read_limit_states(loader *L, rf_ynode *root)
 {
     rf_ynode *seq;
-    if (rf_ydoc_require(&L->d, root, "limit_states", "the rule file", &seq, L->err) ||
-        rf_ydoc_sequence(&L->d, seq, "limit_states", 1, "limit states", L->err))
+    size_t n;
+    if (read_list(L, root, "limit_states", "limit states", &seq, &n))
         return -1;
-    size_t n = rf_ydoc_seq_size(seq);
     if (n > RF_N_LIMIT_STATES)
         return rf_ydoc_error(&L->d, rf_ydoc_seq_item(&L->d, seq, RF_N_LIMIT_STATES), L->err,
                              "'limit_states' lists at most the %d limit states "
@@ -94,17 +119,15 @@ static int read_required(loader *L, rf_ynode *root)
 {
     static const char *const levels[] = {"1", "2", "3", NULL};
     rf_ynode *table;
-    if (rf_ydoc_require(&L->d, root, "required_state", "the rule file", &table, L->err) ||
-        rf_ydoc_mapping(&L->d, table, "'required_state'", L->err) ||
-        rf_ydoc_check_keys(&L->d, table, levels, "'required_state' (action levels)", L->err))
+    if (read_mapping(L, root, "required_state", "the rule file", "'required_state'", levels,
+                     "'required_state' (action levels)", &table))
         return -1;
     for (int level = 0; level < 3; level++) {
         char what[64];
         snprintf(what, sizeof what, "'required_state' for action level %s", levels[level]);
         rf_ynode *row;
-        if (rf_ydoc_require(&L->d, table, levels[level], "'required_state'", &row, L->err) ||
-            rf_ydoc_mapping(&L->d, row, what, L->err) ||
-            rf_ydoc_check_keys(&L->d, row, rf_importance_names, what, L->err))
+        if (read_mapping(L, table, levels[level], "'required_state'", what, rf_importance_names,
+                         what, &row))
             return -1;
         for (int imp = 0; imp < 3; imp++) {
             rf_ynode *cell;
@@ -124,10 +147,8 @@ static int read_kind_capacities(loader *L, rf_ynode *caps, int kind)
     char what[64];
     snprintf(what, sizeof what, "'capacities' of %s", kind == 0 ? "a barrier" : "an embankment");
     rf_ynode *map;
-    if (rf_ydoc_require(&L->d, caps, kind_names[kind], "'capacities'", &map, L->err) ||
-        rf_ydoc_mapping(&L->d, map, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, map, kind == 0 ? barrier_keys : rf_limit_state_names, what,
-                           L->err))
+    if (read_mapping(L, caps, kind_names[kind], "'capacities'", what,
+                     kind == 0 ? barrier_keys : rf_limit_state_names, what, &map))
         return -1;
     int uses_sel = 0, any = 0;
     for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
@@ -171,9 +192,8 @@ static int read_kind_capacities(loader *L, rf_ynode *caps, int kind)
 static int read_capacities(loader *L, rf_ynode *root)
 {
     rf_ynode *caps;
-    if (rf_ydoc_require(&L->d, root, "capacities", "the rule file", &caps, L->err) ||
-        rf_ydoc_mapping(&L->d, caps, "'capacities'", L->err) ||
-        rf_ydoc_check_keys(&L->d, caps, kind_names, "'capacities' (structure kinds)", L->err))
+    if (read_mapping(L, root, "capacities", "the rule file", "'capacities'", kind_names,
+                     "'capacities' (structure kinds)", &caps))
         return -1;
     for (int kind = 0; kind < RF_N_RULE_KINDS; kind++)
         if (read_kind_capacities(L, caps, kind))
@@ -248,10 +268,9 @@ static int read_check(loader *L, rf_ynode *n, size_t i)
 static int read_checks(loader *L, rf_ynode *root)
 {
     rf_ynode *seq;
-    if (rf_ydoc_require(&L->d, root, "checks", "the rule file", &seq, L->err) ||
-        rf_ydoc_sequence(&L->d, seq, "checks", 1, "checks", L->err))
+    size_t n;
+    if (read_list(L, root, "checks", "checks", &seq, &n))
         return -1;
-    size_t n = rf_ydoc_seq_size(seq);
     if (!(L->r->checks = calloc(n, sizeof *L->r->checks)))
         return out_of_memory(L);
     L->r->nchecks = n;
