@@ -28,6 +28,9 @@ typedef struct loader {
     int rolling_given;       /* the terrain surface sets rolling explicitly */
 } loader;
 
+/* Room for "LIST item N", which names a list item in messages. */
+#define WHAT_SIZE 64
+
 static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", "rocks",
                                        "releases", "measures", "simulation", "hazard",
                                        "rules", NULL};
@@ -49,6 +52,19 @@ static const char *const measure_keys[] = {"name", "kind", "line", "height", "im
 static const char *const simulation_keys[] = {"model", "engine", "dt", "contact",
                                               "stop_speed", "max_time", "paths", NULL};
 static const char *const hazard_keys[] = {"cell", NULL};
+
+/* A list of named items: its key ("rocks"), an item's kind in messages ("rock") and an
+ * item's keys. */
+typedef struct item_list {
+    const char *key, *kind;
+    const char *const *keys;
+} item_list;
+
+static const item_list zone_list = {"zones", "zone", zone_keys};
+static const item_list forest_list = {"vegetation", "vegetation", forest_keys};
+static const item_list rock_list = {"rocks", "rock", rock_keys};
+static const item_list release_list = {"releases", "release", release_keys};
+static const item_list measure_list = {"measures", "measure", measure_keys};
 
 const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1] = {
     "serviceability", "restorability", "ultimate", "near_collapse", NULL};
@@ -115,7 +131,7 @@ static int readable(const char *path, char *why, size_t size)
     return 1;
 }
 
-/* A required non-empty string, copied. */
+/* The required non-empty string under "name", copied. */
 static int read_name(loader *L, const rf_ynode *map, const char *what, char **out)
 {
     rf_ynode *n;
@@ -127,16 +143,25 @@ static int read_name(loader *L, const rf_ynode *map, const char *what, char **ou
     return *out ? 0 : oom(L);
 }
 
-/* Names must be unique within a list; `name_of(i)` returns entry i's name. */
-static int check_unique(loader *L, const rf_ynode *map, const char *name, const char *kind,
-                        const char *list, char *const *names, size_t stride, size_t i)
+/* Starts item i of a list of named items: a mapping with only the list's keys and a
+ * name no earlier item has.  names points at item 0's name, stride is the item size;
+ * *count becomes i + 1 once item i holds its name, so that freeing the project frees
+ * it.  `what` gets "LIST item N", which names the item in its other messages. */
+static int read_item(loader *L, const rf_ynode *n, size_t i, const item_list *list,
+                     char **names, size_t stride, size_t *count, char what[WHAT_SIZE])
 {
+    char **name = (char **)((char *)names + i * stride);
+    snprintf(what, WHAT_SIZE, "%s item %zu", list->key, i + 1);
+    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
+        rf_ydoc_check_keys(&L->d, n, list->keys, what, L->err) || read_name(L, n, what, name))
+        return -1;
+    *count = i + 1;
     for (size_t j = 0; j < i; j++) {
         const char *other = *(char *const *)((const char *)names + j * stride);
-        if (other && !strcmp(other, name))
-            return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, map, "name"), L->err,
-                                 "duplicate %s name '%s' (%s item %zu has it too)", kind,
-                                 name, list, j + 1);
+        if (other && !strcmp(other, *name))
+            return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, n, "name"), L->err,
+                                 "duplicate %s name '%s' (%s item %zu has it too)", list->kind,
+                                 *name, list->key, j + 1);
     }
     return 0;
 }
@@ -304,13 +329,8 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index)
 {
     rf_terrain_spec *s = &L->p->terrain_spec;
     rf_zone_spec *z = &s->zones[index];
-    char what[64];
-    snprintf(what, sizeof what, "zones item %zu", index + 1);
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, zone_keys, what, L->err) || read_name(L, n, what, &z->name))
-        return -1;
-    s->nzones = index + 1;
-    if (check_unique(L, n, z->name, "zone", "zones", &s->zones[0].name, sizeof *z, index))
+    char what[WHAT_SIZE];
+    if (read_item(L, n, index, &zone_list, &s->zones[0].name, sizeof *z, &s->nzones, what))
         return -1;
     rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
     rf_ynode *file = rf_ydoc_get(&L->d, n, "file");
@@ -438,15 +458,9 @@ static int read_terrain(loader *L, const rf_ynode *n)
 static int read_forest(loader *L, const rf_ynode *n, size_t i)
 {
     rf_forest *f = &L->p->forests[i];
-    char what[64];
-    snprintf(what, sizeof what, "vegetation item %zu", i + 1);
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, forest_keys, what, L->err) ||
-        read_name(L, n, what, &f->name))
-        return -1;
-    L->p->nforests = i + 1;
-    if (check_unique(L, n, f->name, "vegetation", "vegetation", &L->p->forests[0].name,
-                     sizeof *f, i))
+    char what[WHAT_SIZE];
+    if (read_item(L, n, i, &forest_list, &L->p->forests[0].name, sizeof *f, &L->p->nforests,
+                  what))
         return -1;
     f->restitution = (rf_dist){0.2, 0.0};
     f->friction = (rf_dist){0.3, 0.0};
@@ -470,13 +484,8 @@ static int read_forest(loader *L, const rf_ynode *n, size_t i)
 static int read_rock(loader *L, const rf_ynode *n, size_t i)
 {
     rf_rock *r = &L->p->rocks[i];
-    char what[64];
-    snprintf(what, sizeof what, "rocks item %zu", i + 1);
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, rock_keys, what, L->err) || read_name(L, n, what, &r->name))
-        return -1;
-    L->p->nrocks = i + 1;
-    if (check_unique(L, n, r->name, "rock", "rocks", &L->p->rocks[0].name, sizeof *r, i))
+    char what[WHAT_SIZE];
+    if (read_item(L, n, i, &rock_list, &L->p->rocks[0].name, sizeof *r, &L->p->nrocks, what))
         return -1;
     rf_ynode *mass;
     long long level = 2;
@@ -495,14 +504,8 @@ static int read_release(loader *L, const rf_ynode *n, size_t i)
 {
     rf_project *p = L->p;
     rf_release *r = &p->releases[i];
-    char what[64];
-    snprintf(what, sizeof what, "releases item %zu", i + 1);
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, release_keys, what, L->err) ||
-        read_name(L, n, what, &r->name))
-        return -1;
-    p->nreleases = i + 1;
-    if (check_unique(L, n, r->name, "release", "releases", &p->releases[0].name, sizeof *r, i))
+    char what[WHAT_SIZE];
+    if (read_item(L, n, i, &release_list, &p->releases[0].name, sizeof *r, &p->nreleases, what))
         return -1;
     rf_ynode *point, *rock;
     const char *rock_name;
@@ -608,15 +611,9 @@ static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode
 static int read_measure(loader *L, const rf_ynode *n, size_t i)
 {
     rf_measure *m = &L->p->measures[i];
-    char what[64];
-    snprintf(what, sizeof what, "measures item %zu", i + 1);
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, measure_keys, what, L->err) ||
-        read_name(L, n, what, &m->name))
-        return -1;
-    L->p->nmeasures = i + 1;
-    if (check_unique(L, n, m->name, "measure", "measures", &L->p->measures[0].name, sizeof *m,
-                     i))
+    char what[WHAT_SIZE];
+    if (read_item(L, n, i, &measure_list, &L->p->measures[0].name, sizeof *m, &L->p->nmeasures,
+                  what))
         return -1;
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)
         m->capacity[s] = -1.0;
@@ -766,13 +763,10 @@ static int read_document(loader *L)
         rf_ydoc_check_keys(&L->d, root, top_keys, "the project file", L->err))
         return -1;
 
-    rf_ynode *name, *terrain;
+    rf_ynode *terrain;
     const char *s;
-    if (rf_ydoc_require(&L->d, root, "name", "the project file", &name, L->err) ||
-        rf_ydoc_string(&L->d, name, "name", &s, L->err))
+    if (read_name(L, root, "the project file", &p->name))
         return -1;
-    if (!(p->name = strdup(s)))
-        return oom(L);
     long long seed = 1;
     if (rf_ydoc_opt_integer(&L->d, root, "seed", RF_YR_NONNEG, &seed, L->err))
         return -1;
