@@ -8,6 +8,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,18 +54,25 @@ static const char *const simulation_keys[] = {"model", "engine", "dt", "contact"
                                               "stop_speed", "max_time", "paths", NULL};
 static const char *const hazard_keys[] = {"cell", NULL};
 
-/* A list of named items: its key ("rocks"), an item's kind in messages ("rock") and an
- * item's keys. */
+/* A list of named items: its key ("rocks"), an item's kind in messages ("rock"), what
+ * its items are called when it is no sequence, an item's keys, and an item's size and
+ * where it keeps its name. */
 typedef struct item_list {
-    const char *key, *kind;
+    const char *key, *kind, *items;
     const char *const *keys;
+    size_t size, name_offset;
 } item_list;
 
-static const item_list zone_list = {"zones", "zone", zone_keys};
-static const item_list forest_list = {"vegetation", "vegetation", forest_keys};
-static const item_list rock_list = {"rocks", "rock", rock_keys};
-static const item_list release_list = {"releases", "release", release_keys};
-static const item_list measure_list = {"measures", "measure", measure_keys};
+static const item_list zone_list = {"zones", "zone", "zones", zone_keys,
+                                    sizeof(rf_zone_spec), offsetof(rf_zone_spec, name)};
+static const item_list forest_list = {"vegetation", "vegetation", "entries", forest_keys,
+                                      sizeof(rf_forest), offsetof(rf_forest, name)};
+static const item_list rock_list = {"rocks", "rock", "entries", rock_keys, sizeof(rf_rock),
+                                    offsetof(rf_rock, name)};
+static const item_list release_list = {"releases", "release", "entries", release_keys,
+                                       sizeof(rf_release), offsetof(rf_release, name)};
+static const item_list measure_list = {"measures", "measure", "entries", measure_keys,
+                                       sizeof(rf_measure), offsetof(rf_measure, name)};
 
 const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1] = {
     "serviceability", "restorability", "ultimate", "near_collapse", NULL};
@@ -143,25 +151,62 @@ static int read_name(loader *L, const rf_ynode *map, const char *what, char **ou
     return *out ? 0 : oom(L);
 }
 
-/* Starts item i of a list of named items: a mapping with only the list's keys and a
- * name no earlier item has.  names points at item 0's name, stride is the item size;
- * *count becomes i + 1 once item i holds its name, so that freeing the project frees
- * it.  `what` gets "LIST item N", which names the item in its other messages. */
-static int read_item(loader *L, const rf_ynode *n, size_t i, const item_list *list,
-                     char **names, size_t stride, size_t *count, char what[WHAT_SIZE])
+/* The name of item i of a list's array. */
+static char **item_name(const item_list *list, void *array, size_t i)
 {
-    char **name = (char **)((char *)names + i * stride);
+    return (char **)((char *)array + i * list->size + list->name_offset);
+}
+
+/* Starts item i of a list: a mapping with only the list's keys and a name no earlier
+ * item has.  *count becomes i + 1 once the item holds its name, so that freeing the
+ * project frees it.  `what` gets "LIST item N", which names the item in its other
+ * messages. */
+static int read_item(loader *L, const rf_ynode *n, size_t i, const item_list *list,
+                     void *array, size_t *count, char what[WHAT_SIZE])
+{
+    char **name = item_name(list, array, i);
     snprintf(what, WHAT_SIZE, "%s item %zu", list->key, i + 1);
     if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
         rf_ydoc_check_keys(&L->d, n, list->keys, what, L->err) || read_name(L, n, what, name))
         return -1;
     *count = i + 1;
     for (size_t j = 0; j < i; j++) {
-        const char *other = *(char *const *)((const char *)names + j * stride);
+        const char *other = *item_name(list, array, j);
         if (other && !strcmp(other, *name))
             return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, n, "name"), L->err,
                                  "duplicate %s name '%s' (%s item %zu has it too)", list->kind,
                                  *name, list->key, j + 1);
+    }
+    return 0;
+}
+
+/* The list under its key in `parent` (a sequence; at least one item when required) into
+ * a new *array of *count items: read_item starts each, then item(L, node, i, what)
+ * reads the rest. */
+static int read_list(loader *L, const rf_ynode *parent, const item_list *list, int required,
+                     void **array, size_t *count,
+                     int (*item)(loader *, const rf_ynode *, size_t, const char *))
+{
+    rf_ynode *n = rf_ydoc_get(&L->d, parent, list->key);
+    if (!n) {
+        if (required)
+            return rf_ydoc_error(&L->d, parent, L->err,
+                                 "missing required key '%s' in the project file", list->key);
+        return 0;
+    }
+    if (rf_ydoc_sequence(&L->d, n, list->key, required ? 1 : 0, list->items, L->err))
+        return -1;
+    size_t size = rf_ydoc_seq_size(n);
+    if (!size)
+        return 0;
+    *array = calloc(size, list->size);
+    if (!*array)
+        return oom(L);
+    for (size_t i = 0; i < size; i++) {
+        rf_ynode *node = rf_ydoc_seq_item(&L->d, n, i);
+        char what[WHAT_SIZE];
+        if (read_item(L, node, i, list, *array, count, what) || item(L, node, i, what))
+            return -1;
     }
     return 0;
 }
@@ -325,13 +370,10 @@ static int read_profile(loader *L, const rf_ynode *n)
     return rf_ydoc_number(&L->d, width, "width", RF_YR_POSITIVE, &s->width, L->err);
 }
 
-static int read_zone(loader *L, const rf_ynode *n, size_t index)
+static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *what)
 {
     rf_terrain_spec *s = &L->p->terrain_spec;
     rf_zone_spec *z = &s->zones[index];
-    char what[WHAT_SIZE];
-    if (read_item(L, n, index, &zone_list, &s->zones[0].name, sizeof *z, &s->nzones, what))
-        return -1;
     rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
     rf_ynode *file = rf_ydoc_get(&L->d, n, "file");
     if (polygon && file)
@@ -436,32 +478,14 @@ static int read_terrain(loader *L, const rf_ynode *n)
             return -1;
     }
 
-    rf_ynode *zones = rf_ydoc_get(&L->d, n, "zones");
-    if (zones) {
-        if (rf_ydoc_sequence(&L->d, zones, "zones", 0, "zones", L->err))
-            return -1;
-        size_t count = rf_ydoc_seq_size(zones);
-        if (count) {
-            s->zones = calloc(count, sizeof *s->zones);
-            if (!s->zones)
-                return oom(L);
-            for (size_t i = 0; i < count; i++)
-                if (read_zone(L, rf_ydoc_seq_item(&L->d, zones, i), i))
-                    return -1;
-        }
-    }
-    return 0;
+    return read_list(L, n, &zone_list, 0, (void **)&s->zones, &s->nzones, read_zone);
 }
 
 /* ---- vegetation, rocks, releases --------------------------------------------- */
 
-static int read_forest(loader *L, const rf_ynode *n, size_t i)
+static int read_forest(loader *L, const rf_ynode *n, size_t i, const char *what)
 {
     rf_forest *f = &L->p->forests[i];
-    char what[WHAT_SIZE];
-    if (read_item(L, n, i, &forest_list, &L->p->forests[0].name, sizeof *f, &L->p->nforests,
-                  what))
-        return -1;
     f->restitution = (rf_dist){0.2, 0.0};
     f->friction = (rf_dist){0.3, 0.0};
     rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
@@ -481,12 +505,9 @@ static int read_forest(loader *L, const rf_ynode *n, size_t i)
     return 0;
 }
 
-static int read_rock(loader *L, const rf_ynode *n, size_t i)
+static int read_rock(loader *L, const rf_ynode *n, size_t i, const char *what)
 {
     rf_rock *r = &L->p->rocks[i];
-    char what[WHAT_SIZE];
-    if (read_item(L, n, i, &rock_list, &L->p->rocks[0].name, sizeof *r, &L->p->nrocks, what))
-        return -1;
     rf_ynode *mass;
     long long level = 2;
     r->density = 2650.0;
@@ -500,13 +521,10 @@ static int read_rock(loader *L, const rf_ynode *n, size_t i)
     return 0;
 }
 
-static int read_release(loader *L, const rf_ynode *n, size_t i)
+static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what)
 {
     rf_project *p = L->p;
     rf_release *r = &p->releases[i];
-    char what[WHAT_SIZE];
-    if (read_item(L, n, i, &release_list, &p->releases[0].name, sizeof *r, &p->nreleases, what))
-        return -1;
     rf_ynode *point, *rock;
     const char *rock_name;
     double xy[2];
@@ -608,13 +626,9 @@ static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode
     return 0;
 }
 
-static int read_measure(loader *L, const rf_ynode *n, size_t i)
+static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what)
 {
     rf_measure *m = &L->p->measures[i];
-    char what[WHAT_SIZE];
-    if (read_item(L, n, i, &measure_list, &L->p->measures[0].name, sizeof *m, &L->p->nmeasures,
-                  what))
-        return -1;
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)
         m->capacity[s] = -1.0;
     m->mel = m->sel = -1.0;
@@ -725,32 +739,6 @@ static int read_simulation(loader *L, const rf_ynode *n)
 
 /* ---- the document ------------------------------------------------------------ */
 
-/* A list of mappings under `key`: calls item(L, node, i) for each. */
-static int read_list(loader *L, const rf_ynode *root, const char *key, int required,
-                     void **array, size_t elem_size,
-                     int (*item)(loader *, const rf_ynode *, size_t))
-{
-    rf_ynode *n = rf_ydoc_get(&L->d, root, key);
-    if (!n) {
-        if (required)
-            return rf_ydoc_error(&L->d, root, L->err,
-                                 "missing required key '%s' in the project file", key);
-        return 0;
-    }
-    if (rf_ydoc_sequence(&L->d, n, key, required ? 1 : 0, "entries", L->err))
-        return -1;
-    size_t count = rf_ydoc_seq_size(n);
-    if (!count)
-        return 0;
-    *array = calloc(count, elem_size);
-    if (!*array)
-        return oom(L);
-    for (size_t i = 0; i < count; i++)
-        if (item(L, rf_ydoc_seq_item(&L->d, n, i), i))
-            return -1;
-    return 0;
-}
-
 static int read_document(loader *L)
 {
     rf_project *p = L->p;
@@ -775,9 +763,8 @@ static int read_document(loader *L)
     if (rf_ydoc_require(&L->d, root, "terrain", "the project file", &terrain, L->err) ||
         read_terrain(L, terrain))
         return -1;
-    if (read_list(L, root, "vegetation", 0, (void **)&p->forests, sizeof *p->forests,
-                  read_forest) ||
-        read_list(L, root, "rocks", 1, (void **)&p->rocks, sizeof *p->rocks, read_rock))
+    if (read_list(L, root, &forest_list, 0, (void **)&p->forests, &p->nforests, read_forest) ||
+        read_list(L, root, &rock_list, 1, (void **)&p->rocks, &p->nrocks, read_rock))
         return -1;
     rf_ynode *releases = rf_ydoc_get(&L->d, root, "releases");
     if (releases && releases->type == YAML_SEQUENCE_NODE && rf_ydoc_seq_size(releases)) {
@@ -791,9 +778,9 @@ static int read_document(loader *L)
         if (!L->line_nodes)
             return oom(L);
     }
-    if (read_list(L, root, "releases", 1, (void **)&p->releases, sizeof *p->releases,
+    if (read_list(L, root, &release_list, 1, (void **)&p->releases, &p->nreleases,
                   read_release) ||
-        read_list(L, root, "measures", 0, (void **)&p->measures, sizeof *p->measures,
+        read_list(L, root, &measure_list, 0, (void **)&p->measures, &p->nmeasures,
                   read_measure))
         return -1;
 
