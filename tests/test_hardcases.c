@@ -367,14 +367,20 @@ static double rough_z(int i, int j, void *ctx)
     return z;
 }
 
+/* A 61 x 41 rough slope of 1 m cells with a nodata hole, its heights drawn from rng. */
+static void rough_terrain(rf_terrain *t, const char *name, gsl_rng *rng)
+{
+    char *txt = mt_grid_text(61, 41, 1.0, rough_z, rng);
+    mt_dem_text(t, name, txt, ROCKY);
+    free(txt);
+}
+
 TEST(hard_random_rough_terrain_energy_never_increases)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 2385);
-    char *txt = mt_grid_text(61, 41, 1.0, rough_z, rng);
     rf_terrain t;
-    mt_dem_text(&t, "rough.asc", txt, ROCKY);
-    free(txt);
+    rough_terrain(&t, "rough.asc", rng);
     long n = 10000, by_reason[4] = {0};
     for (long k = 0; k < n; k++) {
         rf_rock_model md = (k % 3 == 2) ? RF_MODEL_POINT : RF_MODEL_SPHERE;
@@ -418,10 +424,8 @@ TEST(hard_same_seed_bit_identical_records)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 99);
-    char *txt = mt_grid_text(61, 41, 1.0, rough_z, rng);
     rf_terrain t;
-    mt_dem_text(&t, "det.asc", txt, ROCKY);
-    free(txt);
+    rough_terrain(&t, "det.asc", rng);
     for (int k = 0; k < 20; k++) {
         rf_state s = mt_state(rf_v3(3.0 + k, 5.0 + k, 50.0), rf_v3(1.0, 0.5, 0.0));
         mt_run a, b;
