@@ -69,7 +69,12 @@ int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size
         x->outcome = rf_outcome_from_name((const char *)sqlite3_column_text(st, 2));
     }
     sqlite3_finalize(st);
-    return rc == SQLITE_DONE ? 0 : rf_query_db_error(db, err);
+    if (rc == SQLITE_DONE)
+        return 0;
+    free(*rows);
+    *rows = NULL;
+    *n = 0;
+    return rf_query_db_error(db, err);
 }
 
 /* The values of one field of the rows that have one (NULL in the database is NAN

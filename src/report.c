@@ -315,9 +315,9 @@ static int load_releases(report *r)
     r->rel_names = calloc(n, sizeof *r->rel_names);
     if (!r->rel_fills || !r->rel_names)
         return oom(r);
-    for (size_t k = 0; k < r->nrel; k++) {
+    for (size_t k = 0; k < n; k++) {
         r->rel_fills[k] = release_colour(k);
-        r->rel_names[k] = r->rel[k].name;
+        r->rel_names[k] = k < r->nrel ? r->rel[k].name : "";
     }
     return 0;
 }
@@ -1404,7 +1404,7 @@ typedef struct hazard_summary {
     double step_x, step_y; /* spacing of the cell centres; NAN with one column (row) */
 } hazard_summary;
 
-static void read_hazard_summary(report *r, hazard_summary *h)
+static int read_hazard_summary(report *r, hazard_summary *h)
 {
     char sql[600];
     snprintf(sql, sizeof sql,
@@ -1417,7 +1417,10 @@ static void read_hazard_summary(report *r, hazard_summary *h)
              rf_report_energy_limits[1], rf_report_energy_limits[2]);
     *h = (hazard_summary){0, {0, 0}, NAN, NAN, NAN, NAN};
     sqlite3_stmt *st = prep(r, sql, r->run);
-    if (st && sqlite3_step(st) == SQLITE_ROW) {
+    if (!st)
+        return -1;
+    int rc = sqlite3_step(st);
+    if (rc == SQLITE_ROW) {
         h->ncells = (long)sqlite3_column_int64(st, 0);
         h->emax = col_real(st, 1);
         h->p95max = col_real(st, 2);
@@ -1425,8 +1428,11 @@ static void read_hazard_summary(report *r, hazard_summary *h)
         h->p95_over[1] = (long)sqlite3_column_int64(st, 4);
         h->step_x = col_real(st, 5);
         h->step_y = col_real(st, 6);
+    } else {
+        db_error(r); /* an aggregate always gives a row */
     }
     sqlite3_finalize(st);
+    return rc == SQLITE_ROW ? 0 : -1;
 }
 
 /* The project's cell size, else the spacing of the cells (5 m when unknown). */
@@ -1513,7 +1519,8 @@ static int section_hazard(report *r)
     FILE *f = r->body;
     fputs("<h2 id=\"hazard\">Hazard map (Fig. 12)</h2>\n", f);
     hazard_summary h;
-    read_hazard_summary(r, &h);
+    if (read_hazard_summary(r, &h))
+        return -1;
     if (h.ncells <= 0) {
         fputs("<p>The run has no hazard cells.</p>\n", f);
         fputs("<li>No hazard cells in this run: no hazard maps.</li>\n", r->notes);
