@@ -224,13 +224,30 @@ static void write_trajectory(rf_store *s, int64_t run, size_t release, long idx,
     }
 }
 
+/* The test's project and a new store in the file `name` of the test's directory
+ * (*path: that file). */
+static rf_store *open_project_store(test_project *t, const char *name, const char **path)
+{
+    make_project(t);
+    *path = db_path(name);
+    return open_store(*path);
+}
+
+/* Begins a run of `total` trajectories; returns its id. */
+static int64_t begin_run(rf_store *s, const rf_project *p, long total)
+{
+    rf_error err = {0};
+    int64_t run = 0;
+    ENSURE_MSG(rf_store_run_begin(s, p, total, &run, &err) == 0, "%s", err.message);
+    return run;
+}
+
 /* Writes a run of n trajectories per release with all their rows; returns its id. */
 static int64_t write_run(rf_store *s, const rf_project *p, long n, const char *status)
 {
     rf_error err = {0};
-    int64_t run = 0;
     long total = n * (long)p->nreleases;
-    ENSURE_MSG(rf_store_run_begin(s, p, total, &run, &err) == 0, "%s", err.message);
+    int64_t run = begin_run(s, p, total);
     ENSURE(run > 0 && rf_store_run_id(s) == run);
     ENSURE(rf_store_batch_begin(s, &err) == 0);
     for (size_t r = 0; r < p->nreleases; r++)
@@ -372,12 +389,10 @@ TEST(store_record_names)
 TEST(store_run_row_releases_and_measures)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("rows.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "rows.db", &path);
     rf_error err = {0};
-    int64_t run = 0;
-    ENSURE_MSG(rf_store_run_begin(s, &t.p, 10, &run, &err) == 0, "%s", err.message);
+    int64_t run = begin_run(s, &t.p, 10);
 
     /* Committed before any row of the run: visible from another connection. */
     sqlite3 *other = open_raw(path);
@@ -435,9 +450,8 @@ TEST(store_run_row_releases_and_measures)
 TEST(store_two_runs_in_one_file)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("two.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "two.db", &path);
     int64_t a = write_run(s, &t.p, 5, "complete");
     t.p.seed = 2010;
     int64_t b = write_run(s, &t.p, 7, "complete");
@@ -491,15 +505,13 @@ TEST(store_two_runs_in_one_file)
 TEST(store_failed_run_is_failed)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("failed.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "failed.db", &path);
     int64_t ok = write_run(s, &t.p, 3, "complete");
 
     /* Ended as failed in the middle of a batch: the batch is committed first. */
     rf_error err = {0};
-    int64_t bad = 0;
-    ENSURE(rf_store_run_begin(s, &t.p, 6, &bad, &err) == 0);
+    int64_t bad = begin_run(s, &t.p, 6);
     ENSURE(rf_store_batch_begin(s, &err) == 0);
     write_trajectory(s, bad, 0, 0, 1);
     write_trajectory(s, bad, 1, 0, 1);
@@ -524,12 +536,10 @@ TEST(store_failed_run_is_failed)
 TEST(store_uncommitted_batch_is_lost_on_close)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("uncommitted.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "uncommitted.db", &path);
     rf_error err = {0};
-    int64_t run = 0;
-    ENSURE(rf_store_run_begin(s, &t.p, 4, &run, &err) == 0);
+    int64_t run = begin_run(s, &t.p, 4);
     ENSURE(rf_store_batch_begin(s, &err) == 0);
     write_trajectory(s, run, 0, 0, 1);
     ENSURE(rf_store_batch_commit(s, &err) == 0);
@@ -547,12 +557,10 @@ TEST(store_uncommitted_batch_is_lost_on_close)
 TEST(store_bad_row_is_an_error_naming_the_file)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("duplicate.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "duplicate.db", &path);
     rf_error err = {0};
-    int64_t run = 0;
-    ENSURE(rf_store_run_begin(s, &t.p, 2, &run, &err) == 0);
+    int64_t run = begin_run(s, &t.p, 2);
     write_trajectory(s, run, 0, 0, 0);
     rf_trajectory_record tr = {.reason = RF_END_REST};
     int64_t tid = 0;
@@ -571,9 +579,8 @@ TEST(store_bad_row_is_an_error_naming_the_file)
 TEST(store_reopen_adds_a_third_run)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("reopen.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "reopen.db", &path);
     write_run(s, &t.p, 4, "complete");
     write_run(s, &t.p, 2, "complete");
     rf_store_close(s);
@@ -709,9 +716,8 @@ static void write_until_killed(const char *path, const rf_project *p)
 TEST(store_survives_a_writer_killed_mid_run)
 {
     test_project t;
-    make_project(&t);
-    const char *path = db_path("killed.db");
-    rf_store *s = open_store(path);
+    const char *path;
+    rf_store *s = open_project_store(&t, "killed.db", &path);
     int64_t first = write_run(s, &t.p, 6, "complete");
     rf_store_close(s);
     sqlite3 *db = open_raw(path);
