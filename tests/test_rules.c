@@ -286,6 +286,20 @@ static void scene_begin(scene *t, const char *db)
     ENSURE(rf_store_batch_begin(t->s, &err) == 0);
 }
 
+static const char *tmp_db(const char *name)
+{
+    static char buf[600];
+    snprintf(buf, sizeof buf, "%s/%s", rf_test_tmpdir(), name);
+    return buf;
+}
+
+/* A scene (scene_init) whose run is begun in the database `db` of the test's directory. */
+static void scene_open(scene *t, rf_importance importance, const char *yaml, const char *db)
+{
+    scene_init(t, importance, yaml);
+    scene_begin(t, tmp_db(db));
+}
+
 /* One trajectory of the release of `level` that meets `measure` with this energy. */
 static void hit(scene *t, int level, int measure, double energy_kj, rf_outcome outcome)
 {
@@ -341,19 +355,11 @@ static double check_value(scene *t, const char *measure, const char *rule, int *
     return dbt_real(db, fmt, (long long)t->run, measure, rule);
 }
 
-static const char *tmp_db(const char *name)
-{
-    static char buf[600];
-    snprintf(buf, sizeof buf, "%s/%s", rf_test_tmpdir(), name);
-    return buf;
-}
-
 /* 92 % within serviceability passes, 88 % fails. */
 TEST(rules_serviceability_92_passes_88_fails)
 {
     scene t;
-    scene_init(&t, RF_USUAL, NULL);
-    scene_begin(&t, tmp_db("share.db"));
+    scene_open(&t, RF_USUAL, NULL, "share.db");
     hits(&t, 2, M_B1, 50, 46);
     hits(&t, 2, M_B2, 50, 44);
     scene_finish(&t);
@@ -374,8 +380,7 @@ TEST(rules_serviceability_92_passes_88_fails)
 TEST(rules_exactly_90_percent)
 {
     scene t;
-    scene_init(&t, RF_USUAL, NULL);
-    scene_begin(&t, tmp_db("ninety.db"));
+    scene_open(&t, RF_USUAL, NULL, "ninety.db");
     hits(&t, 2, M_B1, 50, 45);
     hits(&t, 1, M_B2, 200, 180);
     scene_finish(&t);
@@ -398,8 +403,7 @@ TEST(rules_exactly_90_percent)
 TEST(rules_overtopping_is_never_serviceable)
 {
     scene t;
-    scene_init(&t, RF_USUAL, NULL);
-    scene_begin(&t, tmp_db("over.db"));
+    scene_open(&t, RF_USUAL, NULL, "over.db");
     hits(&t, 2, M_B1, 9, 9);
     hit(&t, 2, M_B1, 0.5, RF_OUT_OVERTOPPED); /* a tiny energy, over the top */
     scene_finish(&t);
@@ -422,8 +426,7 @@ TEST(rules_overtopping_is_never_serviceable)
 TEST(rules_required_state_per_interception)
 {
     scene t;
-    scene_init(&t, RF_IMPORTANT, NULL);
-    scene_begin(&t, tmp_db("required.db"));
+    scene_open(&t, RF_IMPORTANT, NULL, "required.db");
     /* E1 (3000/6000/9000/12000 kJ), important: level 1 serviceability, 2 restorability,
      * 3 ultimate */
     hit(&t, 1, M_E1, 2500.0, RF_OUT_STOPPED);       /* serviceability, ok */
@@ -478,8 +481,7 @@ TEST(rules_required_state_per_interception)
 TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
 {
     scene t;
-    scene_init(&t, RF_MOST_IMPORTANT, NULL);
-    scene_begin(&t, tmp_db("count.db"));
+    scene_open(&t, RF_MOST_IMPORTANT, NULL, "count.db");
     hits(&t, 1, M_B1, 37, 31);
     hits(&t, 3, M_B1, 11, 10);
     hit(&t, 2, M_B1, 25.0, RF_OUT_OVERTOPPED);
@@ -528,8 +530,7 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
 TEST(rules_measure_without_interceptions)
 {
     scene t;
-    scene_init(&t, RF_IMPORTANT, NULL);
-    scene_begin(&t, tmp_db("empty.db"));
+    scene_open(&t, RF_IMPORTANT, NULL, "empty.db");
     hits(&t, 1, M_B1, 10, 10);
     scene_finish(&t);
     rf_rules r, strict;
@@ -554,8 +555,7 @@ TEST(rules_sel_default_lives_in_the_rule_file)
                                "  - {name: B1, kind: barrier, mel: 3000, height: 5}\n"
                                "  - {name: B2, kind: barrier, mel: 3000, sel: 1000, height: 5}\n";
     scene t;
-    scene_init(&t, RF_USUAL, yaml);
-    scene_begin(&t, tmp_db("sel.db"));
+    scene_open(&t, RF_USUAL, yaml, "sel.db");
     hit(&t, 2, M_B1, 1250.0, RF_OUT_STOPPED);
     hit(&t, 2, M_B2, 1250.0, RF_OUT_STOPPED);
     scene_finish(&t);
@@ -614,8 +614,7 @@ TEST(rules_path_of_run)
     free(path);
     rf_store_close(t.s);
 
-    scene_init(&t, RF_USUAL, "name: x\n");
-    scene_begin(&t, tmp_db("path2.db"));
+    scene_open(&t, RF_USUAL, "name: x\n", "path2.db");
     scene_finish(&t);
     ENSURE(rf_rules_path_of_run(rf_store_db(t.s), t.run, &path, &err) != 0);
     ENSURE(path == NULL && strstr(err.message, "--rules"));
