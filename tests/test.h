@@ -18,6 +18,8 @@ const char *rf_test_shared(const char *rel);
 int rf_test_rockfall(const char *args, char *out, size_t cap);
 /* A fresh temporary directory for this case (removed by nobody: under /tmp). */
 const char *rf_test_tmpdir(void);
+/* The whole text of a file, NUL-terminated and malloc'd; NULL when it cannot be read. */
+char *rf_test_read_text(const char *path);
 
 #define TEST(name)                                                                     \
     static void name(void);                                                            \

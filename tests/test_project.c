@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "corpus_test_util.h"
 #include "rockfall/project.h"
 #include "test.h"
 #include "yamldoc.h"
@@ -16,23 +17,6 @@
 #endif
 
 #define DATA "tests/data/project/"
-
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    if (s) {
-        size_t got = fread(s, 1, (size_t)n, f);
-        s[got] = '\0';
-    }
-    fclose(f);
-    return s;
-}
 
 static void write_file(const char *path, const char *text)
 {
@@ -77,63 +61,32 @@ TEST(project_examples_load)
 
 /* ---- the bad-file corpus ------------------------------------------------------- */
 
-/* Each tests/bad/NAME.yaml starts with "# expect: LINE:COLUMN SUBSTRING". */
-static int check_bad_file(const char *path)
+/* A file of tests/bad: the error may be in a file it includes (named in its text). */
+static int check_bad_project(const ct_expect *e)
 {
-    char *text = slurp(path);
-    if (!text) {
-        fprintf(stderr, "    %s: cannot read\n", path);
-        return 0;
-    }
-    int line = 0, column = 0, used = 0;
-    if (sscanf(text, "# expect: %d:%d %n", &line, &column, &used) != 2 || used == 0) {
-        fprintf(stderr, "    %s: no '# expect: LINE:COLUMN SUBSTRING' first line\n", path);
-        free(text);
-        return 0;
-    }
-    char want[512];
-    size_t n = strcspn(text + used, "\n");
-    snprintf(want, sizeof want, "%.*s", (int)n, text + used);
-
     rf_project p;
     rf_error err = {{0}};
-    int ok = 1;
-    if (rf_project_load(path, &p, &err) == 0) {
-        fprintf(stderr, "    %s: loaded, expected an error\n", path);
+    if (rf_project_load(e->path, &p, &err) == 0) {
+        fprintf(stderr, "    %s: loaded, expected an error\n", e->path);
         rf_project_free(&p);
-        free(text);
         return 0;
     }
     const char *base = strrchr(err.file, '/');
     base = base ? base + 1 : err.file;
-    int right_file = !strcmp(err.file, path) || (base[0] && strstr(text, base) &&
-                                                 !strstr(base, ".yaml"));
-    if (!right_file || err.line != line || err.column != column || !strstr(err.message, want)) {
-        fprintf(stderr, "    %s: expected %d:%d '%s', got: ", path, line, column, want);
-        rf_error_print(&err, stderr);
-        ok = 0;
-    }
+    int right_file = !strcmp(err.file, e->path) || (base[0] && strstr(e->text, base) &&
+                                                    !strstr(base, ".yaml"));
+    int ok = ct_error_as_expected(e, &err, right_file);
     /* The project is left empty after a failure. */
     if (p.name || p.rocks || p.releases || p.terrain.tri || p.yaml_text) {
-        fprintf(stderr, "    %s: project not emptied after an error\n", path);
+        fprintf(stderr, "    %s: project not emptied after an error\n", e->path);
         ok = 0;
     }
-    free(text);
     return ok;
 }
 
 TEST(project_bad_files)
 {
-    glob_t g;
-    int rc = glob("tests/bad/*.yaml", 0, NULL, &g);
-    ENSURE_MSG(rc == 0, "no file in tests/bad");
-    ENSURE_MSG(g.gl_pathc >= 30, "only %zu bad files", (size_t)g.gl_pathc);
-    int failed = 0;
-    for (size_t i = 0; i < g.gl_pathc; i++)
-        failed += !check_bad_file(g.gl_pathv[i]);
-    ENSURE_MSG(failed == 0, "%d of %zu bad files gave the wrong error", failed,
-               (size_t)g.gl_pathc);
-    globfree(&g);
+    ct_bad_corpus("tests/bad", "bad", 30, check_bad_project);
 }
 
 TEST(project_missing_file)
@@ -369,7 +322,7 @@ TEST(project_paths_relative_to_file)
     char mk[700];
     snprintf(mk, sizeof mk, "mkdir -p '%s'", sub);
     ENSURE(system(mk) == 0);
-    char *grid = slurp(DATA "grid5.asc");
+    char *grid = rf_test_read_text(DATA "grid5.asc");
     ENSURE(grid);
     snprintf(path, sizeof path, "%s/g.asc", sub);
     write_file(path, grid);

@@ -1,7 +1,6 @@
 /* test_rules.c - the rules engine: Table 3, the rule-file format and its bad-file
  * corpus, classification of constructed interceptions with known energies, the checks
  * at and around the 90 % boundary, the views, and `rockfall check` end to end. */
-#include <glob.h>
 #include <sqlite3.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,6 +11,7 @@
 #include "rockfall/project.h"
 #include "rules.h"
 #include "store.h"
+#include "corpus_test_util.h"
 #include "db_test_util.h"
 #include "test.h"
 
@@ -152,45 +152,19 @@ TEST(rules_check_comparison_at_the_boundary)
 
 /* ---- the bad-file corpus ------------------------------------------------------- */
 
-static char *slurp(const char *path)
+/* A file of tests/bad_rules. */
+static int check_bad_rules(const ct_expect *e)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    static char buf[16384];
-    size_t n = fread(buf, 1, sizeof buf - 1, f);
-    buf[n] = 0;
-    fclose(f);
-    return buf;
-}
-
-/* Each tests/bad_rules/NAME.yaml starts with "# expect: LINE:COLUMN SUBSTRING". */
-static int check_bad_rules(const char *path)
-{
-    const char *text = slurp(path);
-    int line = 0, column = 0, used = 0;
-    if (!text || sscanf(text, "# expect: %d:%d %n", &line, &column, &used) != 2 || !used) {
-        fprintf(stderr, "    %s: no '# expect: LINE:COLUMN SUBSTRING' first line\n", path);
-        return 0;
-    }
-    char want[512];
-    snprintf(want, sizeof want, "%.*s", (int)strcspn(text + used, "\n"), text + used);
     rf_rules r;
     rf_error err = {{0}};
-    if (rf_rules_load(path, &r, &err) == 0) {
-        fprintf(stderr, "    %s: loaded, expected an error\n", path);
+    if (rf_rules_load(e->path, &r, &err) == 0) {
+        fprintf(stderr, "    %s: loaded, expected an error\n", e->path);
         rf_rules_free(&r);
         return 0;
     }
-    int ok = 1;
-    if (strcmp(err.file, path) || err.line != line || err.column != column ||
-        !strstr(err.message, want)) {
-        fprintf(stderr, "    %s: expected %d:%d '%s', got: ", path, line, column, want);
-        rf_error_print(&err, stderr);
-        ok = 0;
-    }
+    int ok = ct_error_as_expected(e, &err, strcmp(err.file, e->path) == 0);
     if (r.name || r.checks || r.path || r.beyond_last) {
-        fprintf(stderr, "    %s: rules not emptied after an error\n", path);
+        fprintf(stderr, "    %s: rules not emptied after an error\n", e->path);
         ok = 0;
     }
     return ok;
@@ -198,15 +172,7 @@ static int check_bad_rules(const char *path)
 
 TEST(rules_bad_files)
 {
-    glob_t g;
-    ENSURE_MSG(glob("tests/bad_rules/*.yaml", 0, NULL, &g) == 0, "no file in tests/bad_rules");
-    ENSURE_MSG(g.gl_pathc >= 30, "only %zu bad rule files", (size_t)g.gl_pathc);
-    int failed = 0;
-    for (size_t i = 0; i < g.gl_pathc; i++)
-        failed += !check_bad_rules(g.gl_pathv[i]);
-    ENSURE_MSG(failed == 0, "%d of %zu bad rule files gave the wrong error", failed,
-               (size_t)g.gl_pathc);
-    globfree(&g);
+    ct_bad_corpus("tests/bad_rules", "bad rule", 30, check_bad_rules);
 }
 
 TEST(rules_missing_file)
