@@ -47,6 +47,12 @@ static rf_simulation engine_sim(rf_rock_model model, rf_engine_kind engine, doub
     return sim;
 }
 
+/* Engine 0 (exact) or 1 (fixed steps of 1 ms), the two every scene runs under. */
+static rf_simulation engine_k(rf_rock_model model, int engine)
+{
+    return engine_sim(model, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.001);
+}
+
 static void run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
                       const rf_measure *ms, size_t nms, const rf_state *s, icpt_run *run)
 {
@@ -146,8 +152,7 @@ TEST(measures_engine_slide_control_eq12)
     rf_state s0 = mt_state(rf_v3(6.35, 47.25, (len - 6.35) * tan(theta)), rf_v3(0, 0, 0));
     const double alpha = sqrt(1.0 - mu / tan(theta));
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_sim(RF_MODEL_POINT, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                       0.001);
+        rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
         icpt_run run;
         run_scene(&t, &sim, &b, &m, 1, &s0, &run);
         ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
@@ -204,8 +209,7 @@ TEST(measures_engine_flight_passing_height)
     rf_vec3 vc = rf_v3(s0.v.x, s0.v.y, s0.v.z - G * tc);
     double erot = 0.5 * b.inertia * rf_v3_norm2(s0.w) / 1000.0;
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_sim(RF_MODEL_SPHERE, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                       0.001);
+        rf_simulation sim = engine_k(RF_MODEL_SPHERE, engine);
         icpt_run run;
         run_scene(&t, &sim, &b, &m, 1, &s0, &run);
         ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
@@ -337,6 +341,13 @@ static double slide_energy_kj(const rf_body *b)
     return 0.5 * b->mass * rf_v3_norm2(s.v) / 1000.0;
 }
 
+/* The flat plane (friction mu, no restitution) and a rock of 2385 kg on it. */
+static rf_body flat_scene(rf_terrain *t, double mu, rf_rock_model model)
+{
+    mt_profile(t, flat_pts, 2, 100.0, surface(0.0, mu, 0.0));
+    return rf_body_make(2385.0, 2650.0, model);
+}
+
 static double barrier_line[] = {100.0, -5.0, 103.85, 105.0};
 static double control_line[] = {200.0, -5.0, 196.15, 105.0};
 
@@ -345,15 +356,13 @@ static double control_line[] = {200.0, -5.0, 196.15, 105.0};
 TEST(measures_engine_barrier_stops)
 {
     rf_terrain t;
-    mt_profile(&t, flat_pts, 2, 100.0, surface(0.0, 0.0, 0.0));
-    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    rf_body b = flat_scene(&t, 0.0, RF_MODEL_POINT);
     double E = slide_energy_kj(&b);
     rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, E + 12.385),
                         measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     rf_state s0 = slide_start();
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_sim(RF_MODEL_POINT, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                       0.001);
+        rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
         icpt_run run;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
@@ -385,8 +394,7 @@ TEST(measures_engine_barrier_stops)
 TEST(measures_engine_barrier_break_through_residual)
 {
     rf_terrain t;
-    mt_profile(&t, flat_pts, 2, 100.0, surface(0.0, 0.0, 0.0));
-    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    rf_body b = flat_scene(&t, 0.0, RF_MODEL_POINT);
     double E = slide_energy_kj(&b), mel = 123.85;
     rf_state s0 = slide_start();
     for (int collect = 0; collect < 2; collect++) {
@@ -394,8 +402,7 @@ TEST(measures_engine_barrier_break_through_residual)
             measure(RF_BARRIER, collect ? RF_COLLECT : RF_STOP, barrier_line, 2, 2.385, mel),
             measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
-            rf_simulation sim = engine_sim(RF_MODEL_POINT,
-                                           engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.001);
+            rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
             icpt_run run;
             run_scene(&t, &sim, &b, ms, 2, &s0, &run);
             ENSURE_MSG(run.n == 2, "collect %d engine %d: %d interceptions", collect, engine,
@@ -427,8 +434,7 @@ TEST(measures_engine_barrier_break_through_residual)
 TEST(measures_engine_rolling_break_through_residual)
 {
     rf_terrain t;
-    mt_profile(&t, flat_pts, 2, 100.0, surface(0.0, 0.6, 0.0));
-    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
+    rf_body b = flat_scene(&t, 0.6, RF_MODEL_SPHERE);
     rf_state s0 = slide_start();
     s0.p.z += b.radius;
     s0.w = rf_v3_scale(rf_v3_cross(rf_v3(0, 0, 1), s0.v), 1.0 / b.radius);
@@ -437,8 +443,7 @@ TEST(measures_engine_rolling_break_through_residual)
     rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
                         measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_sim(RF_MODEL_SPHERE, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                       0.001);
+        rf_simulation sim = engine_k(RF_MODEL_SPHERE, engine);
         icpt_run run;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         ENSURE_MSG(run.n == 2, "engine %d: %d interceptions", engine, run.n);
@@ -464,8 +469,7 @@ TEST(measures_engine_rolling_break_through_residual)
 TEST(measures_engine_barrier_overtopped)
 {
     rf_terrain t;
-    mt_profile(&t, flat_pts, 2, 100.0, surface(0.0, 0.0, 0.0));
-    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    rf_body b = flat_scene(&t, 0.0, RF_MODEL_POINT);
     rf_state s0 = mt_state(rf_v3(90.0, 20.0, FLAT_Z + 12.385), rf_v3(17.85, 2.5, 0.0));
     double sp = 0.0, u = 0.0;
     ENSURE(line_segment(s0.p.x, s0.p.y, s0.v.x, s0.v.y, &barrier_line[0], &barrier_line[2], &sp,
@@ -475,8 +479,7 @@ TEST(measures_engine_barrier_overtopped)
     double Eh = 0.5 * b.mass * rf_v3_norm2(s0.v) / 1000.0; /* after landing with e = 0 */
     ENSURE(hc > 2.385 && hc < 11.5);
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_sim(RF_MODEL_POINT, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                       0.001);
+        rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
         rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, 12.385),
                             measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         icpt_run run, bare;
@@ -521,8 +524,7 @@ TEST(measures_engine_barrier_overtopped)
 TEST(measures_engine_in_series)
 {
     rf_terrain t;
-    mt_profile(&t, flat_pts, 2, 100.0, surface(0.0, 0.0, 0.0));
-    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    rf_body b = flat_scene(&t, 0.0, RF_MODEL_POINT);
     double E = slide_energy_kj(&b), mel = 123.85;
     double emb_line[] = {150.0, -5.0, 151.0, 40.0, 149.5, 105.0};
     rf_state s0 = slide_start();
@@ -532,8 +534,7 @@ TEST(measures_engine_in_series)
                             measure(RF_EMBANKMENT, RF_STOP, emb_line, 3, 4.85, caps[k]),
                             measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
-            rf_simulation sim = engine_sim(RF_MODEL_POINT,
-                                           engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.001);
+            rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
             icpt_run run;
             run_scene(&t, &sim, &b, ms, 3, &s0, &run);
             int want = k == 0 ? 3 : 2;
