@@ -208,6 +208,23 @@ static void report_ok(rf_store *s, int64_t run, const char *dir)
     ENSURE_MSG(rc == 0, "rf_report_write: %s: %s", err.file, err.message);
 }
 
+/* The project (make_project) and a store in the file `db` of the test's directory. */
+static rf_store *project_store(test_project *t, const char *project_path, int with_road,
+                               const char *db)
+{
+    make_project(t, project_path, with_road);
+    return open_store(tmp_path(db));
+}
+
+/* Writes the report of the run into dir; returns its index.html (malloc'd). */
+static char *report_html(rf_store *s, int64_t run, const char *dir)
+{
+    report_ok(s, run, dir);
+    char path[700];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    return read_text(path);
+}
+
 /* Every SVG is one <svg> element, and index.html shows it. */
 static char *svg_ok(const char *dir, const char *name, const char *html)
 {
@@ -247,8 +264,7 @@ TEST(report_full_run_writes_every_figure)
     const char *yaml = tmp_path("slope.yaml");
     write_text(yaml, PROJECT_YAML);
     test_project t;
-    make_project(&t, yaml, 1);
-    rf_store *s = open_store(tmp_path("full.db"));
+    rf_store *s = project_store(&t, yaml, 1, "full.db");
     int64_t run = write_run(s, &t, 1, 1);
     /* rows of `rockfall check` */
     char sql[1024];
@@ -267,10 +283,7 @@ TEST(report_full_run_writes_every_figure)
                sqlite3_errmsg(rf_store_db(s)));
 
     const char *dir = tmp_path("report");
-    report_ok(s, run, dir);
-    char path[700];
-    snprintf(path, sizeof path, "%s/index.html", dir);
-    char *html = read_text(path);
+    char *html = report_html(s, run, dir);
     ENSURE(strncmp(html, "<!doctype html>", 15) == 0);
     ENSURE(strstr(html, "</body></html>\n"));
 
@@ -366,20 +379,17 @@ TEST(report_full_run_writes_every_figure)
 TEST(report_without_road_paths_cells_or_project)
 {
     test_project t;
-    make_project(&t, "/nonexistent/slope.yaml", 0);
-    rf_store *s = open_store(tmp_path("bare.db"));
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 0, "bare.db");
     int64_t run = write_run(s, &t, 0, 0);
     const char *dir = tmp_path("bare/deeper/report");
-    report_ok(s, run, dir);
-    char path[700];
-    snprintf(path, sizeof path, "%s/index.html", dir);
-    char *html = read_text(path);
+    char *html = report_html(s, run, dir);
     ENSURE(strstr(html, "no control line"));
     ENSURE(strstr(html, "could not be reloaded"));
     ENSURE(strstr(html, "/nonexistent/slope.yaml"));
     ENSURE(strstr(html, "No sampled paths"));
     ENSURE(strstr(html, "no hazard cells"));
     ENSURE(!strstr(html, "road-"));
+    char path[700];
     snprintf(path, sizeof path, "%s/road-0-position.svg", dir);
     ENSURE(!exists(path));
     char *plan = svg_ok(dir, "plan.svg", html);
@@ -400,8 +410,7 @@ TEST(report_without_road_paths_cells_or_project)
 TEST(report_missing_run_and_bad_folder_are_errors)
 {
     test_project t;
-    make_project(&t, "/nonexistent/slope.yaml", 1);
-    rf_store *s = open_store(tmp_path("err.db"));
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "err.db");
     int64_t run = write_run(s, &t, 1, 1);
     rf_error err = {0};
     const char *dir = tmp_path("missing");
@@ -423,17 +432,13 @@ TEST(report_missing_run_and_bad_folder_are_errors)
 TEST(report_of_an_empty_run)
 {
     test_project t;
-    make_project(&t, "/nonexistent/slope.yaml", 1);
-    rf_store *s = open_store(tmp_path("empty.db"));
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "empty.db");
     rf_error err = {0};
     int64_t run = 0;
     ENSURE(rf_store_run_begin(s, &t.p, 0, &run, &err) == 0);
     ENSURE(rf_store_run_finish(s, "complete", 0, &err) == 0);
     const char *dir = tmp_path("empty");
-    report_ok(s, run, dir);
-    char path[700];
-    snprintf(path, sizeof path, "%s/index.html", dir);
-    char *html = read_text(path);
+    char *html = report_html(s, run, dir);
     ENSURE(strstr(html, "0 of 0 trajectories"));
     ENSURE(strstr(html, "No rock reached this line"));
     free(svg_ok(dir, "plan.svg", html));
