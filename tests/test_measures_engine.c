@@ -119,6 +119,19 @@ static void check_record(const rf_interception_record *r, const rf_body *b)
     ENSURE(r->energy_rot_kj >= -1e-12 * r->energy_kj);
 }
 
+/* The scene under engine `engine` (engine_k): ENSUREs it records `want` interceptions,
+ * each consistent (check_record). */
+static void run_engine(const rf_terrain *t, rf_rock_model model, int engine, const rf_body *b,
+                       const rf_measure *ms, size_t nms, const rf_state *s, int want,
+                       icpt_run *run)
+{
+    rf_simulation sim = engine_k(model, engine);
+    run_scene(t, &sim, b, ms, nms, s, run);
+    ENSURE_MSG(run->n == want, "engine %d: %d interceptions, %d expected", engine, run->n, want);
+    for (int i = 0; i < run->n; i++)
+        check_record(&run->icpt[i], b);
+}
+
 /* Horizontal intersection of the line through p with direction d and segment A-B:
  * the path parameter s (p + s d) and the segment fraction u. */
 static int line_segment(double px, double py, double dx, double dy, const double *A,
@@ -152,12 +165,9 @@ TEST(measures_engine_slide_control_eq12)
     rf_state s0 = mt_state(rf_v3(6.35, 47.25, (len - 6.35) * tan(theta)), rf_v3(0, 0, 0));
     const double alpha = sqrt(1.0 - mu / tan(theta));
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
         icpt_run run;
-        run_scene(&t, &sim, &b, &m, 1, &s0, &run);
-        ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &m, 1, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
-        check_record(r, &b);
         ENSURE(r->measure == 0 && r->outcome == RF_OUT_PASSED);
         ENSURE_SMALL(r->p.x - xc, 1e-9);
         double H = s0.p.z - r->p.z;
@@ -209,12 +219,9 @@ TEST(measures_engine_flight_passing_height)
     rf_vec3 vc = rf_v3(s0.v.x, s0.v.y, s0.v.z - G * tc);
     double erot = 0.5 * b.inertia * rf_v3_norm2(s0.w) / 1000.0;
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_k(RF_MODEL_SPHERE, engine);
         icpt_run run;
-        run_scene(&t, &sim, &b, &m, 1, &s0, &run);
-        ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
+        run_engine(&t, RF_MODEL_SPHERE, engine, &b, &m, 1, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
-        check_record(r, &b);
         /* far above the 4.85 m screen: recorded as an overtopping, the flight unchanged */
         ENSURE(r->outcome == RF_OUT_OVERTOPPED);
         fprintf(stderr, "flight engine %d: passing height error %.3g m (height %.6f m)\n", engine,
@@ -362,12 +369,9 @@ TEST(measures_engine_barrier_stops)
                         measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     rf_state s0 = slide_start();
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
         icpt_run run;
-        run_scene(&t, &sim, &b, ms, 2, &s0, &run);
-        ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
+        run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 2, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
-        check_record(r, &b);
         ENSURE(r->measure == 0 && r->outcome == RF_OUT_STOPPED);
         ENSURE_REL(r->energy_kj, E, 1e-12);
         ENSURE_SMALL(r->passing_height_m, 1e-9);
@@ -402,13 +406,8 @@ TEST(measures_engine_barrier_break_through_residual)
             measure(RF_BARRIER, collect ? RF_COLLECT : RF_STOP, barrier_line, 2, 2.385, mel),
             measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
-            rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
             icpt_run run;
-            run_scene(&t, &sim, &b, ms, 2, &s0, &run);
-            ENSURE_MSG(run.n == 2, "collect %d engine %d: %d interceptions", collect, engine,
-                       run.n);
-            check_record(&run.icpt[0], &b);
-            check_record(&run.icpt[1], &b);
+            run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 2, &s0, 2, &run);
             ENSURE(run.icpt[0].measure == 0 && run.icpt[1].measure == 1);
             ENSURE(run.icpt[0].outcome == (collect ? RF_OUT_PASSED : RF_OUT_BROKE_THROUGH));
             ENSURE(run.icpt[1].outcome == RF_OUT_PASSED);
@@ -443,13 +442,9 @@ TEST(measures_engine_rolling_break_through_residual)
     rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
                         measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     for (int engine = 0; engine < 2; engine++) {
-        rf_simulation sim = engine_k(RF_MODEL_SPHERE, engine);
         icpt_run run;
-        run_scene(&t, &sim, &b, ms, 2, &s0, &run);
-        ENSURE_MSG(run.n == 2, "engine %d: %d interceptions", engine, run.n);
+        run_engine(&t, RF_MODEL_SPHERE, engine, &b, ms, 2, &s0, 2, &run);
         const rf_interception_record *r0 = &run.icpt[0], *r1 = &run.icpt[1];
-        check_record(r0, &b);
-        check_record(r1, &b);
         ENSURE(r0->outcome == RF_OUT_BROKE_THROUGH && r1->outcome == RF_OUT_PASSED);
         ENSURE_REL(r0->energy_kj, E, 1e-9);
         ENSURE_REL(r0->energy_rot_kj, 2.0 / 7.0 * E, 1e-9);
