@@ -1,13 +1,15 @@
 /* bench.c - speed against error of the motion engines (`make bench`).
  *
- * One row per engine setting: the exact event-driven engine (full contact, and the
- * paper's centre-only contact), and the fixed-step integrator at several dt (which
+ * One row per engine setting: the exact event-driven engine (full contact, the
+ * paper's centre-only contact, and the point mass), and the fixed-step integrator at
+ * several dt (which
  * tests contact as the paper does, Eq. 6-7).  Columns: trajectories per second on one
  * thread on the example slope (projects/noto without trees, no database); the
  * relative error against four closed forms (Eq. 1-2 sliding, 5/7 g rolling,
  * horizontal launch, bounce heights); the relative error of the mean and
  * 95th-percentile runout, speed at the road and maximum energy against a converged
- * reference (the exact engine in the same contact mode over many more trajectories).
+ * reference (the exact engine in the same contact mode and rock model over many more
+ * trajectories).
  * It ends with the throughput ratios of the exact engine over the fixed-step
  * settings, all of which have larger errors. */
 #include <math.h>
@@ -91,7 +93,9 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
     sink.interception = on_crossing;
     for (long k = 0; k < n; k++) {
         gsl_rng_set(rng, rf_trajectory_seed(p->seed, 0, first + k));
-        rf_body body = rf_release_body(p, 0);
+        /* the rock of the release in the row's model (rf_release_body takes the project's) */
+        const rf_rock *rock = &p->rocks[rel->rock];
+        rf_body body = rf_body_make(rock->mass, rock->density, sim->model);
         rf_state s0 = rf_release_start(p, 0, &body, rng);
         rf_trajectory_record rec;
         rp.speed = NAN;
@@ -168,27 +172,33 @@ int main(int argc, char **argv)
     }
     /* The fixed-step engine tests contact as the paper does (Eq. 6-7: the face under
      * the centre), so it is compared with the exact engine in the same contact mode;
-     * the first row is the exact engine's default (every face, edge and vertex). */
+     * the first row is the exact engine's default (every face, edge and vertex), the
+     * third the point mass (Fig. 2, left; the closed forms keep their own rocks, so
+     * its closed-form columns are the engine's in full contact). */
     static const double dts[] = {0.01, 0.003, 0.001, 0.0003};
-    enum { NFIXED = sizeof dts / sizeof dts[0], NROWS = 2 + NFIXED };
+    enum { NEXACT = 3, NFIXED = sizeof dts / sizeof dts[0], NROWS = NEXACT + NFIXED };
+    static const char *const exact_names[NEXACT] = {"exact, full contact", "exact, centre contact",
+                                                    "exact, point mass"};
     row rows[NROWS];
     char names[NROWS][48];
     for (int i = 0; i < NROWS; i++) {
         memset(&rows[i], 0, sizeof rows[i]);
         rows[i].sim = p.sim;
-        rows[i].sim.engine = i < 2 ? RF_ENGINE_EXACT : RF_ENGINE_FIXED_STEP;
-        rows[i].sim.contact = i == 0 ? RF_CONTACT_FULL : RF_CONTACT_CENTRE;
-        if (i < 2) {
-            snprintf(names[i], sizeof names[i], "exact, %s contact", i == 0 ? "full" : "centre");
+        rows[i].sim.engine = i < NEXACT ? RF_ENGINE_EXACT : RF_ENGINE_FIXED_STEP;
+        rows[i].sim.contact = i == 0 || i == 2 ? RF_CONTACT_FULL : RF_CONTACT_CENTRE;
+        if (i < NEXACT) {
+            snprintf(names[i], sizeof names[i], "%s", exact_names[i]);
+            if (i == 2)
+                rows[i].sim.model = RF_MODEL_POINT;
         } else {
-            rows[i].sim.dt = dts[i - 2];
-            snprintf(names[i], sizeof names[i], "fixed dt=%g s, centre", dts[i - 2]);
+            rows[i].sim.dt = dts[i - NEXACT];
+            snprintf(names[i], sizeof names[i], "fixed dt=%g s, centre", dts[i - NEXACT]);
         }
         rows[i].name = names[i];
     }
 
-    stats ref[2]; /* the converged references: exact engine, full and centre contact */
-    for (int c = 0; c < 2; c++) {
+    stats ref[NEXACT]; /* the converged references: exact engine, each exact row's setting */
+    for (int c = 0; c < NEXACT; c++) {
         fprintf(stderr, "reference: %s, %d trajectories ...\n", rows[c].name, N_REFERENCE);
         run_slope(&p, &rows[c].sim, 0, N_REFERENCE, &ref[c]);
     }
@@ -196,7 +206,7 @@ int main(int argc, char **argv)
     memset(&noise, 0, sizeof noise);
     for (int i = 0; i < NROWS; i++) {
         row *r = &rows[i];
-        const stats *rf = &ref[i == 0 ? 0 : 1];
+        const stats *rf = &ref[i < NEXACT ? i : 1];
         fprintf(stderr, "%s ...\n", r->name);
         r->per_s = throughput(&p, &r->sim);
         for (int k = 0; k < RF_N_CLOSED_FORMS; k++)
@@ -217,7 +227,7 @@ int main(int argc, char **argv)
     printf("Example slope %s (%zu triangles), release %s, %g kg, model %s; one thread.\n"
            "Closed-form errors are relative.  Statistics of %d trajectories are relative to a\n"
            "converged reference: the exact engine over %d other trajectories in the same\n"
-           "contact mode (centre reference: runout mean %.1f m, road speed mean %.2f m/s,\n"
+           "contact mode and rock model (centre reference: runout mean %.1f m, road speed mean %.2f m/s,\n"
            "p95 %.2f m/s; max energy mean %.0f kJ, p95 %.0f kJ).  Monte Carlo noise of a\n"
            "%d-trajectory mean (relative standard error): runout %.1e, road speed %.1e,\n"
            "energy %.1e - differences below about twice these are not significant.\n\n",
@@ -247,7 +257,7 @@ int main(int argc, char **argv)
      * (centre contact): the ratio of throughputs at that larger error. */
     const row *ex = &rows[1];
     double exact_worst = worst_closed(ex);
-    for (int i = 2; i < NROWS; i++) {
+    for (int i = NEXACT; i < NROWS; i++) {
         const row *r = &rows[i];
         double w = worst_closed(r);
         if (w >= exact_worst)
