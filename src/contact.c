@@ -76,19 +76,6 @@ static inline rf_vec3 tri_vertex(const rf_triangle *T, int i)
 
 static inline int same_point(rf_vec3 a, rf_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
-/* 1 when vertex v is a vertex of one of the support triangles. */
-static int excluded_vertex(const rf_terrain *t, const rf_support *ex, rf_vec3 v)
-{
-    if (!ex)
-        return 0;
-    for (int k = 0; k < ex->n; k++) {
-        const rf_triangle *S = &t->tri[ex->tri[k]];
-        if (same_point(v, S->a) || same_point(v, S->b) || same_point(v, S->c))
-            return 1;
-    }
-    return 0;
-}
-
 static int excluded_tri(const rf_support *ex, int32_t idx)
 {
     if (!ex)
@@ -155,16 +142,6 @@ static double box_point_dist2(rf_vec3 lo, rf_vec3 hi, rf_vec3 q)
     return dx * dx + dy * dy + dz * dz;
 }
 
-/* 1 when point v is on or below one of the support faces' planes. */
-static int below_support(const rf_motion *m, rf_vec3 v)
-{
-    for (int k = 0; k < m->sup.n && k < 2; k++) {
-        const rf_triangle *S = &m->terrain->tri[m->sup.tri[k]];
-        if (rf_v3_dot(S->n, v) - S->d <= m->tol_len)
-            return 1;
-    }
-    return 0;
-}
 
 static double box_box_dist2(rf_vec3 alo, rf_vec3 ahi, rf_vec3 blo, rf_vec3 bhi)
 {
@@ -189,6 +166,33 @@ typedef struct search {
     int line;
     double ux, uy, s0, d0, vh;
 } search;
+
+/* The exclusions vertex v falls under, a bit each: in a surface segment the support
+ * planes it is on or below (a centre r above such a plane never reaches it, nor the
+ * support's own vertices), in a flight the excluded triangles it is a vertex of (the
+ * face flown off).  A vertex is passed over when it falls under any; an edge only when
+ * both its ends fall under the same one: between ends below different planes of a
+ * crease, or on the face just left and on a support, its points can come within reach. */
+static unsigned vertex_out(const search *s, rf_vec3 v)
+{
+    const rf_motion *m = s->m;
+    const rf_terrain *t = m->terrain;
+    unsigned bits = 0;
+    if (s->planar) {
+        for (int k = 0; k < m->sup.n && k < 2; k++) {
+            const rf_triangle *S = &t->tri[m->sup.tri[k]];
+            if (rf_v3_dot(S->n, v) - S->d <= m->tol_len)
+                bits |= 1u << k;
+        }
+    } else if (s->ex) {
+        for (int k = 0; k < s->ex->n; k++) {
+            const rf_triangle *S = &t->tri[s->ex->tri[k]];
+            if (same_point(v, S->a) || same_point(v, S->b) || same_point(v, S->c))
+                bits |= 1u << k;
+        }
+    }
+    return bits;
+}
 
 static void take(search *s, double t, int32_t idx, rf_feature kind, int index, rf_vec3 point)
 {
@@ -222,7 +226,21 @@ static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, 
         return 0;
     double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
                    rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
-    return rf_poly_entries(c, 4, w0, w1, 2 * rho * s->m->tol_len, 2 * rho * RF_APPROACH_EPS, roots);
+    double tol = 2 * rho * s->m->tol_len, slope = 2 * rho * RF_APPROACH_EPS;
+    int n = rf_poly_entries(c, 4, w0, w1, tol, slope, roots);
+    if (n == 0 && w1 > w0) {
+        /* touching at the start, not moving apart, and curving in (as a face's path
+         * tangent at the start, as when a sphere rolls out of a crease over a ridge):
+         * met there, else it would pass into the feature unseen */
+        double p0 = rf_poly_eval(c, 4, w0);
+        double d1 = c[1] + w0 * (2 * c[2] + w0 * (3 * c[3] + w0 * 4 * c[4]));
+        double d2 = 2 * c[2] + w0 * (6 * c[3] + w0 * 12 * c[4]);
+        if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol && d1 <= slope && d2 < -4 * rho * 1e-9) {
+            roots[0] = w0;
+            n = 1;
+        }
+    }
+    return n;
 }
 
 /* Edge from va to vb against the centre over [w0, w1]. */
@@ -425,13 +443,8 @@ static void test_edges(search *s, int32_t idx, double w0, double t1)
         return;
     for (int k = 0; k < 3; k++) {
         rf_vec3 va = tri_vertex(T, k), vb = tri_vertex(T, (k + 1) % 3);
-        int xa = excluded_vertex(m->terrain, s->ex, va), xb = excluded_vertex(m->terrain, s->ex, vb);
-        if (s->planar) {
-            /* on or below a support plane: never reached by a centre r above it */
-            xa = xa || below_support(m, va);
-            xb = xb || below_support(m, vb);
-        }
-        if (!(xa && xb) && (edge_live(m->ws, idx) >> k & 1))
+        unsigned xa = vertex_out(s, va), xb = vertex_out(s, vb);
+        if (!(xa & xb) && (edge_live(m->ws, idx) >> k & 1))
             test_edge(s, idx, k, va, vb, w0, w1 < s->best ? w1 : s->best, blo, bhi);
         if (!xa)
             test_vertex(s, idx, k, va, w0, w1 < s->best ? w1 : s->best, blo, bhi);
@@ -618,7 +631,7 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
         const rf_triangle *T = &t->tri[idx];
         uint64_t ek[3], vk[3];
         feature_keys(t, idx, ek, vk);
-        int xv[3] = {-1, -1, -1}; /* vertex k excluded (-1: not known yet) */
+        int xv[3] = {-1, -1, -1}; /* vertex_out of vertex k (-1: not known yet) */
         unsigned live = edge_live(ws, idx);
         for (int k = 0; k < 3; k++) {
             int k1 = (k + 1) % 3;
@@ -627,14 +640,14 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
                 for (int i = 0; i < 2; i++) {
                     int v = i ? k1 : k;
                     if (xv[v] < 0)
-                        xv[v] = excluded_vertex(t, s->ex, q[i]) || (s->planar && below_support(m, q[i]));
+                        xv[v] = (int)vertex_out(s, q[i]);
                 }
-                if (!(xv[k] && xv[k1]))
+                if (!(xv[k] & xv[k1]))
                     test_feature(s, idx, k, q, 2, w0, tb, blo, bhi);
             }
             if (feat_first(ws, vk[k], idx, k)) {
                 if (xv[k] < 0)
-                    xv[k] = excluded_vertex(t, s->ex, q[0]) || (s->planar && below_support(m, q[0]));
+                    xv[k] = (int)vertex_out(s, q[0]);
                 if (!xv[k])
                     test_feature(s, idx, k, q, 1, w0, tb, blo, bhi);
             }
@@ -899,18 +912,18 @@ static void support_planes_set(const rf_motion *m, support_planes *sp)
     sp->tol = m->tol_len;
 }
 
-/* 1 when every vertex of T is on or below one of the support planes (below_support). */
+/* 1 when every vertex of T is on or below one support plane, the same for all three:
+ * T lies in that plane's lower half-space, which the sphere, touching the plane from
+ * above, never enters.  (Vertices below different planes of a crease are not enough: a
+ * point between them can lie above both.) */
 static int vertices_below(const support_planes *sp, const rf_triangle *T)
 {
-    const rf_vec3 *v[3] = {&T->a, &T->b, &T->c};
-    for (int i = 0; i < 3; i++) {
-        int below = 0;
-        for (int k = 0; k < sp->n && !below; k++)
-            below = rf_v3_dot(sp->nrm[k], *v[i]) - sp->d[k] <= sp->tol;
-        if (!below)
-            return 0;
-    }
-    return 1;
+    for (int k = 0; k < sp->n; k++)
+        if (rf_v3_dot(sp->nrm[k], T->a) - sp->d[k] <= sp->tol &&
+            rf_v3_dot(sp->nrm[k], T->b) - sp->d[k] <= sp->tol &&
+            rf_v3_dot(sp->nrm[k], T->c) - sp->d[k] <= sp->tol)
+            return 1;
+    return 0;
 }
 
 static inline float float_down(double x)

@@ -352,26 +352,19 @@ int rf_simulate_fixed_step(rf_motion *m)
     int end = rf_motion_start(m);
     if (end >= 0)
         return end;
-    double stall_t = m->s.t;
-    int stall = 0, fresh = 1;
-    long rescues = 0;
+    int fresh = 1;
+    m->stall_t = m->s.t;
+    /* the steps max_time takes and as many events as the exact engine may meet */
+    double budget = ceil((m->t_end - m->s.t) / dt) + RF_MAX_EVENTS;
+    long cap = budget < 1e15 ? (long)budget : (long)1e15;
     for (;;) {
-        if (m->s.t >= m->t_end)
+        if (m->s.t >= m->t_end || ++m->events > cap)
             return RF_END_MAX_TIME;
-        if (m->s.t > stall_t + RF_TIME_TOL * 10) {
-            stall_t = m->s.t;
-            stall = 0;
-        } else if (++stall > RF_STALL_EVENTS) {
-            /* no progress in time: a rock wedged between features */
-            if (rf_v3_norm(m->s.v) <= m->scene->sim->stop_speed)
-                return RF_END_REST;
-            if (++rescues > RF_MAX_RESCUES)
-                return RF_END_MAX_TIME;
-            rf_unstall(m);
+        end = rf_progress(m, 0);
+        if (end == RF_RESCUED)
             fresh = 1;
-            stall_t = m->s.t;
-            stall = 0;
-        }
+        else if (end >= 0)
+            return end;
         double h = fmin(dt, m->t_end - m->s.t);
         if (m->sup.n == 1) {
             end = face_step(m, h, &fresh);

@@ -246,7 +246,7 @@ int rf_motion_start(rf_motion *m)
 
 /* ---- the exact engine ------------------------------------------------------------- */
 
-void rf_unstall(rf_motion *m)
+static void unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
@@ -263,8 +263,34 @@ void rf_unstall(rf_motion *m)
     }
     m->sup.n = 0;
     m->flight_ex.n = 0;
-    m->stall = 0;
-    m->stall_t = m->s.t;
+}
+
+int rf_progress(rf_motion *m, int events)
+{
+    double stop = m->scene->sim->stop_speed;
+    if (events) {
+        if (rf_v3_norm(m->s.v) > stop || rf_v3_norm(rf_v3_sub(m->s.p, m->creep_p)) > RF_CREEP_DIST) {
+            m->creep_p = m->s.p;
+            m->creep = 0;
+        } else if (++m->creep > RF_CREEP_EVENTS) {
+            return RF_END_REST;
+        }
+    }
+    if (m->s.t > m->stall_t + RF_STALL_TIME) {
+        m->stall_t = m->s.t;
+        m->stall = 0;
+    } else if (++m->stall > RF_STALL_EVENTS) {
+        /* no progress in time: a rock wedged between features */
+        if (rf_v3_norm(m->s.v) <= stop)
+            return RF_END_REST;
+        if (++m->rescues > RF_MAX_RESCUES)
+            return RF_END_MAX_TIME;
+        unstall(m);
+        m->stall = 0;
+        m->stall_t = m->s.t;
+        return RF_RESCUED;
+    }
+    return -1;
 }
 
 static int run_exact(rf_motion *m)
@@ -273,20 +299,13 @@ static int run_exact(rf_motion *m)
     if (end >= 0)
         return end;
     m->stall_t = m->s.t;
+    m->creep_p = m->s.p;
     for (;;) {
         if (++m->events > RF_MAX_EVENTS)
             return RF_END_MAX_TIME;
-        if (m->s.t > m->stall_t + RF_TIME_TOL * 10) {
-            m->stall_t = m->s.t;
-            m->stall = 0;
-        } else if (++m->stall > RF_STALL_EVENTS) {
-            /* no progress in time: a rock wedged between features */
-            if (rf_v3_norm(m->s.v) <= m->scene->sim->stop_speed)
-                return RF_END_REST;
-            if (++m->rescues > RF_MAX_RESCUES)
-                return RF_END_MAX_TIME;
-            rf_unstall(m);
-        }
+        end = rf_progress(m, 1);
+        if (end >= 0)
+            return end;
         if (m->s.t >= m->t_end)
             return RF_END_MAX_TIME;
         if (m->sup.n == 0) {

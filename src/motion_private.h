@@ -34,8 +34,11 @@ static inline double rf_fmax(double a, double b) { return (a > b || b != b) ? a 
 #define RF_SPEED_EPS 1e-6          /* speeds below this (m/s) on a face count as rest */
 #define RF_MAX_EVENTS 200000       /* a trajectory ends (max_time) after this many events */
 #define RF_STALL_EVENTS 16         /* events without progress in time before a rescue */
+#define RF_STALL_TIME 1e-9         /* (s) less than this is no progress */
 #define RF_MAX_RESCUES 1000        /* rescues before a trajectory is given up (max_time) */
 #define RF_UNSTALL_TIME 1e-6       /* free motion of a rescue (s) */
+#define RF_CREEP_EVENTS 16         /* events of a slow rock within RF_CREEP_DIST: it rests */
+#define RF_CREEP_DIST 1e-3         /* (m) */
 
 /* ---- arcs: p(t) = p + v t + a t^2 / 2 ------------------------------------------- */
 typedef struct rf_arc {
@@ -138,9 +141,11 @@ typedef struct rf_motion {
     rf_support sup;
     rf_support flight_ex; /* faces a flight ignores (the face it rolled off) */
     long events;
-    double stall_t;    /* time of the last event that advanced time */
+    double stall_t;    /* time of the last event that advanced time by RF_STALL_TIME */
     int stall;         /* events since */
     long rescues;
+    rf_vec3 creep_p;   /* where the rock was when it last moved on or was fast */
+    int creep;         /* events since */
     double ode_h;      /* last step size of the in-plane integrator */
     int scene_pending; /* what rf_scene_horizon found: RF_SCENE_NONE, _MEASURE or _TREE */
 
@@ -311,9 +316,16 @@ void rf_motion_event(rf_motion *m);
 int rf_motion_start(rf_motion *m);
 /* Total kinetic energy of the current state (J). */
 double rf_motion_energy(const rf_motion *m);
-/* A rock that meets events without moving (degenerate contact geometry) moves free for
- * a moment (RF_UNSTALL_TIME) and is put back on or above the surface under it. */
-void rf_unstall(rf_motion *m);
+/* The rock's progress, at every turn of either engine's loop: a rock that meets events
+ * without moving in time (degenerate contact geometry) rests when slow, else moves free
+ * for a moment (RF_UNSTALL_TIME) and is put back on or above the surface under it.
+ * With `events` (every turn is an event: the exact engine), a slow rock that creeps on
+ * the spot (RF_CREEP_EVENTS events within RF_CREEP_DIST, below stop_speed: wedged in a
+ * pocket of faces that no single face or crease law holds, each event moving it a
+ * little) rests too; the fixed-step engine's turns are mostly plain steps.  Returns an
+ * end reason, RF_RESCUED after a rescue, or -1. */
+#define RF_RESCUED -2
+int rf_progress(rf_motion *m, int events);
 
 /* Events of the scene beyond the terrain (tree collisions, measure crossings): the
  * extension point of the vegetation and measures modules.  Every piece of exact motion

@@ -475,3 +475,195 @@ TEST(hard_centre_contact_on_steep_small_faces)
     }
     rf_terrain_free(&t);
 }
+
+/* ---- replays of random scenes that once went wrong -------------------------------------
+ *
+ * A randomised search over rough grids, surfaces, rocks and engine settings found these.
+ * Scene `it` of search `seed`: the grid and its surface, then per trajectory its
+ * settings and start, all drawn in a fixed order from one stream, so that trajectory k
+ * is replayed alone (the draws of the ones before it are made and dropped). */
+
+typedef struct replay {
+    rf_terrain t;
+    rf_simulation sim;
+    rf_body b;
+    rf_state s;
+    unsigned long seed;
+} replay;
+
+static void replay_scene(unsigned long seed, long it, long k, replay *rp)
+{
+    gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(g, seed * 7919 + (unsigned long)it);
+    int nx = 20 + (int)(gsl_rng_uniform(g) * 60), ny = 15 + (int)(gsl_rng_uniform(g) * 40);
+    double cell = gsl_rng_uniform(g) < 0.5 ? 1.0 : (0.25 + 2.0 * gsl_rng_uniform(g));
+    double slope = gsl_rng_uniform(g) * 1.6, rough = gsl_rng_uniform(g) * 2.0 * cell;
+    double holes = gsl_rng_uniform(g) < 0.3 ? 0.02 : 0.0;
+    int steps = gsl_rng_uniform(g) < 0.3;
+    size_t cap = (size_t)nx * (size_t)ny * 26 + 256, len = 0;
+    char *txt = malloc(cap);
+    ENSURE(txt != NULL);
+    len += (size_t)snprintf(txt, cap, "ncols %d\nnrows %d\nxllcorner 1000.0\nyllcorner 2000.0\n"
+                            "cellsize %.17g\nNODATA_value -9999\n", nx, ny, cell);
+    for (int j = ny - 1; j >= 0; j--) {
+        for (int i = 0; i < nx; i++) {
+            double z = 100.0 - slope * i * cell + rough * gsl_rng_uniform(g);
+            if (steps && i % 7 == 3)
+                z -= 3.0 * cell * gsl_rng_uniform(g);
+            if (holes > 0 && gsl_rng_uniform(g) < holes)
+                z = -9999;
+            if (gsl_rng_uniform(g) < 0.1)
+                z = floor(z); /* flat patches and shared heights */
+            len += (size_t)snprintf(txt + len, cap - len, "%.17g ", z);
+        }
+        len += (size_t)snprintf(txt + len, cap - len, "\n");
+    }
+    double e = gsl_rng_uniform(g), esd = gsl_rng_uniform(g) < 0.5 ? 0 : 0.3 * gsl_rng_uniform(g);
+    if (gsl_rng_uniform(g) < 0.2)
+        e = gsl_rng_uniform(g) < 0.5 ? 0.0 : 1.0;
+    double mu = 2.0 * gsl_rng_uniform(g), mur = 0.5 * gsl_rng_uniform(g);
+    if (gsl_rng_uniform(g) < 0.15)
+        mu = 0.0;
+    double musd = 0.2 * gsl_rng_uniform(g);
+    rf_surface surf = {{e, esd}, {mu, musd}, {mur, 0.05 * gsl_rng_uniform(g)}};
+    mt_dem_text(&rp->t, "replay.asc", txt, surf);
+    free(txt);
+    for (long j = 0;; j++) {
+        rf_rock_model md = gsl_rng_uniform(g) < 0.3 ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_contact_kind ck = gsl_rng_uniform(g) < 0.25 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL;
+        rp->sim = mt_sim(md, ck, 120.0);
+        rp->sim.engine = gsl_rng_uniform(g) < 0.1 ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT;
+        rp->sim.dt = 0.001 + 0.01 * gsl_rng_uniform(g);
+        double mass = exp(log(1e5) * gsl_rng_uniform(g));
+        rp->b = rf_body_make(mass, 2650.0, md);
+        const rf_terrain *t = &rp->t;
+        double x = t->xmin + (t->xmax - t->xmin) * (0.05 + 0.5 * gsl_rng_uniform(g));
+        double y = t->ymin + (t->ymax - t->ymin) * (0.1 + 0.8 * gsl_rng_uniform(g));
+        double z;
+        if (rf_terrain_height(t, x, y, &z) < 0) {
+            ENSURE(j != k);
+            continue;
+        }
+        double lift = gsl_rng_uniform(g) < 0.3 ? 0.0 : 5.0 * gsl_rng_uniform(g);
+        double vx = 10 * gsl_rng_uniform(g) - 2, vy = 6 * gsl_rng_uniform(g) - 3;
+        double vz = gsl_rng_uniform(g) < 0.3 ? -20 * gsl_rng_uniform(g) : 0;
+        if (j < k)
+            continue;
+        rp->s = mt_state(rf_v3(x, y, z + (md == RF_MODEL_SPHERE ? rp->b.radius * 1.0001 : 0.0) + lift),
+                         rf_v3(vx, vy, vz));
+        if (md == RF_MODEL_SPHERE && lift > 0)
+            rp->s.p.z += 2.0 * rp->b.radius; /* well clear of the ground */
+        rp->seed = (unsigned long)(it * 100000 + k + 1);
+        break;
+    }
+    gsl_rng_free(g);
+}
+
+/* Runs the replay; the smallest distance of a path point after the first from the
+ * terrain, relative to the radius (a full-contact sphere never penetrates). */
+static double replay_run(replay *rp, mt_run *r)
+{
+    mt_simulate_opts(&rp->t, &rp->sim, &rp->b, &rp->s, rp->seed, 0.0, r);
+    double worst = INFINITY;
+    for (size_t i = 1; i < r->npoints && rp->b.radius > 0; i++)
+        worst = fmin(worst, mt_terrain_distance(&rp->t, r->points[i].p) / rp->b.radius);
+    return worst;
+}
+
+/* A full-contact sphere of the replay never comes closer to the terrain than 0.99 r at
+ * a path point and gains no energy at an impact. */
+static void replay_sphere_stays_out(unsigned long seed, long it, long k)
+{
+    replay rp;
+    replay_scene(seed, it, k, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.contact == RF_CONTACT_FULL);
+    mt_run r;
+    double worst = replay_run(&rp, &r);
+    ENSURE_MSG(worst >= 0.99, "penetrates to %.3f r", worst);
+    ENSURE(r.energy_gain_kj <= 1e-9 * (1.0 + r.rec.max_energy_kj));
+    mt_run_free(&r);
+    rf_terrain_free(&rp.t);
+}
+
+/* A 4 t sphere jiggles in a pocket of faces, slower than stop_speed, every event
+ * moving it a hair (no single face or crease holds it): it rests within a few dozen
+ * events, where it ran into the event cap (200 000 events, 10 s of computing). */
+TEST(hard_replay_rock_creeping_in_a_pocket_rests)
+{
+    replay rp;
+    replay_scene(2, 8, 97, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.engine == RF_ENGINE_EXACT);
+    mt_run r;
+    replay_run(&rp, &r);
+    ENSURE_MSG(r.rec.reason == RF_END_REST, "reason %d after %zu points", (int)r.rec.reason, r.npoints);
+    ENSURE_MSG(r.npoints < 2000, "%zu points", r.npoints);
+    mt_run_free(&r);
+    rf_terrain_free(&rp.t);
+}
+
+/* A sphere in a crease meets a face whose vertices each lie below one or the other of
+ * the crease's planes but which rises above both between them: it is met, not passed
+ * into (the sphere sank to 0.06 r). */
+TEST(hard_replay_crease_meets_a_face_between_its_planes)
+{
+    replay_sphere_stays_out(2, 8, 85);
+}
+
+/* A sphere leaves a face over an edge it shares with a ridge of the next faces: that
+ * edge has one end on the support and the other on the face just left, and the sphere
+ * touches it tangentially and curves into it.  It is met there, not passed through
+ * (the sphere sank to 0.22 r). */
+TEST(hard_replay_tangent_to_an_edge_of_the_face_left)
+{
+    replay_sphere_stays_out(2, 12, 45);
+}
+
+/* The fixed-step engine with a point mass that comes to a grid node at the bottom of a
+ * pit (a height rounded down beside higher ones), where every step crosses into the
+ * next of the six faces around the node after less than a nanosecond: it ends.  It
+ * looped for ever: time crept on, too little for the stall guard, and the engine had
+ * no event cap.  (A 9 x 9 cut of a random rough grid.) */
+TEST(hard_fixed_step_point_in_a_pit_at_a_grid_node_ends)
+{
+    static const char grid[] =
+        "ncols 9\nnrows 9\nxllcorner 1013.0\nyllcorner 2009.0\ncellsize 1\nNODATA_value -9999\n"
+        "80.446420156363459 78 77 75.802969849988287 72.950259003730096 72.711152851200211 "
+        "71.309327908665423 69.709960410266447 68.278710190648553\n"
+        "80.388459164109435 78.851082945499542 77 75.889142300813504 71.450426739469435 "
+        "72.802544153648697 71 69.794028425168889 68\n"
+        "80.294590132380335 78.892317815389234 77.372637816430768 75.780712352337488 72 "
+        "72.794251736945753 71.228905136333012 69.68045885703161 68.290051164566506\n"
+        "80.359898423494755 78.842084915002573 77.257650797140613 75.879558465782367 "
+        "71.570884654688982 72.750514206061766 71.200144261694021 69.712403492164071 "
+        "68.23444510019786\n"
+        "80.3146990069976 78.921001170992966 77.359088328174849 75.744343510423093 71 "
+        "72.798377220332867 71.244427091222363 69.77786678886342 68.165491125078574\n"
+        "80 78.889148884312959 77.287674887063517 75 71.748342965351668 72.754720459148942 71 "
+        "69.73932660069346 68.175741770965374\n"
+        "80.430591697729227 78.892725877263942 77.297133064792618 75.788899582615173 "
+        "72.902582572134236 72.736190437952644 71.204261347768806 69.716026219299238 "
+        "68.292825492580377\n"
+        "80.41485827330969 78.834214341659049 77 75.813319912554775 73.84943517230856 "
+        "72.816161602202598 71.197645138803466 69.730624715976276 68.18845263825601\n"
+        "80 78.798444642710081 77.359445339073275 75 74.271338284251314 72.709214144374769 "
+        "71.313557320499584 69.730468155036547 68.244910429615743\n";
+    rf_terrain t;
+    mt_dem_text(&t, "pit.asc", grid,
+                (rf_surface){{0.33737238403409719, 0.18536296414677053},
+                             {0.0, 0.18762585958465935},
+                             {0.42919653397984803, 0.038820552488323307}});
+    rf_simulation sim = mt_sim(RF_MODEL_POINT, RF_CONTACT_FULL, 120.0);
+    sim.engine = RF_ENGINE_FIXED_STEP;
+    sim.dt = 0.0099329566922970111;
+    rf_body b = rf_body_make(7246.1540855314861, 2650.0, RF_MODEL_POINT);
+    rf_state s = mt_state(rf_v3(1018.0788941085572, 2015.142883110419, 72.306543313840251),
+                          rf_v3(0.84324971027672291, -2.9126256904564798, 0.0));
+    mt_run r;
+    mt_simulate_opts(&t, &sim, &b, &s, 5600193, 0.0, &r);
+    ENSURE_MSG(r.npoints < 100000, "%zu points", r.npoints);
+    ENSURE(r.rec.reason == RF_END_REST);
+    ENSURE_SMALL(r.rec.stop.x - 1017.5, 1e-9);
+    ENSURE_SMALL(r.rec.stop.y - 2013.5, 1e-9);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
+}
