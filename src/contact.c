@@ -316,14 +316,10 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
         double x = r[k];
         if (!(x > t0 && x <= t1))
             continue;
+        /* falling through the plane faster than a graze; from a start on the plane,
+         * also after a rise smaller than the tolerance (a hop of a hair) */
         if (!(f[1] + 2.0 * f[2] * x < -RF_APPROACH_EPS))
             continue;
-        if (f0 <= tol) {
-            /* it must have risen clear of the plane before */
-            double tv = f[2] != 0.0 ? -f[1] / (2.0 * f[2]) : t0;
-            if (!(tv > t0 && tv < x && f[0] + tv * (f[1] + tv * f[2]) > tol))
-                continue;
-        }
         *t = x;
         return 1;
     }

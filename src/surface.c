@@ -616,7 +616,11 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n)
         return 1; /* at rest where it stays: no force is needed */
     rf_vec3 dir = vl > 0 ? rf_v3_scale(m->s.v, 1.0 / vl) : f.e1;
     rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - k), -k * m->sup.mu_r * f.gn, dir);
-    return rf_v3_norm(need) <= m->sup.mu * f.gn * (1 + 1e-12);
+    double cap = m->sup.mu * f.gn * (1 + 1e-12);
+    /* or the slip law lets no slip grow from zero (|g_t| <= K mu g_n, the demand
+     * without the resistance): where the two laws disagree (uphill, see docs/engine.md)
+     * the sphere rolls on instead of switching between them at every instant */
+    return rf_v3_norm(need) <= cap || rf_v3_norm(f.gt) * (1.0 - k) <= cap;
 }
 
 /* ---- closed-form segments ------------------------------------------------------------ */

@@ -667,3 +667,28 @@ TEST(hard_fixed_step_point_in_a_pit_at_a_grid_node_ends)
     mt_run_free(&r);
     rf_terrain_free(&t);
 }
+
+/* A sphere rolling up a steep face, where rolling against its resistance needs more
+ * friction than mu N but the slip law lets no slip grow from zero: it rolls on (it
+ * switched between the two laws at every instant, 17 000 events until the rescues ran
+ * out). */
+TEST(hard_replay_rolling_uphill_where_the_laws_disagree)
+{
+    replay rp;
+    replay_scene(4, 3, 79, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.engine == RF_ENGINE_EXACT);
+    mt_run r;
+    replay_run(&rp, &r);
+    ENSURE_MSG(r.rec.reason != RF_END_MAX_TIME, "max_time after %zu points", r.npoints);
+    ENSURE_MSG(r.npoints < 2000, "%zu points", r.npoints);
+    mt_run_free(&r);
+    rf_terrain_free(&rp.t);
+}
+
+/* A sphere hops off a vertex at a hair of a millimetre a second and falls back onto the
+ * face it was on, rising less than the length tolerance above its plane: the landing is
+ * met (it fell through the face, to 0.48 r). */
+TEST(hard_replay_hop_of_a_hair_lands)
+{
+    replay_sphere_stays_out(1, 13, 175);
+}
