@@ -167,12 +167,12 @@ typedef struct search {
     double ux, uy, s0, d0, vh;
 } search;
 
-/* The exclusions vertex v falls under, a bit each: in a surface segment the support
- * planes it is on or below (a centre r above such a plane never reaches it, nor the
- * support's own vertices), in a flight the excluded triangles it is a vertex of (the
- * face flown off).  A vertex is passed over when it falls under any; an edge only when
- * both its ends fall under the same one: between ends below different planes of a
- * crease, or on the face just left and on a support, its points can come within reach. */
+/* The support planes vertex v is on or below, a bit each, in a surface segment (a
+ * centre r above such a plane never reaches it, nor the support's own vertices); none
+ * in a flight (the face flown off is touched at the start only as the rock leaves it,
+ * which the start rule of the quartic passes over).  A vertex is passed over when it
+ * is below any; an edge only when both its ends are below the same plane: between ends
+ * below different planes of a crease its points can lie above both. */
 static unsigned vertex_out(const search *s, rf_vec3 v)
 {
     const rf_motion *m = s->m;
@@ -182,12 +182,6 @@ static unsigned vertex_out(const search *s, rf_vec3 v)
         for (int k = 0; k < m->sup.n && k < 2; k++) {
             const rf_triangle *S = &t->tri[m->sup.tri[k]];
             if (rf_v3_dot(S->n, v) - S->d <= m->tol_len)
-                bits |= 1u << k;
-        }
-    } else if (s->ex) {
-        for (int k = 0; k < s->ex->n; k++) {
-            const rf_triangle *S = &t->tri[s->ex->tri[k]];
-            if (same_point(v, S->a) || same_point(v, S->b) || same_point(v, S->c))
                 bits |= 1u << k;
         }
     }
@@ -757,8 +751,13 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
         } else if (zt < zlo - reach) {
             continue;
         }
-        if (excluded_tri(s->ex, idx))
+        if (excluded_tri(s->ex, idx)) {
+            /* the face flown off: not its face, but its edges and vertices, which the
+             * rock can come down on (one on the grid's border has no other holder) */
+            if (m->rho > 0 && !m->centre)
+                pend_push(s, idx, tl, T, &npend);
             continue;
+        }
         double w0;
         if (test_face(s, idx, tl, th, &w0)) {
             if (w0 < tl)
@@ -802,8 +801,11 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
         double zlow = m->centre ? lo.z - reach / dmax(Tr->n.z, 1e-12) : zl;
         if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
-        if (excluded_tri(ex, idx))
+        if (excluded_tri(ex, idx)) {
+            if (!s->planar && m->rho > 0 && !m->centre)
+                pend_push(s, idx, ta, tb, &npend); /* as in test_line_candidates */
             continue;
+        }
         double w0;
         if (test_face(s, idx, ta, tb, &w0))
             pend_push(s, idx, w0, tb, &npend);

@@ -690,3 +690,12 @@ TEST(hard_replay_hop_of_a_hair_lands)
 {
     replay_sphere_stays_out(1, 13, 175);
 }
+
+/* A sphere flies off a face and comes down on an edge of that face on the border of
+ * the grid, held by no other triangle: the face flown off is left out of its flight's
+ * search only as a face it touches at the start; a later landing on it, its edges or
+ * its vertices is met (the sphere passed through the border edge). */
+TEST(hard_replay_lands_on_the_face_it_flew_off)
+{
+    replay_sphere_stays_out(2, 21, 215);
+}
