@@ -508,12 +508,15 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
     if (to < 0) {
         if (m->point || m->centre)
             return RF_SURF_EXITED;
-        int32_t other = m->sup.n == 2 ? m->sup.tri[1 - slot] : -1;
-        rf_go_flight(m, from);
-        if (other >= 0) {
-            m->flight_ex.n = 2;
-            m->flight_ex.tri[1] = other;
+        if (m->sup.n == 2) {
+            /* out of a crease over the terrain's edge: the other face still holds it */
+            m->sup.n = 1;
+            m->sup.tri[0] = m->sup.tri[1 - slot];
+            m->sup.tri[1] = -1;
+            m->sup.left = from;
+            return RF_SURF_CONTINUE;
         }
+        rf_go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
     if (m->sup.n == 2) {

@@ -699,3 +699,11 @@ TEST(hard_replay_lands_on_the_face_it_flew_off)
 {
     replay_sphere_stays_out(2, 21, 215);
 }
+
+/* A sphere in a crease whose one face ends at the terrain's edge goes on on the other
+ * face (it flew off with both faces left out of its flight, and came down through the
+ * other one). */
+TEST(hard_replay_out_of_a_crease_over_the_terrain_edge)
+{
+    replay_sphere_stays_out(8, 10, 150);
+}
