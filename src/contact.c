@@ -396,7 +396,10 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
     int has = face_entry(f, t0, t1, tol, &t_face);
     if (has) {
         rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t_face), -rho, T->n);
-        if (rho > 0 ? inside_closed(T, q) : inside_margin(T, q) >= -tol) {
+        /* a sphere's contact point may lie a hair outside, across an edge on the
+         * support's plane, which is not tested (a sphere in a concave corner) */
+        if (rho > 0 ? inside_closed(T, q) || inside_margin(T, q) >= -1e-6 * rho
+                    : inside_margin(T, q) >= -tol) {
             if (t_face < s->best)
                 take(s, t_face, idx, RF_FEAT_FACE, 0, q);
             if (f0 > tol)

@@ -623,6 +623,9 @@ TEST(hard_replay_spheres_stay_out)
         /* a crease whose one face ends at the terrain's edge: on on the other face (it
          * flew off with both faces left out, and came down through the other one) */
         {8, 10, 150},
+        /* a 1 kg sphere in a concave corner of its support and a steep face, its
+         * contact point 2e-8 m across their common edge (sank to 0.08 r) */
+        {4, 43, 50},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
