@@ -232,6 +232,12 @@ static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, 
         if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol && d1 <= slope && d2 < -4 * rho * 1e-9) {
             roots[0] = w0;
             n = 1;
+        } else if (p0 < -RF_TOUCH_BAND * tol && d1 < -slope) {
+            /* already within reach of it (a penetration below what the path points
+             * show, left where a pocket held the rock) and going deeper: met at once,
+             * so that it does not grow */
+            roots[0] = w0;
+            n = 1;
         }
     }
     return n;

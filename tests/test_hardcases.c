@@ -626,6 +626,12 @@ TEST(hard_replay_spheres_stay_out)
         /* a 1 kg sphere in a concave corner of its support and a steep face, its
          * contact point 2e-8 m across their common edge (sank to 0.08 r) */
         {4, 43, 50},
+        /* spheres leaving a pocket already a hair within reach of an edge (below what
+         * a path point shows) and going deeper: a 12 t sphere sank to 0.11 r, a 98 t
+         * one to 0.47 r, an 8 t one to 0.36 r */
+        {6, 12, 105},
+        {5, 23, 245},
+        {1, 31, 120},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
