@@ -226,9 +226,13 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
     for (int i = 0; i + 1 < np && n < 3; i++) {
         double a = pts[i], b = pts[i + 1];
         double pb = rf_poly_eval(c, deg, b);
-        if (pa > tol && pb <= 0.0) {
+        if (pa > 0.0 && pb <= 0.0) {
+            /* falling through 0 after having been clear (above tol); after a smaller
+             * rise only when approaching clearly faster than a graze (a hop of a hair:
+             * grazes along a feature must not become contacts at every step) */
             double x = pb == 0.0 ? b : bracketed_root(c, deg, a, b, pa);
-            if (rf_poly_eval(d, deg - 1, x) < -slope_eps)
+            double dx = rf_poly_eval(d, deg - 1, x);
+            if (dx < -slope_eps && (pa > tol || dx < -100.0 * slope_eps))
                 roots[n++] = x;
         }
         pa = pb;

@@ -60,9 +60,10 @@ double rf_poly_eval(const double *c, int deg, double t);
 /* Smallest and largest value of c[0] + c[1] t + c[2] t^2 over [t0, t1]. */
 void rf_quadratic_range(const double c[3], double t0, double t1, double *lo, double *hi);
 /* Entering roots of P (deg <= 4) on [t0, t1]: times where P falls through 0 with
- * P' < -slope_eps, after having been above tol (a start with -RF_TOUCH_BAND tol <= P(t0)
- * <= tol counts only when P'(t0) < -slope_eps: touching and approaching).  Writes up to 3 roots in
- * ascending order and returns their number. */
+ * P' < -slope_eps, after having been above tol, or above 0 only when P' < -100 slope_eps
+ * there (a start with -RF_TOUCH_BAND tol <= P(t0) <= tol counts only when P'(t0) <
+ * -slope_eps: touching and approaching).  Writes up to 3 roots in ascending order and
+ * returns their number. */
 int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
                     double slope_eps, double *roots);
 

@@ -632,6 +632,10 @@ TEST(hard_replay_spheres_stay_out)
         {6, 12, 105},
         {5, 23, 245},
         {1, 31, 120},
+        /* a 9 t sphere sliding out of a pocket, touching an edge and rising less than
+         * the tolerance from it before it falls into it at a clear approach speed
+         * (sank to 0.05 r) */
+        {3, 18, 135},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
