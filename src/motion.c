@@ -30,6 +30,8 @@ rf_body rf_body_make(double mass, double density, rf_rock_model model)
     return b;
 }
 
+double rf_body_contact_radius(const rf_body *b) { return b->model == RF_MODEL_POINT ? 0.0 : b->radius; }
+
 double rf_kinetic_energy(const rf_body *b, rf_vec3 v, rf_vec3 w)
 {
     double e = 0.5 * b->mass * rf_v3_norm2(v);
@@ -345,7 +347,7 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     m.sink = sink;
     m.rec = out;
     m.point = body->model == RF_MODEL_POINT;
-    m.rho = m.point ? 0.0 : body->radius;
+    m.rho = rf_body_contact_radius(body);
     m.centre = !m.point && sim->contact == RF_CONTACT_CENTRE;
     double scale = fmax(fmax(fabs(t->xmin), fabs(t->xmax)),
                         fmax(fmax(fabs(t->ymin), fabs(t->ymax)), fmax(fabs(t->zmin), fabs(t->zmax))));

@@ -32,7 +32,7 @@ TEST(hard_bounce_to_rest_on_flat_ground)
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(2385.0, 2650.0, md);
-        double r0 = model ? 0.0 : b.radius;
+        double r0 = rf_body_contact_radius(&b);
         rf_state s = mt_state(rf_v3(31.7, 44.9, 7.3 + r0), rf_v3(0, 0, 0));
         mt_run r;
         mt_simulate(&t, md, 2385.0, RF_CONTACT_FULL, &s, 7, &r);
@@ -55,7 +55,7 @@ TEST(hard_resting_rock_stays_put)
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(4500.0, 2650.0, md);
-        rf_state s = mt_incline_state(theta, 100.0, 40.0, 20.0, model ? 0.0 : b.radius, rf_v3(0, 0, 0));
+        rf_state s = mt_incline_state(theta, 100.0, 40.0, 20.0, rf_body_contact_radius(&b), rf_v3(0, 0, 0));
         mt_run r;
         mt_simulate(&t, md, 4500.0, RF_CONTACT_FULL, &s, 7, &r);
         ENSURE(r.rec.reason == RF_END_REST);
@@ -98,7 +98,7 @@ TEST(hard_frictionless_v_gully_energy)
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(2385.0, 2650.0, md);
-        double rho = model ? 0.0 : b.radius;
+        double rho = rf_body_contact_radius(&b);
         double x0 = 3.7;
         /* on the thalweg, touching both faces */
         double zc = rho * sqrt(1.0 + slope * slope + side * side) - slope * x0;
@@ -217,7 +217,7 @@ TEST(hard_near_vertical_faces)
         for (int model = 0; model < 2; model++) {
             rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
             rf_body b = rf_body_make(800.0, 2650.0, md);
-            double rho = model ? 0.0 : b.radius;
+            double rho = rf_body_contact_radius(&b);
             /* thrown against the wall */
             rf_state s = mt_state(rf_v3(10.0, 20.0, 3.0 + rho), rf_v3(15.0, 1.0, 4.0));
             mt_run r;
@@ -258,7 +258,7 @@ TEST(hard_nodata_holes_and_terrain_edges)
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(50.0, 2650.0, md);
-        double rho = model ? 0.0 : b.radius;
+        double rho = rf_body_contact_radius(&b);
         /* down the fall line into the hole (cells with x in [9.5, 13.5], y in [3.5, 7.5]) */
         double z;
         ENSURE(rf_terrain_height(&t, 2.0, 5.0, &z) >= 0);
@@ -390,7 +390,7 @@ TEST(hard_random_rough_terrain_energy_never_increases)
         double x = 1.0 + 20.0 * gsl_rng_uniform(rng), y = 2.0 + 36.0 * gsl_rng_uniform(rng);
         double z;
         ENSURE(rf_terrain_height(&t, x, y, &z) >= 0);
-        rf_state s = mt_state(rf_v3(x, y, z + 2.0 + (md == RF_MODEL_SPHERE ? b.radius : 0.0) +
+        rf_state s = mt_state(rf_v3(x, y, z + 2.0 + rf_body_contact_radius(&b) +
                                           3.0 * gsl_rng_uniform(rng)),
                               rf_v3(4.0 * gsl_rng_uniform(rng) - 1.0, 4.0 * gsl_rng_uniform(rng) - 2.0,
                                     0.0));
@@ -549,7 +549,7 @@ static void replay_scene(unsigned long seed, long it, long k, replay *rp)
         double vz = gsl_rng_uniform(g) < 0.3 ? -20 * gsl_rng_uniform(g) : 0;
         if (j < k)
             continue;
-        rp->s = mt_state(rf_v3(x, y, z + (md == RF_MODEL_SPHERE ? rp->b.radius * 1.0001 : 0.0) + lift),
+        rp->s = mt_state(rf_v3(x, y, z + rf_body_contact_radius(&rp->b) * 1.0001 + lift),
                          rf_v3(vx, vy, vz));
         if (md == RF_MODEL_SPHERE && lift > 0)
             rp->s.p.z += 2.0 * rp->b.radius; /* well clear of the ground */

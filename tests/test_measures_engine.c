@@ -751,7 +751,7 @@ TEST(measures_engine_line_on_terrain_edge)
         rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.001);
         rf_body b = rf_body_make(2385.0, 2650.0, model);
         double x0 = 12.385 + 1.7 * start, y0 = 30.5 + 2.385 * start, vy = 3.85 - 0.55 * start;
-        double r = model == RF_MODEL_POINT ? 0.0 : b.radius;
+        double r = rf_body_contact_radius(&b);
         double nz = 1.0 / sqrt(1.0 + slope * slope);
         rf_state s0 = mt_state(rf_v3(x0 + r * slope * nz, y0, 23.85 - slope * x0 + r * nz),
                                rf_v3(8.5, vy, -8.5 * slope));

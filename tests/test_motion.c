@@ -168,7 +168,7 @@ TEST(motion_bounce_heights_h_e2k)
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(2385.0, 2650.0, md);
-        double r0 = md == RF_MODEL_SPHERE ? b.radius : 0.0;
+        double r0 = rf_body_contact_radius(&b);
         rf_state s = mt_state(rf_v3(47.3, 52.1, h + r0), rf_v3(0, 0, 0));
         mt_run r;
         mt_simulate(&t, md, 2385.0, RF_CONTACT_FULL, &s, 1, &r);
@@ -230,7 +230,7 @@ static double fixed_vs_exact(rf_rock_model md, double dt, double *exact_x)
     rf_terrain t;
     mt_profile(&t, prof, 3, 40.0, (rf_surface){{0.0, 0.0}, {0.3, 0.0}, {0.3, 0.0}});
     rf_body b = rf_body_make(1500.0, 2650.0, md);
-    double rho = md == RF_MODEL_SPHERE ? b.radius : 0.0;
+    double rho = rf_body_contact_radius(&b);
     double theta = atan2(21.0, 30.0);
     rf_vec3 n = rf_v3(sin(theta), 0, cos(theta));
     rf_state s = mt_state(rf_v3_madd(rf_v3(2.0, 20.0, 21.0 - 2.0 * 0.7), rho, n), rf_v3(0, 0, 0));

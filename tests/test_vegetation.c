@@ -195,7 +195,7 @@ static void hit_rate(const rf_forest *fs, size_t nf, rf_body body, rf_engine_kin
     sim.dt = dt;
     vt_runner R;
     runner_init(&R, &t, &sim, fs, nf, NULL, 0, body);
-    double z0 = body.model == RF_MODEL_POINT ? 0.0 : body.radius;
+    double z0 = rf_body_contact_radius(&body);
     const double speed = 10.0, L = speed * duration;
     double sum = 0.0, sum2 = 0.0;
     for (long k = 0; k < n; k++) {

@@ -36,6 +36,9 @@ typedef struct rf_body {
 } rf_body;
 
 rf_body rf_body_make(double mass, double density, rf_rock_model model);
+/* How far from the terrain the centre touches it: r for the sphere, 0 for the point
+ * mass (Fig. 2, left). */
+double rf_body_contact_radius(const rf_body *b);
 
 /* Kinematic state of the rock's centre. */
 typedef struct rf_state {
