@@ -69,10 +69,6 @@ static inline unsigned edge_live(rf_workspace *ws, int32_t idx);
 
 /* ---- triangle helpers ---------------------------------------------------------------- */
 
-static inline rf_vec3 tri_vertex(const rf_triangle *T, int i)
-{
-    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
-}
 
 static inline int same_point(rf_vec3 a, rf_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
@@ -153,6 +149,25 @@ static double box_box_dist2(rf_vec3 alo, rf_vec3 ahi, rf_vec3 blo, rf_vec3 bhi)
 
 /* ---- one triangle ------------------------------------------------------------------- */
 
+/* The planes of the support faces of a surface segment (none in a flight). */
+typedef struct support_planes {
+    int n;
+    rf_vec3 nrm[2];
+    double d[2], tol;
+} support_planes;
+
+static void support_planes_set(const rf_motion *m, support_planes *sp)
+{
+    sp->n = 0;
+    for (int k = 0; k < m->sup.n && k < 2; k++) {
+        const rf_triangle *S = &m->terrain->tri[m->sup.tri[k]];
+        sp->nrm[sp->n] = S->n;
+        sp->d[sp->n] = S->d;
+        sp->n++;
+    }
+    sp->tol = m->tol_len;
+}
+
 typedef struct search {
     rf_motion *m;
     const rf_arc *arc;
@@ -165,6 +180,7 @@ typedef struct search {
      * s0 + vh t along the unit direction (ux, uy), at perpendicular offset d0 */
     int line;
     double ux, uy, s0, d0, vh;
+    support_planes sp; /* a surface segment's support planes (n = 0 in a flight) */
 } search;
 
 /* The support planes vertex v is on or below, a bit each, in a surface segment (a
@@ -175,16 +191,11 @@ typedef struct search {
  * below different planes of a crease its points can lie above both. */
 static unsigned vertex_out(const search *s, rf_vec3 v)
 {
-    const rf_motion *m = s->m;
-    const rf_terrain *t = m->terrain;
+    const support_planes *sp = &s->sp;
     unsigned bits = 0;
-    if (s->planar) {
-        for (int k = 0; k < m->sup.n && k < 2; k++) {
-            const rf_triangle *S = &t->tri[m->sup.tri[k]];
-            if (rf_v3_dot(S->n, v) - S->d <= m->tol_len)
-                bits |= 1u << k;
-        }
-    }
+    for (int k = 0; k < sp->n; k++)
+        if (rf_v3_dot(sp->nrm[k], v) - sp->d[k] <= sp->tol)
+            bits |= 1u << k;
     return bits;
 }
 
@@ -350,11 +361,11 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         double ex = B.x - A.x, ey = B.y - A.y;
         double el = hypot(ex, ey);
+        if (!(el > 0))
+            return;
         /* inward distance of the centre: alpha + beta t */
         double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
-        if (!(el > 0))
-            return;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
         } else if (beta < 0) {
@@ -440,12 +451,13 @@ static void test_edges(search *s, int32_t idx, double w0, double t1)
     double reach = m->rho + m->tol_len;
     if (box_box_dist2(blo, bhi, tlo, thi) > reach * reach)
         return;
+    unsigned x[3] = {vertex_out(s, T->a), vertex_out(s, T->b), vertex_out(s, T->c)};
+    unsigned live = edge_live(m->ws, idx);
     for (int k = 0; k < 3; k++) {
-        rf_vec3 va = tri_vertex(T, k), vb = tri_vertex(T, (k + 1) % 3);
-        unsigned xa = vertex_out(s, va), xb = vertex_out(s, vb);
-        if (!(xa & xb) && (edge_live(m->ws, idx) >> k & 1))
+        rf_vec3 va = rf_tri_vertex(T, k), vb = rf_tri_vertex(T, k + 1);
+        if (!(x[k] & x[(k + 1) % 3]) && (live >> k & 1))
             test_edge(s, idx, k, va, vb, w0, w1 < s->best ? w1 : s->best, blo, bhi);
-        if (!xa)
+        if (!x[k])
             test_vertex(s, idx, k, va, w0, w1 < s->best ? w1 : s->best, blo, bhi);
     }
 }
@@ -528,10 +540,10 @@ static int same_feature(const rf_triangle *S, int j, const rf_triangle *T, int k
 {
     if ((j ^ k) & 4)
         return 0;
-    rf_vec3 sa = tri_vertex(S, j & 3), qa = tri_vertex(T, k & 3);
+    rf_vec3 sa = rf_tri_vertex(S, j & 3), qa = rf_tri_vertex(T, k & 3);
     if (!(k & 4))
         return same_point(sa, qa);
-    rf_vec3 sb = tri_vertex(S, ((j & 3) + 1) % 3), qb = tri_vertex(T, ((k & 3) + 1) % 3);
+    rf_vec3 sb = rf_tri_vertex(S, ((j & 3) + 1) % 3), qb = rf_tri_vertex(T, ((k & 3) + 1) % 3);
     return (same_point(sa, qa) && same_point(sb, qb)) || (same_point(sa, qb) && same_point(sb, qa));
 }
 
@@ -634,7 +646,7 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
         unsigned live = edge_live(ws, idx);
         for (int k = 0; k < 3; k++) {
             int k1 = (k + 1) % 3;
-            rf_vec3 q[2] = {tri_vertex(T, k), tri_vertex(T, k1)};
+            rf_vec3 q[2] = {rf_tri_vertex(T, k), rf_tri_vertex(T, k1)};
             if ((live >> k & 1) && feat_first(ws, ek[k], idx, k | 4)) {
                 for (int i = 0; i < 2; i++) {
                     int v = i ? k1 : k;
@@ -900,25 +912,6 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     return 1;
 }
 
-/* The planes of the support faces, for below_support on many points. */
-typedef struct support_planes {
-    int n;
-    rf_vec3 nrm[2];
-    double d[2], tol;
-} support_planes;
-
-static void support_planes_set(const rf_motion *m, support_planes *sp)
-{
-    sp->n = 0;
-    for (int k = 0; k < m->sup.n && k < 2; k++) {
-        const rf_triangle *S = &m->terrain->tri[m->sup.tri[k]];
-        sp->nrm[sp->n] = S->n;
-        sp->d[sp->n] = S->d;
-        sp->n++;
-    }
-    sp->tol = m->tol_len;
-}
-
 /* 1 when every vertex of T is on or below one support plane, the same for all three:
  * T lies in that plane's lower half-space, which the sphere, touching the plane from
  * above, never enters.  (Vertices below different planes of a crease are not enough: a
@@ -975,8 +968,7 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     const float *box = ws->tri_box;
     const rf_terrain *t = m->terrain;
     int filter = !m->centre && !m->point;
-    support_planes sp;
-    support_planes_set(m, &sp);
+    support_planes_set(m, &s.sp);
     size_t n = rf_gather(m, xl, yl, xh, yh);
     if (rf_grow((void **)&ws->near_hit, &ws->near_cap, n, sizeof *ws->near_hit))
         return 0;
@@ -991,7 +983,7 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
             /* faces in a support's plane or wholly on or below a support plane are out
              * of reach for the whole segment */
             const rf_triangle *Tr = &t->tri[idx];
-            if (coplanar_with_support(t, &m->sup, Tr, m->tol_len) || vertices_below(&sp, Tr))
+            if (coplanar_with_support(t, &m->sup, Tr, m->tol_len) || vertices_below(&s.sp, Tr))
                 continue;
         }
         ws->near_hit[nhit++] = idx;
@@ -1040,16 +1032,16 @@ static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int
     if (a < 0 || b < 0)
         return;
     const rf_triangle *A = &t->tri[a], *B = &t->tri[b];
-    rf_vec3 va = tri_vertex(A, ka), vb = tri_vertex(A, (ka + 1) % 3), oa = tri_vertex(A, (ka + 2) % 3);
+    rf_vec3 va = rf_tri_vertex(A, ka), vb = rf_tri_vertex(A, (ka + 1) % 3), oa = rf_tri_vertex(A, (ka + 2) % 3);
     int kb = -1;
     for (int k = 0; k < 3; k++) {
-        rf_vec3 p = tri_vertex(B, k), q = tri_vertex(B, (k + 1) % 3);
+        rf_vec3 p = rf_tri_vertex(B, k), q = rf_tri_vertex(B, (k + 1) % 3);
         if ((same_point(p, va) && same_point(q, vb)) || (same_point(p, vb) && same_point(q, va)))
             kb = k;
     }
     if (kb < 0)
         return;
-    rf_vec3 ob = tri_vertex(B, (kb + 2) % 3);
+    rf_vec3 ob = rf_tri_vertex(B, (kb + 2) % 3);
     if (edge_concave(A, B, va, vb, oa, ob))
         live[a] &= (uint8_t)~(1u << ka);
 }
@@ -1114,7 +1106,7 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
         return -1;
     for (size_t i = 0; i < t->ntri; i++)
         for (int k = 0; k < 3; k++) {
-            rf_vec3 a = tri_vertex(&t->tri[i], k), b = tri_vertex(&t->tri[i], (k + 1) % 3);
+            rf_vec3 a = rf_tri_vertex(&t->tri[i], k), b = rf_tri_vertex(&t->tri[i], (k + 1) % 3);
             uint64_t ha = point_hash(a), hb = point_hash(b);
             uint64_t lo = ha < hb ? ha : hb, hi = ha < hb ? hb : ha;
             r[3 * i + (size_t)k] = (edge_ref){mix64(lo ^ mix64(hi)), (int32_t)i, k};
@@ -1238,11 +1230,11 @@ double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
     case RF_FEAT_FACE:
         return rf_v3_dot(T->n, p) - T->d;
     case RF_FEAT_EDGE: {
-        rf_vec3 q = rf_v3_closest_on_segment(tri_vertex(T, c->index), tri_vertex(T, (c->index + 1) % 3), p);
+        rf_vec3 q = rf_v3_closest_on_segment(rf_tri_vertex(T, c->index), rf_tri_vertex(T, (c->index + 1) % 3), p);
         return rf_v3_norm(rf_v3_sub(p, q));
     }
     default:
-        return rf_v3_norm(rf_v3_sub(p, tri_vertex(T, c->index)));
+        return rf_v3_norm(rf_v3_sub(p, rf_tri_vertex(T, c->index)));
     }
 }
 
@@ -1273,7 +1265,7 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
                 c->kind = RF_FEAT_EDGE;
                 c->index = 0;
                 for (int i = 0; i < 3; i++) {
-                    if (rf_v3_norm(rf_v3_sub(q, tri_vertex(T, i))) <= m->tol_len) {
+                    if (rf_v3_norm(rf_v3_sub(q, rf_tri_vertex(T, i))) <= m->tol_len) {
                         c->kind = RF_FEAT_VERTEX;
                         c->index = i;
                         break;
@@ -1282,7 +1274,7 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
                 if (c->kind == RF_FEAT_EDGE) {
                     double bd = INFINITY;
                     for (int i = 0; i < 3; i++) {
-                        rf_vec3 qq = rf_v3_closest_on_segment(tri_vertex(T, i), tri_vertex(T, (i + 1) % 3), p);
+                        rf_vec3 qq = rf_v3_closest_on_segment(rf_tri_vertex(T, i), rf_tri_vertex(T, (i + 1) % 3), p);
                         double dd = rf_v3_norm(rf_v3_sub(qq, q));
                         if (dd < bd)
                             bd = dd, c->index = i;

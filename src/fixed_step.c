@@ -24,7 +24,6 @@
 #include <math.h>
 #include <string.h>
 
-static rf_vec3 in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
 
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
@@ -197,7 +196,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
     int32_t tri = m->sup.tri[0];
     const rf_triangle *T = &m->terrain->tri[tri];
     rf_vec3 n = T->n;
-    m->s.v = in_plane(m->s.v, n);
+    m->s.v = rf_in_plane(m->s.v, n);
     rf_vec3 u = rf_v3(0, 0, 0);
     if (!m->point) {
         u = rf_slip_of(m, n);
@@ -240,7 +239,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
         v1 = rf_v3(0, 0, 0); /* friction stops the rock, it does not push it back */
         zero = 1;
     }
-    rf_vec3 ve = in_plane(v1, n);
+    rf_vec3 ve = rf_in_plane(v1, n);
     rf_vec3 u1 = rf_v3(0, 0, 0);
     if (slide && !slip_end) {
         u1 = rf_v3_madd(u, hs, du);

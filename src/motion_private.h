@@ -20,6 +20,16 @@
 static inline double rf_fmin(double a, double b) { return (a < b || b != b) ? a : b; }
 static inline double rf_fmax(double a, double b) { return (a > b || b != b) ? a : b; }
 
+/* Vertex i (taken modulo 3) of a triangle: a, b, c. */
+static inline rf_vec3 rf_tri_vertex(const rf_triangle *T, int i)
+{
+    i %= 3;
+    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
+}
+
+/* The part of x in the plane of unit normal n. */
+static inline rf_vec3 rf_in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
+
 /* ---- tolerances (docs/engine.md) ------------------------------------------------- */
 #define RF_TIME_TOL 1e-13          /* root finding in time (s) */
 #define RF_LEN_TOL 1e-9            /* lengths (m); scaled up for large coordinates */

@@ -85,7 +85,6 @@ static rf_vec3 law_slip_rate(const face_dyn *f, rf_vec3 udir)
     return rf_v3_madd(f->gt, -f->K * f->mu * f->gn, udir);
 }
 
-static rf_vec3 in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
 
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du)
 {
@@ -108,7 +107,7 @@ rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf
 rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n)
 {
     rf_vec3 u = rf_v3_add(m->s.v, rf_v3_cross(m->s.w, rf_v3_scale(n, -m->rho)));
-    return in_plane(u, n);
+    return rf_in_plane(u, n);
 }
 
 /* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r. */
@@ -123,11 +122,6 @@ void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
     m->s.w = rf_v3_madd(wt, wn, n);
 }
 
-static rf_vec3 tri_vertex(const rf_triangle *T, int i)
-{
-    i %= 3;
-    return i == 0 ? T->a : (i == 1 ? T->b : T->c);
-}
 
 int rf_coplanar(const rf_triangle *A, const rf_triangle *B, double tol)
 {
@@ -158,7 +152,7 @@ void rf_support_single(rf_motion *m, int32_t tri, int fresh)
     m->sup.left = -1;
     /* on the offset plane, velocity tangent */
     m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
-    m->s.v = in_plane(m->s.v, T->n);
+    m->s.v = rf_in_plane(m->s.v, T->n);
     if (!m->point) {
         rf_vec3 u = rf_slip_of(m, T->n);
         m->sup.rolling = rf_v3_norm(u) <= RF_SLIP_EPS;
@@ -422,7 +416,8 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
         rf_quadratic_range(f, 0.0, rf_fmin(T, best), &fminv, &fmaxv);
         if (fminv > tol)
             continue;
-        rf_quadratic_range(f, 0.0, T, &fminv, &fmaxv);
+        if (f[0] < -tol && f[1] > RF_APPROACH_EPS)
+            rf_quadratic_range(f, 0.0, T, &fminv, &fmaxv); /* coming back within T? */
         if (f[0] < -tol && (f[1] <= RF_APPROACH_EPS || fmaxv <= tol)) {
             t = 0.0; /* already beyond the edge and not coming back */
         } else if (rf_poly_entries(f, 2, 0.0, rf_fmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
@@ -488,7 +483,7 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
     if (to == from) {
         /* numerically still inside: step over the middle of the edge */
         const rf_triangle *F = &t->tri[from];
-        rf_vec3 mid = rf_v3_scale(rf_v3_add(tri_vertex(F, edge), tri_vertex(F, edge + 1)), 0.5);
+        rf_vec3 mid = rf_v3_scale(rf_v3_add(rf_tri_vertex(F, edge), rf_tri_vertex(F, edge + 1)), 0.5);
         to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[edge], -1.0));
         if (to == from)
             to = -1;
@@ -558,7 +553,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         rf_go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
-    rf_vec3 e = rf_v3_unit(rf_v3_sub(tri_vertex(F, edge + 1), tri_vertex(F, edge)));
+    rf_vec3 e = rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, edge + 1), rf_tri_vertex(F, edge)));
     rf_vec3 vp = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, e), e);
     if (rf_v3_norm2(vp) >= m->rho * G_ACC * F->n.z) {
         rf_go_flight(m, from); /* fast enough to fly off the edge */
@@ -887,9 +882,9 @@ static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_eve
         if (c->kind == RF_FEAT_FACE)
             return rf_v3_dot(T->n, v);
         rf_vec3 p = rf_v3_add(c0, y_c(y));
-        rf_vec3 q = tri_vertex(T, c->index);
+        rf_vec3 q = rf_tri_vertex(T, c->index);
         if (c->kind == RF_FEAT_EDGE) {
-            rf_vec3 e = rf_v3_sub(tri_vertex(T, c->index + 1), q);
+            rf_vec3 e = rf_v3_sub(rf_tri_vertex(T, c->index + 1), q);
             double l2 = rf_v3_norm2(e);
             double sp = l2 > 0 ? rf_v3_dot(rf_v3_sub(p, q), e) / l2 : 0.0;
             sp = sp < 0 ? 0 : (sp > 1 ? 1 : sp);
@@ -1055,7 +1050,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         memcpy(y1, yn, sizeof y1);
         rf_vec3 cn = y_c(yn), vn = y_v(yn);
         cn = rf_v3_madd(cn, -rf_v3_dot(cn, f->n), f->n);
-        vn = in_plane(vn, f->n);
+        vn = rf_in_plane(vn, f->n);
         yn[0] = cn.x, yn[1] = cn.y, yn[2] = cn.z, yn[3] = vn.x, yn[4] = vn.y, yn[5] = vn.z;
         rf_vec3 ck = rf_v3_add(c0, y_c(y)), vk = y_v(y);
         rf_vec3 afit = rf_v3_scale(rf_v3_sub(rf_v3_sub(cn, y_c(y)), rf_v3_scale(vk, hs)), 2.0 / (hs * hs));
@@ -1122,7 +1117,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
             }
             rf_vec3 ce = y_c(ye);
             ce = rf_v3_madd(ce, -rf_v3_dot(ce, f->n), f->n);
-            rf_vec3 ve = in_plane(y_v(ye), f->n);
+            rf_vec3 ve = rf_in_plane(y_v(ye), f->n);
             rf_vec3 ae = te > 0 ? rf_v3_scale(rf_v3_sub(rf_v3_sub(ce, y_c(y)), rf_v3_scale(vk, te)), 2.0 / (te * te))
                                 : rf_v3(0, 0, 0);
             rf_arc ea = {ck, vk, ae};
@@ -1157,7 +1152,7 @@ static rf_surface_end face_step(rf_motion *m)
 {
     int32_t tri = m->sup.tri[0];
     const rf_triangle *T = &m->terrain->tri[tri];
-    m->s.v = in_plane(m->s.v, T->n);
+    m->s.v = rf_in_plane(m->s.v, T->n);
     face_dyn f;
     rf_vec3 u0 = rf_v3(0, 0, 0);
     if (!m->point) {
