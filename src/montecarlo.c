@@ -128,6 +128,7 @@ static void chunk_clear(chunk *c)
 typedef struct run_ctx {
     const rf_project *p;
     rf_scene scene;
+    int nthreads;          /* workers, at least 1 */
     size_t total;          /* trajectories in all */
     size_t *release_start; /* global number of each release's first trajectory */
     size_t nchunks;
@@ -287,7 +288,7 @@ static double now_s(void)
 static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o,
                               rf_run_summary *sum, rf_error *err)
 {
-    int nthreads = o->threads > 1 ? o->threads : 1;
+    int nthreads = ctx->nthreads;
     worker *workers = calloc((size_t)nthreads, sizeof *workers);
     pthread_t *tids = calloc((size_t)nthreads, sizeof *tids);
     int status = 0, started = 0;
@@ -364,6 +365,7 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     int nthreads = o->threads > 1 ? o->threads : 1;
     run_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
+    ctx.nthreads = nthreads;
     ctx.p = p;
     ctx.scene.terrain = &p->terrain;
     ctx.scene.sim = &p->sim;

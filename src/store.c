@@ -188,14 +188,14 @@ static const char views_sql[] =
     "  CASE k.passed WHEN 1 THEN 'pass' ELSE 'fail' END AS verdict\n"
     "FROM checks k LEFT JOIN measures m ON m.id = k.measure_id;\n"
     "CREATE VIEW IF NOT EXISTS run_verdicts AS\n"
-    "SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
-    "  (SELECT count(*) FROM checks k WHERE k.run_id = r.id) AS checks,\n"
-    "  (SELECT count(*) FROM checks k WHERE k.run_id = r.id AND k.passed = 0)\n"
-    "    AS checks_failed,\n"
-    "  CASE WHEN (SELECT count(*) FROM checks k WHERE k.run_id = r.id) = 0 THEN 'unchecked'\n"
-    "       WHEN (SELECT count(*) FROM checks k WHERE k.run_id = r.id AND k.passed = 0) > 0\n"
-    "       THEN 'fail' ELSE 'pass' END AS verdict\n"
-    "FROM runs r;\n";
+    "SELECT run_id, project, status, started_at, checks, checks_failed,\n"
+    "  CASE WHEN checks = 0 THEN 'unchecked' WHEN checks_failed > 0 THEN 'fail'\n"
+    "       ELSE 'pass' END AS verdict\n"
+    "FROM (SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
+    "        (SELECT count(*) FROM checks k WHERE k.run_id = r.id) AS checks,\n"
+    "        (SELECT count(*) FROM checks k WHERE k.run_id = r.id AND k.passed = 0)\n"
+    "          AS checks_failed\n"
+    "      FROM runs r);\n";
 
 #define RF_NOW_SQL "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
 

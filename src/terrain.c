@@ -548,7 +548,8 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     }
     t->grid_tri = malloc(2 * ncell * sizeof *t->grid_tri);
     t->tri = malloc(2 * ncell * sizeof *t->tri);
-    if (!t->grid_tri || !t->tri) {
+    t->grid_node = malloc(2 * ncell * sizeof *t->grid_node);
+    if (!t->grid_tri || !t->tri || !t->grid_node) {
         rf_asc_free(&g);
         return rf_error_set(err, path, 0, 0, "out of memory for a %zu x %zu grid", nx, ny);
     }
@@ -565,10 +566,15 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
             int hole_nw = g.has_nodata && znw == g.nodata, hole_ne = g.has_nodata && zne == g.nodata;
             int32_t *cell = &t->grid_tri[2 * (j * (nx - 1) + i)];
             cell[0] = cell[1] = -1;
-            if (!hole_sw && !hole_se && !hole_ne && triangle_set(&t->tri[ntri], sw, se, ne, 0))
+            int32_t node = (int32_t)(2 * (j * nx + i)); /* SW node, then the triangle's k */
+            if (!hole_sw && !hole_se && !hole_ne && triangle_set(&t->tri[ntri], sw, se, ne, 0)) {
+                t->grid_node[ntri] = node;
                 cell[0] = (int32_t)ntri++;
-            if (!hole_sw && !hole_ne && !hole_nw && triangle_set(&t->tri[ntri], sw, ne, nw, 0))
+            }
+            if (!hole_sw && !hole_ne && !hole_nw && triangle_set(&t->tri[ntri], sw, ne, nw, 0)) {
+                t->grid_node[ntri] = node + 1;
                 cell[1] = (int32_t)ntri++;
+            }
         }
     rf_asc_free(&g);
     t->ntri = ntri;
@@ -577,16 +583,9 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     rf_triangle *shrunk = realloc(t->tri, ntri * sizeof *t->tri);
     if (shrunk)
         t->tri = shrunk;
-    t->grid_node = malloc(ntri * sizeof *t->grid_node);
-    if (!t->grid_node)
-        return rf_error_set(err, path, 0, 0, "out of memory for a %zu x %zu grid", nx, ny);
-    for (size_t j = 0; j + 1 < ny; j++)
-        for (size_t i = 0; i + 1 < nx; i++)
-            for (size_t k = 0; k < 2; k++) {
-                int32_t idx = t->grid_tri[2 * (j * (nx - 1) + i) + k];
-                if (idx >= 0)
-                    t->grid_node[idx] = (int32_t)(2 * (j * nx + i) + k);
-            }
+    int32_t *nodes = realloc(t->grid_node, ntri * sizeof *t->grid_node);
+    if (nodes)
+        t->grid_node = nodes;
     return 0;
 }
 
