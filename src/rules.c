@@ -516,7 +516,7 @@ done:
 
 static int importance_of(const char *text)
 {
-    for (int i = 0; text && i < 3; i++)
+    for (int i = 0; text && i < RF_N_IMPORTANCES; i++)
         if (!strcmp(text, rf_importance_names[i]))
             return i;
     return -1;
@@ -604,7 +604,7 @@ static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m
         const char *reached_name = rf_rules_state_name(r, reached);
         sqlite3_bind_int64(ins, 1, sqlite3_column_int64(st, 0));
         sqlite3_bind_int(ins, 2, level);
-        sqlite3_bind_text(ins, 3, rf_importance_names[m->importance], -1, SQLITE_STATIC);
+        sqlite3_bind_text(ins, 3, rf_importance_name(m->importance), -1, SQLITE_STATIC);
         if (reached_name)
             sqlite3_bind_text(ins, 4, reached_name, -1, SQLITE_STATIC);
         else
@@ -859,7 +859,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
         p->n = s.n;
         nshown++;
         fprintf(out, "%-16s %-10s %-14s", p->name, rf_measure_kind_name(p->m.kind),
-                rf_importance_names[p->m.importance]);
+                rf_importance_name(p->m.importance));
         rf_query_print_stats(out, &s);
     }
     fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
@@ -867,7 +867,7 @@ int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_er
     for (size_t i = 0; i < nshown; i++) {
         const measure_row *m = &shown[i].m;
         fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
-                rf_importance_names[m->importance]);
+                rf_importance_name(m->importance));
         print_capacities(r, m, out);
         if ((shown[i].n > 0 && print_states(db, r, m, shown[i].n, out, err)) ||
             print_checks(db, r, m, out, err))
