@@ -235,6 +235,9 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c);
 /* Normal pressures (per unit mass) of the two faces of a crease with normals nA, nB,
  * and its direction l; -1 when the faces are (nearly) parallel. */
 int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l);
+/* The point nearest p at height rho above both planes n.x = d of a crease (its faces
+ * not parallel): the centre of a sphere touching both. */
+rf_vec3 rf_crease_centre(const rf_triangle *A, const rf_triangle *B, double rho, rf_vec3 p);
 /* The motion along a crease (m->sup.n == 2), shared by both engines. */
 typedef enum rf_crease_kind {
     RF_CREASE_MOVES, /* uniformly accelerated along l */

@@ -179,6 +179,16 @@ int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
     return 0;
 }
 
+rf_vec3 rf_crease_centre(const rf_triangle *A, const rf_triangle *B, double rho, rf_vec3 p)
+{
+    /* p + a nA + b nB with nA.x = dA + rho and nB.x = dB + rho: a 2 x 2 system, solved
+     * exactly (alternate projections onto the two planes converge slowly where the
+     * faces are nearly parallel) */
+    double eA = A->d + rho - rf_v3_dot(A->n, p), eB = B->d + rho - rf_v3_dot(B->n, p);
+    double c = rf_v3_dot(A->n, B->n), den = 1.0 - c * c;
+    return rf_v3_madd(rf_v3_madd(p, (eA - c * eB) / den, A->n), (eB - c * eA) / den, B->n);
+}
+
 /* The rock on face A meets face B gently: a crease when both faces press on it. */
 static int try_crease(rf_motion *m, int32_t a, int32_t b)
 {
@@ -194,11 +204,7 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
     /* both faces touched: the centre lies on both offset planes */
     double s = rf_v3_dot(m->s.v, l);
     m->s.v = rf_v3_scale(l, s);
-    rf_vec3 p = m->s.p;
-    for (int it = 0; it < 3; it++) {
-        p = rf_v3_madd(p, A->d + m->rho - rf_v3_dot(A->n, p), A->n);
-        p = rf_v3_madd(p, B->d + m->rho - rf_v3_dot(B->n, p), B->n);
-    }
+    rf_vec3 p = rf_crease_centre(A, B, m->rho, m->s.p);
     if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * rf_fmax(m->rho, 0.01))
         return -1;
     m->s.p = p;

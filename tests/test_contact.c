@@ -150,3 +150,31 @@ TEST(contact_flight_search_point_matches_brute_force)
     for (int mesh = 0; mesh < 2; mesh++)
         flights_against_brute_force(POINT, 0.0, 300, mesh);
 }
+
+/* A sphere set into a crease lies exactly r above both faces, at the nearest such
+ * point, even where the faces are nearly parallel (a shallow fold, 1 degree). */
+TEST(contact_crease_centre_on_both_offset_planes)
+{
+    const double rho = 0.5;
+    for (int k = 0; k < 3; k++) {
+        double half = (k == 0 ? 0.5 : k == 1 ? 20.0 : 70.0) * M_PI / 180.0;
+        rf_triangle A, B;
+        memset(&A, 0, sizeof A);
+        memset(&B, 0, sizeof B);
+        /* a valley along y: A rises to -x, B to +x, their line at x = 0, z = 2 */
+        A.n = rf_v3(sin(half), 0.0, cos(half));
+        B.n = rf_v3(-sin(half), 0.0, cos(half));
+        A.d = rf_v3_dot(A.n, rf_v3(0, 0, 2));
+        B.d = rf_v3_dot(B.n, rf_v3(0, 0, 2));
+        rf_vec3 p = rf_v3(0.03, 1.0, 2.0 + rho / cos(half) - 0.02);
+        rf_vec3 c = rf_crease_centre(&A, &B, rho, p);
+        ENSURE_MSG(fabs(rf_v3_dot(A.n, c) - A.d - rho) < 1e-12, "fold %d: off A by %g", k,
+                   rf_v3_dot(A.n, c) - A.d - rho);
+        ENSURE_MSG(fabs(rf_v3_dot(B.n, c) - B.d - rho) < 1e-12, "fold %d: off B by %g", k,
+                   rf_v3_dot(B.n, c) - B.d - rho);
+        /* the nearest: moved across the line only (y kept), onto its centre line */
+        ENSURE(c.y == p.y);
+        ENSURE(fabs(c.x) < 1e-12);
+        ENSURE_REL(c.z, 2.0 + rho / cos(half), 1e-12);
+    }
+}
