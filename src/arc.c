@@ -117,6 +117,19 @@ static double bracketed_root(const double *c, int deg, double lo, double hi, dou
     return t;
 }
 
+/* Where P, falling on [lo, hi] from at least `level` to below it, reaches `level`: a
+ * slow crossing of zero that goes on deep is met once it is a touch band deep, where
+ * the caller checks that the contact point is on its feature. */
+static double level_root(const double *c, int deg, double lo, double hi, double level)
+{
+    double s[5] = {0, 0, 0, 0, 0};
+    for (int k = 0; k <= deg; k++)
+        s[k] = c[k];
+    s[0] -= level;
+    double plo = rf_poly_eval(s, deg, lo);
+    return plo <= 0.0 ? lo : bracketed_root(s, deg, lo, hi, plo);
+}
+
 /* Critical points of P (roots of P') strictly inside (t0, t1), ascending; count. */
 static int critical_points(const double *c, int deg, double t0, double t1, double *cp)
 {
@@ -223,17 +236,23 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
     pts[np++] = t1;
     int n = 0;
     double pa = p0;
+    double deep = RF_TOUCH_BAND * tol;
     for (int i = 0; i + 1 < np && n < 3; i++) {
         double a = pts[i], b = pts[i + 1];
         double pb = rf_poly_eval(c, deg, b);
         if (pa > 0.0 && pb <= 0.0) {
             /* falling through 0 after having been clear (above tol); after a smaller
              * rise only when approaching clearly faster than a graze (a hop of a hair:
-             * grazes along a feature must not become contacts at every step) */
+             * grazes along a feature must not become contacts at every step), or when
+             * going on deeper than the touch band however slow the crossing (met
+             * there, where the caller checks that the contact point is on its feature:
+             * the dip may lie far along an edge's line, past the edge's end) */
             double x = pb == 0.0 ? b : bracketed_root(c, deg, a, b, pa);
             double dx = rf_poly_eval(d, deg - 1, x);
             if (dx < -slope_eps && (pa > tol || dx < -100.0 * slope_eps))
                 roots[n++] = x;
+            else if (pb < -deep)
+                roots[n++] = level_root(c, deg, x, b, -deep);
         }
         pa = pb;
     }

@@ -967,7 +967,15 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
                      const dp_stages *st, double h, double guess, double *ye)
 {
     double f0 = event_value(m, kind, ev, fe, c0, y);
-    if (f0 <= 0.0) {
+    /* a contact the search found later in the step, with the rock starting within
+     * reach of that feature and moving out of it: its re-entry, not the start */
+    int reentry = f0 <= 0.0 && kind == EV_CONTACT && guess > 0.0 && guess < h &&
+                  event_rate(m, o, kind, ev, fe, c0, y) > 0.0;
+    if ((f0 <= 0.0 && !reentry) ||
+        (kind == EV_CONTACT && guess == 0.0 && f0 <= m->tol_len &&
+         event_rate(m, o, kind, ev, fe, c0, y) < -RF_APPROACH_EPS)) {
+        /* within reach and not moving out, or touching and approaching at the start
+         * as the search found it */
         memcpy(ye, y, 9 * sizeof *ye);
         return 0.0;
     }
@@ -999,6 +1007,11 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
                 break;
             t = tn;
         }
+    }
+    if (reentry) {
+        /* no bracket from the start: the search's estimate on the step */
+        dp_dense(o, y, y1, st, guess, ye);
+        return guess;
     }
     double te = locate_bracket(m, o, kind, ev, fe, c0, y, y1, st, h, guess);
     if (te > 0.0)

@@ -107,3 +107,20 @@ TEST(arc_quartic_entry_in_a_short_dip)
     double up[5] = {9 + 1e-6, -24, 22, -8, 1};
     ENSURE(rf_poly_entries(up, 4, 0.0, 4.0, 1e-12, 1e-12, roots) == 0);
 }
+
+/* A start a hair above zero (less than the tolerance) with no approach speed, then a
+ * fall far below zero: an entry, though its slope at the root is slow, met once it is a
+ * touch band deep (where the caller checks that the contact point is on its feature).
+ * A graze of the same start that dips less than the touch band and comes back is not. */
+TEST(arc_quartic_entry_after_a_hair_going_deep)
+{
+    const double tol = 1e-9, slope = 1e-7;
+    double roots[3];
+    /* 5e-10 - t^3: falls to -1e-3 by t = 0.1 */
+    double deep[5] = {5e-10, 0, 0, -1, 0};
+    ENSURE(rf_poly_entries(deep, 4, 0.0, 0.1, tol, slope, roots) == 1);
+    ENSURE_REL(roots[0], cbrt(5e-10 + RF_TOUCH_BAND * tol), 1e-9);
+    /* 5e-10 - 1e-3 t^2 + 250 t^4: its minimum is -5e-10 */
+    double graze[5] = {5e-10, 0, -1e-3, 0, 250};
+    ENSURE(rf_poly_entries(graze, 4, 0.0, 2e-3, tol, slope, roots) == 0);
+}

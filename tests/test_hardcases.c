@@ -636,6 +636,24 @@ TEST(hard_replay_spheres_stay_out)
          * the tolerance from it before it falls into it at a clear approach speed
          * (sank to 0.05 r) */
         {3, 18, 135},
+        /* a flight leaving a face over an edge it touches tangentially, the path then
+         * dipping into that edge: the entry follows a rise smaller than the tolerance
+         * at a slow approach, but goes on deeper than the touch band (sank to 0.12 r
+         * and to 0.06 r) */
+        {3, 35, 290},
+        {10, 3, 225},
+        /* already within reach of a face's plane beyond the touch band (left so by a
+         * rebound in a corner), its contact point on the face, and going deeper: met
+         * at once (sank to 0.24 r) */
+        {5, 26, 40},
+        /* sliding down one wall of a narrow gully, touching a ridge of the other wall
+         * at the start: the step's event locator took the touch for a near miss and
+         * dropped the face met later in the same step with it (sank to the centre) */
+        {10, 46, 40},
+        /* an 80 t sphere hopping on an edge, each hop smaller, until the rise of one
+         * stays within the tolerance: it then fell 13 mm into the edge unseen (0.99 r),
+         * the path never having been clear of it */
+        {10, 26, 130},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
@@ -647,6 +665,15 @@ TEST(hard_replay_spheres_stay_out)
 TEST(hard_replay_rock_creeping_in_a_pocket_rests)
 {
     replay_sphere_rests(2, 8, 97);
+}
+
+/* A sphere rolling fast over a convex edge flies off it on a path that dips back into
+ * the edge's reach, but only far along the edge's line beyond its end.  The dip was
+ * taken for a contact at the start: the sphere rolled back onto the face, flew off
+ * again, and so on, 65 000 events until the event cap; it now flies on, and rests. */
+TEST(hard_replay_flight_off_an_edge_past_its_end_goes_on)
+{
+    replay_sphere_rests(16, 51, 25);
 }
 
 
