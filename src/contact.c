@@ -411,7 +411,8 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
     double f0 = f[0] + t0 * (f[1] + t0 * f[2]);
     double t_face;
     int has = face_entry(f, t0, t1, tol, &t_face);
-    if (!has && f0 < -RF_TOUCH_BAND * tol && f0 > -0.5 * rho && f[1] + 2.0 * f[2] * t0 < -RF_APPROACH_EPS)
+    if (!has && f0 < -RF_TOUCH_BAND * tol && f0 > -0.5 * rho &&
+        f[1] + 2.0 * f[2] * t0 < -RF_APPROACH_EPS)
         has = 1, t_face = t0; /* already within reach and going deeper: met at once */
     if (has) {
         rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t_face), -rho, T->n);

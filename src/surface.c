@@ -967,19 +967,22 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
                      const dp_stages *st, double h, double guess, double *ye)
 {
     double f0 = event_value(m, kind, ev, fe, c0, y);
-    /* a contact the search found later in the step, with the rock starting within
-     * reach of that feature and moving out of it: its re-entry, not the start */
-    int reentry = f0 <= 0.0 && kind == EV_CONTACT && guess > 0.0 && guess < h &&
-                  event_rate(m, o, kind, ev, fe, c0, y) > 0.0;
-    if ((f0 <= 0.0 && !reentry) ||
-        (kind == EV_CONTACT && guess == 0.0 && f0 <= m->tol_len &&
-         event_rate(m, o, kind, ev, fe, c0, y) < -RF_APPROACH_EPS)) {
-        /* within reach and not moving out, or touching and approaching at the start
-         * as the search found it */
+    int start = f0 <= 0.0, reentry = 0;
+    int found_later = guess > 0.0 && guess < h;
+    if (kind == EV_CONTACT && (guess == 0.0 ? f0 <= m->tol_len : start && found_later)) {
+        double rate = event_rate(m, o, kind, ev, fe, c0, y);
+        if (guess == 0.0)
+            start = start || rate < -RF_APPROACH_EPS; /* touching and approaching, as the
+                                                         search found it at the start */
+        else
+            reentry = rate > 0.0; /* found later, the rock moving out of its reach: the
+                                     re-entry, not the start */
+    }
+    if (start && !reentry) {
         memcpy(ye, y, 9 * sizeof *ye);
         return 0.0;
     }
-    if (guess > 0 && guess < h) {
+    if (found_later) {
         double lo = 0.0, hi = -1.0, t = guess;
         double tmp[9];
         for (int it = 0; it < 8; it++) {
