@@ -14,6 +14,11 @@ int rf_query_db_error(sqlite3 *db, rf_error *err)
     return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "%s", sqlite3_errmsg(db));
 }
 
+double rf_query_column_real(sqlite3_stmt *st, int i)
+{
+    return sqlite3_column_type(st, i) == SQLITE_NULL ? NAN : sqlite3_column_double(st, i);
+}
+
 int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err)
 {
     const char *file = sqlite3_db_filename(db, "main");
@@ -41,7 +46,7 @@ int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err)
     return status;
 }
 
-int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size_t *n,
+int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing_row **rows, size_t *n,
                        rf_error *err)
 {
     *rows = NULL;
@@ -63,9 +68,9 @@ int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size
             *n = 0;
             return rf_error_set(err, "", 0, 0, "out of memory");
         }
-        rf_crossing *x = &(*rows)[(*n)++];
-        x->energy = sqlite3_column_type(st, 0) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 0);
-        x->height = sqlite3_column_type(st, 1) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 1);
+        rf_crossing_row *x = &(*rows)[(*n)++];
+        x->energy = rf_query_column_real(st, 0);
+        x->height = rf_query_column_real(st, 1);
         x->outcome = rf_outcome_from_name((const char *)sqlite3_column_text(st, 2));
     }
     sqlite3_finalize(st);
@@ -79,7 +84,7 @@ int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size
 
 /* The values of one field of the rows that have one (NULL in the database is NAN
  * here, e.g. a passing height over a hole), as floats in v. */
-static size_t gather(const rf_crossing *x, size_t n, int height, float *v)
+static size_t gather(const rf_crossing_row *x, size_t n, int height, float *v)
 {
     size_t m = 0;
     for (size_t i = 0; i < n; i++) {
@@ -90,7 +95,7 @@ static size_t gather(const rf_crossing *x, size_t n, int height, float *v)
     return m;
 }
 
-int rf_measure_stats_of(const rf_crossing *x, size_t n, rf_measure_stats *s, rf_error *err)
+int rf_measure_stats_of(const rf_crossing_row *x, size_t n, rf_measure_stats *s, rf_error *err)
 {
     memset(s, 0, sizeof *s);
     s->n = (long)n;
@@ -118,7 +123,7 @@ int rf_measure_stats_of(const rf_crossing *x, size_t n, rf_measure_stats *s, rf_
 
 int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *s, rf_error *err)
 {
-    rf_crossing *x;
+    rf_crossing_row *x;
     size_t n;
     if (rf_query_crossings(db, measure_id, &x, &n, err))
         return -1;

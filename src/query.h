@@ -12,6 +12,8 @@
 
 /* Sets err to the database's last error (file: the database); returns -1. */
 int rf_query_db_error(sqlite3 *db, rf_error *err);
+/* Column i of the current row as a double; NAN where it holds NULL. */
+double rf_query_column_real(sqlite3_stmt *st, int i);
 
 /* The run to read: `wanted` when > 0 (it must exist), else the newest complete run. */
 int rf_query_resolve_run(sqlite3 *db, long wanted, int64_t *run, rf_error *err);
@@ -26,16 +28,16 @@ typedef struct rf_measure_stats {
 
 /* One interception of a measure as the statistics need it; NAN where the database
  * holds NULL. */
-typedef struct rf_crossing {
+typedef struct rf_crossing_row {
     double energy, height; /* energy_kj, passing_height_m */
     rf_outcome outcome;
-} rf_crossing;
+} rf_crossing_row;
 
 /* Every interception of the measure, in id order, into a malloc'd array. */
-int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing **rows, size_t *n,
+int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing_row **rows, size_t *n,
                        rf_error *err);
 /* The statistics of these rows (the percentiles over the rows that have the value). */
-int rf_measure_stats_of(const rf_crossing *x, size_t n, rf_measure_stats *st, rf_error *err);
+int rf_measure_stats_of(const rf_crossing_row *x, size_t n, rf_measure_stats *st, rf_error *err);
 /* Both: one read of the measure's interceptions. */
 int rf_query_measure_stats(sqlite3 *db, int64_t measure_id, rf_measure_stats *st,
                            rf_error *err);

@@ -121,11 +121,6 @@ static sqlite3_stmt *prep(report *r, const char *sql, int64_t id)
     return st;
 }
 
-static double col_real(sqlite3_stmt *st, int i)
-{
-    return sqlite3_column_type(st, i) == SQLITE_NULL ? NAN : sqlite3_column_double(st, i);
-}
-
 static char *col_dup(sqlite3_stmt *st, int i)
 {
     const char *t = (const char *)sqlite3_column_text(st, i);
@@ -143,7 +138,7 @@ static double query_real(report *r, const char *sql, int64_t id)
     sqlite3_stmt *st = prep(r, sql, id);
     double v = NAN;
     if (st && sqlite3_step(st) == SQLITE_ROW)
-        v = col_real(st, 0);
+        v = rf_query_column_real(st, 0);
     sqlite3_finalize(st);
     return v;
 }
@@ -296,8 +291,9 @@ static int release_row(report *r, sqlite3_stmt *st, void *ctx)
     if (!e)
         return -1;
     *e = (rep_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
-                       .rock = col_dup(st, 2), .x = col_real(st, 3), .y = col_real(st, 4),
-                       .z = col_real(st, 5), .mass = col_real(st, 6),
+                       .rock = col_dup(st, 2), .x = rf_query_column_real(st, 3),
+                       .y = rf_query_column_real(st, 4), .z = rf_query_column_real(st, 5),
+                       .mass = rf_query_column_real(st, 6),
                        .action_level = sqlite3_column_int(st, 7),
                        .count = (long)sqlite3_column_int64(st, 8)};
     return e->name && e->rock ? 0 : oom(r);
@@ -327,8 +323,8 @@ static int vertex_row(report *r, sqlite3_stmt *st, void *ctx)
     double *xy = next_elem(r, ctx);
     if (!xy)
         return -1;
-    xy[0] = col_real(st, 0);
-    xy[1] = col_real(st, 1);
+    xy[0] = rf_query_column_real(st, 0);
+    xy[1] = rf_query_column_real(st, 1);
     return 0;
 }
 
@@ -349,9 +345,10 @@ static int measure_row(report *r, sqlite3_stmt *st, void *ctx)
     *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
                        .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
                        .kind = col_dup(st, 3), .importance = col_dup(st, 4),
-                       .height = col_real(st, 5), .mel = col_real(st, 6), .sel = col_real(st, 7)};
+                       .height = rf_query_column_real(st, 5), .mel = rf_query_column_real(st, 6),
+                       .sel = rf_query_column_real(st, 7)};
     for (int k = 0; k < RF_N_LIMIT_STATES; k++)
-        m->cap[k] = col_real(st, 8 + k);
+        m->cap[k] = rf_query_column_real(st, 8 + k);
     return m->name && m->kind && m->importance ? 0 : oom(r);
 }
 
@@ -442,10 +439,10 @@ static int compute_extent(report *r)
             if (!st)
                 return -1;
             if (sqlite3_step(st) == SQLITE_ROW) {
-                grow(&x0, &x1, col_real(st, 0));
-                grow(&x0, &x1, col_real(st, 1));
-                grow(&y0, &y1, col_real(st, 2));
-                grow(&y0, &y1, col_real(st, 3));
+                grow(&x0, &x1, rf_query_column_real(st, 0));
+                grow(&x0, &x1, rf_query_column_real(st, 1));
+                grow(&y0, &y1, rf_query_column_real(st, 2));
+                grow(&y0, &y1, rf_query_column_real(st, 3));
             }
             sqlite3_finalize(st);
         }
@@ -813,7 +810,7 @@ static int figure_plan(report *r)
     int rc;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
         int64_t tid = sqlite3_column_int64(st, 0);
-        double x = col_real(st, 2), y = col_real(st, 3);
+        double x = rf_query_column_real(st, 2), y = rf_query_column_real(st, 3);
         if (!isfinite(x) || !isfinite(y))
             continue;
         if (tid != cur) {
@@ -852,7 +849,7 @@ static int figure_plan(report *r)
     }
     rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" fill=\"black\" fill-opacity=\"0.55\">\n");
     while (sqlite3_step(st) == SQLITE_ROW) {
-        double x = col_real(st, 0), y = col_real(st, 1);
+        double x = rf_query_column_real(st, 0), y = rf_query_column_real(st, 1);
         if (isfinite(x) && isfinite(y))
             rf_svg_raw(&s, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.8\"/>\n", rf_svg_px(&s, x),
                        rf_svg_py(&s, y));
@@ -895,11 +892,11 @@ static int arrival_row(report *r, sqlite3_stmt *st, void *ctx)
     if (!a)
         return -1;
     a->rel = release_index(r, sqlite3_column_int64(st, 0));
-    a->s = rf_polyline_station(c->m->xy, c->m->n, col_real(st, 1), col_real(st, 2), NULL, NULL,
-                               NULL);
-    a->speed = col_real(st, 3);
-    a->energy = col_real(st, 4);
-    a->zground = col_real(st, 5);
+    a->s = rf_polyline_station(c->m->xy, c->m->n, rf_query_column_real(st, 1),
+                               rf_query_column_real(st, 2), NULL, NULL, NULL);
+    a->speed = rf_query_column_real(st, 3);
+    a->energy = rf_query_column_real(st, 4);
+    a->zground = rf_query_column_real(st, 5);
     grow(&rs->s_min, &rs->s_max, a->s);
     if (isfinite(a->speed)) {
         c->vsum += a->speed;
@@ -1422,12 +1419,12 @@ static int read_hazard_summary(report *r, hazard_summary *h)
     int rc = sqlite3_step(st);
     if (rc == SQLITE_ROW) {
         h->ncells = (long)sqlite3_column_int64(st, 0);
-        h->emax = col_real(st, 1);
-        h->p95max = col_real(st, 2);
+        h->emax = rf_query_column_real(st, 1);
+        h->p95max = rf_query_column_real(st, 2);
         h->p95_over[0] = (long)sqlite3_column_int64(st, 3);
         h->p95_over[1] = (long)sqlite3_column_int64(st, 4);
-        h->step_x = col_real(st, 5);
-        h->step_y = col_real(st, 6);
+        h->step_x = rf_query_column_real(st, 5);
+        h->step_y = rf_query_column_real(st, 6);
     } else {
         db_error(r); /* an aggregate always gives a row */
     }
@@ -1465,7 +1462,8 @@ static int map_cell_row(report *r, sqlite3_stmt *st, void *ctx)
     map_cell *c = next_elem(r, ctx);
     if (!c)
         return -1;
-    *c = (map_cell){col_real(st, 0), col_real(st, 1), col_real(st, 2), col_real(st, 3)};
+    *c = (map_cell){rf_query_column_real(st, 0), rf_query_column_real(st, 1),
+                    rf_query_column_real(st, 2), rf_query_column_real(st, 3)};
     return 0;
 }
 
@@ -1599,7 +1597,7 @@ static size_t capacity_lines(const rep_measure *m, capacity_line *out)
     return n;
 }
 
-static int figure_measure(report *r, const rep_measure *m, const rf_crossing *x, size_t n,
+static int figure_measure(report *r, const rep_measure *m, const rf_crossing_row *x, size_t n,
                           const char *file)
 {
     capacity_line caps[RF_N_LIMIT_STATES + 2];
@@ -1720,8 +1718,8 @@ static int check_cells(report *r, sqlite3_stmt *st, void *ctx)
     FILE *f = c->f;
     int passed = sqlite3_column_int(st, 3);
     td_text(f, (const char *)sqlite3_column_text(st, 0));
-    td_num(f, col_real(st, 1), 3);
-    td_num(f, col_real(st, 2), 3);
+    td_num(f, rf_query_column_real(st, 1), 3);
+    td_num(f, rf_query_column_real(st, 2), 3);
     fprintf(f, "<td class=\"%s\">%s</td>", passed ? "pass" : "fail", passed ? "pass" : "FAIL");
     if (passed)
         (*c->npass)++;
@@ -1746,7 +1744,7 @@ static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, lon
 
 /* A measure's interceptions, read once for its statistics, share and figure. */
 typedef struct measure_crossings {
-    rf_crossing *x;
+    rf_crossing_row *x;
     size_t n;
     rf_measure_stats stats;
     double share; /* % within serviceability, not overtopped; NAN when not defined */
@@ -1762,7 +1760,7 @@ static void free_measure_crossings(measure_crossings *mc, size_t n)
 /* The share of the crossings with an energy within `capacity` that are not
  * overtopped, counted as SQL's avg(energy_kj <= capacity AND outcome <> 'overtopped'):
  * a crossing without an energy counts (as outside) only when overtopped. */
-static double share_within(const rf_crossing *x, size_t n, double capacity)
+static double share_within(const rf_crossing_row *x, size_t n, double capacity)
 {
     long within = 0, counted = 0;
     for (size_t i = 0; i < n; i++) {
@@ -1849,8 +1847,8 @@ static int section_measures(report *r, long *npass, long *nfail)
                                     " rule = 'serviceability_share'",
                                     m->id);
             if (st && sqlite3_step(st) == SQLITE_ROW) {
-                stored = col_real(st, 0);
-                passed = col_real(st, 1);
+                stored = rf_query_column_real(st, 0);
+                passed = rf_query_column_real(st, 1);
             }
             sqlite3_finalize(st);
             if (isfinite(stored)) {
@@ -1961,10 +1959,10 @@ static int end_row(report *r, sqlite3_stmt *st, void *ctx)
     td_text(f, (const char *)sqlite3_column_text(st, 0));
     td_text(f, (const char *)sqlite3_column_text(st, 1));
     fprintf(f, "<td>%lld</td>", (long long)sqlite3_column_int64(st, 2));
-    td_num(f, col_real(st, 3), 1);
-    td_num(f, col_real(st, 4), 1);
-    td_num(f, col_real(st, 5), 0);
-    td_num(f, col_real(st, 6), 0);
+    td_num(f, rf_query_column_real(st, 3), 1);
+    td_num(f, rf_query_column_real(st, 4), 1);
+    td_num(f, rf_query_column_real(st, 5), 0);
+    td_num(f, rf_query_column_real(st, 6), 0);
     fputs("</tr>\n", f);
     return 0;
 }

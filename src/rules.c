@@ -129,7 +129,7 @@ static int read_required(loader *L, rf_ynode *root)
         if (read_mapping(L, table, levels[level], "'required_state'", what, rf_importance_names,
                          what, &row))
             return -1;
-        for (int imp = 0; imp < 3; imp++) {
+        for (int imp = 0; imp < RF_N_IMPORTANCES; imp++) {
             rf_ynode *cell;
             if (rf_ydoc_require(&L->d, row, rf_importance_names[imp], what, &cell, L->err) ||
                 read_state(L, cell, rf_importance_names[imp], &L->r->required[level][imp]))
@@ -431,11 +431,6 @@ static int prepare(sqlite3 *db, const char *sql, sqlite3_stmt **st, rf_error *er
     return 0;
 }
 
-static double column_real(sqlite3_stmt *st, int col)
-{
-    return sqlite3_column_type(st, col) == SQLITE_NULL ? NAN : sqlite3_column_double(st, col);
-}
-
 /* The run's project text as a document in d; NULL when there is none or it does not
  * load. */
 static rf_ydoc *project_doc(const char *yaml, rf_ydoc *d)
@@ -559,9 +554,10 @@ static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, m
                             "measure '%s' has importance '%s'; expected most_important, "
                             "important or usual",
                             m->name, importance ? importance : "NULL");
-    double mel = column_real(st, 4), sel = column_real(st, 5), project[RF_N_LIMIT_STATES];
+    double mel = rf_query_column_real(st, 4), sel = rf_query_column_real(st, 5);
+    double project[RF_N_LIMIT_STATES];
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)
-        project[s] = column_real(st, 6 + s);
+        project[s] = rf_query_column_real(st, 6 + s);
     /* The project loader fills sel = MEL / 3 when the project gives none; the rule
      * file's sel_default decides instead whenever the project text shows no sel. */
     if (m->kind == RF_BARRIER && r->sel_divisor > 0 && project_gives_sel(doc, m->name) == 0)
@@ -593,7 +589,7 @@ static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m
             break;
         }
         rf_outcome outcome = rf_outcome_from_name((const char *)sqlite3_column_text(st, 2));
-        int reached = rf_rules_reached(r, m->capacity, column_real(st, 1), outcome);
+        int reached = rf_rules_reached(r, m->capacity, rf_query_column_real(st, 1), outcome);
         int required = rf_rules_required(r, level, (rf_importance)m->importance);
         int ok = rf_rules_meets(r, reached, required);
         (*n)++;
