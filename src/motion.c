@@ -97,11 +97,13 @@ void rf_workspace_free(rf_workspace *ws)
 
 double rf_motion_energy(const rf_motion *m) { return rf_kinetic_energy(m->body, m->s.v, m->s.w); }
 
-static void note_energy(rf_motion *m)
+/* The kinetic energy now (kJ), kept as max_energy_kj when it is the largest. */
+static double note_energy(rf_motion *m)
 {
     double e = rf_motion_energy(m) / 1000.0;
     if (e > m->rec->max_energy_kj)
         m->rec->max_energy_kj = e;
+    return e;
 }
 
 void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
@@ -142,11 +144,10 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
 
 void rf_motion_event(rf_motion *m)
 {
-    note_energy(m);
+    double e = note_energy(m);
     const rf_sink *sk = m->sink;
     if (!sk)
         return;
-    double e = rf_motion_energy(m) / 1000.0;
     if (sk->path_point) {
         rf_path_point pt = {m->s.t, m->s.p, rf_v3_norm(m->s.v), e};
         sk->path_point(sk->ctx, &pt);

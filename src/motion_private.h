@@ -269,15 +269,6 @@ void rf_column_edges(const rf_triangle *T, rf_face_edges *fe);
  * velocity, or the acceleration acc from rest; -1 when there is none. */
 int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_edges *fe,
                       rf_vec3 q, rf_vec3 acc);
-/* How a rock that reaches the edge of its face meets the next face `to` (not coplanar
- * with it): it rises into it (an impact; in centre mode also when the centre is below
- * its offset plane), the path goes on along it, or it falls away (in centre mode also
- * when the centre is above its offset plane).  Along the edge the acceleration acc
- * decides.  Shared by both engines. */
-typedef enum rf_next_kind { RF_NEXT_IMPACT, RF_NEXT_ON, RF_NEXT_AWAY } rf_next_kind;
-rf_next_kind rf_next_face(const rf_motion *m, int32_t to, rf_vec3 acc);
-/* The impact on the next face at a concave edge (the point model is put on it). */
-void rf_impact_on_face(rf_motion *m, int32_t to);
 /* The contact point of support `slot` crossed edge `edge` of its face: onto the next
  * face, an impact on it, a flight, or exited. */
 rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
@@ -291,9 +282,6 @@ void rf_surface_enter(rf_motion *m, int32_t tri);
  * the slip vanishes; the coefficients are drawn when fresh, after a flight or when the
  * zone changes. */
 void rf_support_single(rf_motion *m, int32_t tri, int fresh);
-/* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
- * contact search. */
-void rf_go_flight(rf_motion *m, int32_t exclude);
 /* The surface law on a face with normal n for the rock's current mode (point, slipping
  * or rolling sphere; coefficients of m->sup): acceleration of the centre, and in *du
  * the rate of the slip u of a slipping sphere. */

@@ -244,7 +244,9 @@ static int pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
     return d >= m->rho - 1e-6 * m->rho - m->tol_len;
 }
 
-void rf_go_flight(rf_motion *m, int32_t exclude)
+/* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
+ * contact search. */
+static void go_flight(rf_motion *m, int32_t exclude)
 {
     m->sup.n = 0;
     m->flight_ex.n = exclude >= 0 ? 1 : 0;
@@ -262,7 +264,7 @@ static void hop(rf_motion *m, rf_vec3 u)
     double vtl = rf_v3_norm(vt);
     double st = sqrt(rf_fmax(0.0, speed * speed - vn * vn));
     m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
-    rf_go_flight(m, -1);
+    go_flight(m, -1);
 }
 
 /* An impact with approach speed vin (m/s; kinetic energy e0 J before it) counts and is
@@ -349,7 +351,7 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     double rebound = rf_impact(m, c->tri, n);
     count_impact(m, e0, -vn);
     if (rebound >= m->v_stay) {
-        rf_go_flight(m, -1);
+        go_flight(m, -1);
         return;
     }
     m->s.v = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, n), n);
@@ -439,7 +441,14 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
     return best < T ? best : T;
 }
 
-rf_next_kind rf_next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
+/* How a rock that reaches the edge of its face meets the next face `to` (not coplanar
+ * with it): it rises into it (an impact; in centre mode also when the centre is below
+ * its offset plane), the path goes on along it, or it falls away (in centre mode also
+ * when the centre is above its offset plane).  Along the edge the acceleration acc
+ * decides. */
+typedef enum next_kind { RF_NEXT_IMPACT, RF_NEXT_ON, RF_NEXT_AWAY } next_kind;
+
+static next_kind next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
 {
     const rf_triangle *Tn = &m->terrain->tri[to];
     double vn = rf_v3_dot(m->s.v, Tn->n);
@@ -462,7 +471,8 @@ rf_next_kind rf_next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
     return vn <= RF_APPROACH_EPS ? RF_NEXT_ON : RF_NEXT_AWAY;
 }
 
-void rf_impact_on_face(rf_motion *m, int32_t to)
+/* The impact on the next face at a concave edge (the point model is put on it). */
+static void impact_on_face(rf_motion *m, int32_t to)
 {
     const rf_triangle *Tn = &m->terrain->tri[to];
     rf_contact c;
@@ -517,7 +527,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
             m->sup.left = from;
             return RF_SURF_CONTINUE;
         }
-        rf_go_flight(m, from);
+        go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
     if (m->sup.n == 2) {
@@ -543,9 +553,9 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         m->sup.left = from;
         return RF_SURF_CONTINUE;
     }
-    switch (rf_next_face(m, to, acc)) {
+    switch (next_face(m, to, acc)) {
     case RF_NEXT_IMPACT:
-        rf_impact_on_face(m, to);
+        impact_on_face(m, to);
         return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
     case RF_NEXT_ON:
         rf_support_single(m, to, 0); /* tangent: the path continues on the next face */
@@ -556,13 +566,13 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
     }
     /* convex: the next face falls away */
     if (m->point || m->centre) {
-        rf_go_flight(m, from);
+        go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
     rf_vec3 e = rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, edge + 1), rf_tri_vertex(F, edge)));
     rf_vec3 vp = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, e), e);
     if (rf_v3_norm2(vp) >= m->rho * G_ACC * F->n.z) {
-        rf_go_flight(m, from); /* fast enough to fly off the edge */
+        go_flight(m, from); /* fast enough to fly off the edge */
         return RF_SURF_FLIGHT;
     }
     if (!pivot_clear(m, q, to)) {
@@ -889,13 +899,8 @@ static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_eve
             return rf_v3_dot(T->n, v);
         rf_vec3 p = rf_v3_add(c0, y_c(y));
         rf_vec3 q = rf_tri_vertex(T, c->index);
-        if (c->kind == RF_FEAT_EDGE) {
-            rf_vec3 e = rf_v3_sub(rf_tri_vertex(T, c->index + 1), q);
-            double l2 = rf_v3_norm2(e);
-            double sp = l2 > 0 ? rf_v3_dot(rf_v3_sub(p, q), e) / l2 : 0.0;
-            sp = sp < 0 ? 0 : (sp > 1 ? 1 : sp);
-            q = rf_v3_madd(q, sp, e);
-        }
+        if (c->kind == RF_FEAT_EDGE)
+            q = rf_v3_closest_on_segment(q, rf_tri_vertex(T, c->index + 1), p);
         rf_vec3 d = rf_v3_sub(p, q);
         double dl = rf_v3_norm(d);
         return dl > 0 ? rf_v3_dot(d, v) / dl : 0.0;
