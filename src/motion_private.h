@@ -4,6 +4,7 @@
  *   contact.c   earliest contact of the rock with the terrain along an arc
  *   impact.c    the impact law (Eq. 8) and the transfers of a slow rock between faces
  *   surface.c   rolling and sliding on one face or in a crease (Eq. 1-2, 5/7 law)
+ *   hodograph.c sliding and rolling off the fall line, in closed form
  *   motion.c    the event loop, records and the public functions of sim.h
  *   fixed_step.c  the fixed-step baseline engine
  *
@@ -39,8 +40,10 @@ static inline rf_vec3 rf_in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -
 #define RF_STAY_HEIGHT 1e-3        /* a rebound lower than this (m) stays on the surface */
 #define RF_COPLANAR_EPS 1e-9       /* faces whose normals differ less are one plane */
 #define RF_SLIP_EPS 1e-6           /* slip speed (m/s) below which a sphere rolls */
-#define RF_ODE_TOL 1e-9            /* error per step of the in-plane integrator */
-#define RF_ODE_MAX_STEPS 100000    /* steps of one integrated segment */
+#define RF_PATH_DEV 1e-6           /* (m) a surface step's path departs from its parabola
+                                      by about this much at most */
+#define RF_PATH_MAX_DT 0.05        /* (s) longest step of a surface segment */
+#define RF_PATH_MAX_STEPS 100000   /* steps of one surface segment */
 #define RF_SPEED_EPS 1e-6          /* speeds below this (m/s) on a face count as rest */
 #define RF_MAX_EVENTS 200000       /* a trajectory ends (max_time) after this many events */
 #define RF_STALL_EVENTS 16         /* events without progress in time before a rescue */
@@ -60,6 +63,28 @@ static inline rf_vec3 rf_arc_pos(const rf_arc *c, double t)
     return rf_v3_add(c->p, rf_v3_add(rf_v3_scale(c->v, t), rf_v3_scale(c->a, 0.5 * t * t)));
 }
 static inline rf_vec3 rf_arc_vel(const rf_arc *c, double t) { return rf_v3_madd(c->v, t, c->a); }
+
+/* ---- the in-plane laws off the fall line (hodograph.c) -------------------------
+ * w' = A e1 - B w^ on a face of normal n with fall line e1, solved in closed form in a
+ * parameter lambda >= 0 that grows with time (lambda = INFINITY: the end, w = 0, when
+ * B > A). */
+typedef struct rf_hodograph {
+    rf_vec3 e1, e2;    /* the fall line; in-plane across it, on the side of w0 */
+    double A, k;       /* k = B / A */
+    double P, Q, R;    /* |w0| + w0.e1, |w0| - w0.e1, w0.e2 */
+} rf_hodograph;
+
+/* w0 in the plane of n, not along e1; A > 0, B >= 0. */
+void rf_hodograph_init(rf_hodograph *h, rf_vec3 w0, rf_vec3 n, rf_vec3 e1, double A, double B);
+/* Time at lambda, and the speed |w| there when speed is not NULL. */
+double rf_hodograph_time(const rf_hodograph *h, double lam, double *speed);
+/* w and x (the integral of w over time from lambda = 0) at lambda; returns its time. */
+double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x);
+/* Time at which w vanishes (B > A), INFINITY when it never does. */
+double rf_hodograph_end(const rf_hodograph *h);
+/* The lambda in [lo, hi] (hi may be INFINITY) at which the time is t, t(lo) <= t <= t(hi),
+ * by Newton's method from guess. */
+double rf_hodograph_lambda(const rf_hodograph *h, double t, double lo, double hi, double guess);
 
 /* Length of the path of an arc over [0, T] (closed form). */
 double rf_arc_length(rf_vec3 v, rf_vec3 a, double T);
@@ -157,7 +182,6 @@ typedef struct rf_motion {
     long rescues;
     rf_vec3 creep_p;   /* where the rock was when it last moved on or was fast */
     int creep;         /* events since */
-    double ode_h;      /* last step size of the in-plane integrator */
     int scene_pending; /* what rf_scene_horizon found: RF_SCENE_NONE, _MEASURE or _TREE */
 
     /* samples */

@@ -10,10 +10,12 @@
  *
  * When the friction direction stays constant (velocity or slip along the fall line,
  * or a level face) the acceleration is constant and every event time is the root of
- * a quadratic.  Otherwise the in-plane equations are integrated with an embedded
- * Runge-Kutta method (Dormand-Prince 5(4)) under error control, and events inside a
- * step are located to ~1e-13 s on the step's continuous extension (no evaluation of
- * the equations).
+ * a quadratic.  Otherwise each law is w' = A e1 - B w^ (e1 the fall line; w the
+ * velocity, or the slip of the slipping sphere), whose solution hodograph.c gives in
+ * closed form.  Such a segment is cut into steps, each short enough that its parabola
+ * (start, start velocity, end) departs from the path by about RF_PATH_DEV at most: the
+ * contact and scene searches run on the parabola, and what they find is located to
+ * ~1e-13 s on the path itself.
  *
  * Events: the contact point leaves the face (over a convex edge: flight or a roll
  * over the edge; a concave edge: impact on the next face; the same plane: carry on),
@@ -752,113 +754,87 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
     return dispatch(m, &ev, a, fe);
 }
 
-/* ---- integrated segments (Dormand-Prince 5(4)) ------------------------------------- */
+/* ---- segments off the fall line (closed form, hodograph.c) ------------------------- */
 
-typedef struct ode {
+/* The path of a segment off the fall line: the state y (centre relative to the start,
+ * v, u) as a function of the hodograph's parameter. */
+typedef struct seg_path {
     const face_dyn *f;
-    int dim; /* 6 (c, v) or 9 (c, v, u) */
-} ode;
+    rf_hodograph h;
+    rf_vec3 v0, u0; /* the slipping sphere: v = v0 + (1 - 1/K) g_t t + (u - u0) / K */
+} seg_path;
 
-static void rhs(const ode *o, const double *y, double *dy)
+static void path_init(seg_path *P, const face_dyn *f, rf_vec3 v0, rf_vec3 u0)
 {
-    const face_dyn *f = o->f;
-    rf_vec3 v = rf_v3(y[3], y[4], y[5]);
-    rf_vec3 dir;
-    dy[0] = y[3], dy[1] = y[4], dy[2] = y[5];
-    if (f->mode == LAW_SLIDE) {
-        rf_vec3 u = rf_v3(y[6], y[7], y[8]);
-        double ul = rf_v3_norm(u);
-        dir = ul > 0 ? rf_v3_scale(u, 1.0 / ul) : f->e1;
-        rf_vec3 du = law_slip_rate(f, dir);
-        dy[6] = du.x, dy[7] = du.y, dy[8] = du.z;
-    } else {
-        double vl = rf_v3_norm(v);
-        dir = vl > 0 ? rf_v3_scale(v, 1.0 / vl) : f->e1;
-    }
-    rf_vec3 a = law_accel(f, dir);
-    dy[3] = a.x, dy[4] = a.y, dy[5] = a.z;
+    P->f = f, P->v0 = v0, P->u0 = u0;
+    if (f->mode == LAW_SLIDE)
+        rf_hodograph_init(&P->h, u0, f->n, f->e1, f->G, f->K * f->mu * f->gn);
+    else
+        rf_hodograph_init(&P->h, v0, f->n, f->e1, f->k * f->G, f->k * f->c * f->gn);
 }
 
-/* The stages of a step, for its continuous extension. */
-typedef struct dp_stages {
-    double k[7][9];
-    double h;
-} dp_stages;
-
-/* One Dormand-Prince step of size h; returns the scaled error norm (<= 1 accepts).
- * Its stages are left in st for dp_dense. */
-static double dp_step(const ode *o, const double *y, double h, double *out, dp_stages *st)
+static void y_set(double *y, rf_vec3 c, rf_vec3 v, rf_vec3 u)
 {
-    static const double c21 = 1.0 / 5, c31 = 3.0 / 40, c32 = 9.0 / 40, c41 = 44.0 / 45,
-                        c42 = -56.0 / 15, c43 = 32.0 / 9, c51 = 19372.0 / 6561,
-                        c52 = -25360.0 / 2187, c53 = 64448.0 / 6561, c54 = -212.0 / 729,
-                        c61 = 9017.0 / 3168, c62 = -355.0 / 33, c63 = 46732.0 / 5247,
-                        c64 = 49.0 / 176, c65 = -5103.0 / 18656, b1 = 35.0 / 384,
-                        b3 = 500.0 / 1113, b4 = 125.0 / 192, b5 = -2187.0 / 6784,
-                        b6 = 11.0 / 84, e1 = 71.0 / 57600, e3 = -71.0 / 16695,
-                        e4 = 71.0 / 1920, e5 = -17253.0 / 339200, e6 = 22.0 / 525,
-                        e7 = -1.0 / 40;
-    const int n = o->dim;
-    double *k1 = st->k[0], *k2 = st->k[1], *k3 = st->k[2], *k4 = st->k[3], *k5 = st->k[4],
-           *k6 = st->k[5], *k7 = st->k[6], tmp[9];
-    st->h = h;
-    for (int i = n; i < 9; i++)
-        out[i] = tmp[i] = y[i];
-    rhs(o, y, k1);
-    for (int i = 0; i < n; i++)
-        tmp[i] = y[i] + h * c21 * k1[i];
-    rhs(o, tmp, k2);
-    for (int i = 0; i < n; i++)
-        tmp[i] = y[i] + h * (c31 * k1[i] + c32 * k2[i]);
-    rhs(o, tmp, k3);
-    for (int i = 0; i < n; i++)
-        tmp[i] = y[i] + h * (c41 * k1[i] + c42 * k2[i] + c43 * k3[i]);
-    rhs(o, tmp, k4);
-    for (int i = 0; i < n; i++)
-        tmp[i] = y[i] + h * (c51 * k1[i] + c52 * k2[i] + c53 * k3[i] + c54 * k4[i]);
-    rhs(o, tmp, k5);
-    for (int i = 0; i < n; i++)
-        tmp[i] = y[i] + h * (c61 * k1[i] + c62 * k2[i] + c63 * k3[i] + c64 * k4[i] + c65 * k5[i]);
-    rhs(o, tmp, k6);
-    for (int i = 0; i < n; i++)
-        out[i] = y[i] + h * (b1 * k1[i] + b3 * k3[i] + b4 * k4[i] + b5 * k5[i] + b6 * k6[i]);
-    rhs(o, out, k7);
-    double err = 0.0;
-    for (int i = 0; i < n; i++) {
-        double ei = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
-        double sc = RF_ODE_TOL * (1.0 + rf_fmax(fabs(y[i]), fabs(out[i])));
-        double r = fabs(ei) / sc;
-        if (r > err)
-            err = r;
-    }
-    return err;
+    y[0] = c.x, y[1] = c.y, y[2] = c.z, y[3] = v.x, y[4] = v.y, y[5] = v.z;
+    y[6] = u.x, y[7] = u.y, y[8] = u.z;
 }
-
-/* The state at time t in [0, h] of the step of size h from y to y1 with stages st:
- * the method's continuous extension (4th order; Hairer, Norsett and Wanner, dopri5),
- * which costs no evaluation of the equations.  Events inside a step are located on it. */
-static void dp_dense(const ode *o, const double *y, const double *y1, const dp_stages *st,
-                     double t, double *out)
-{
-    static const double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
-                        d4 = -10690763975.0 / 1880347072.0, d5 = 701980252875.0 / 199316789632.0,
-                        d6 = -1453857185.0 / 822651844.0, d7 = 69997945.0 / 29380423.0;
-    double h = st->h, th = h > 0 ? t / h : 0.0, th1 = 1.0 - th;
-    for (int i = 0; i < 9; i++)
-        out[i] = y[i];
-    for (int i = 0; i < o->dim; i++) {
-        double r2 = y1[i] - y[i];
-        double r3 = h * st->k[0][i] - r2;
-        double r4 = r2 - h * st->k[6][i] - r3;
-        double r5 = h * (d1 * st->k[0][i] + d3 * st->k[2][i] + d4 * st->k[3][i] +
-                         d5 * st->k[4][i] + d6 * st->k[5][i] + d7 * st->k[6][i]);
-        out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)));
-    }
-}
-
 static rf_vec3 y_c(const double *y) { return rf_v3(y[0], y[1], y[2]); }
 static rf_vec3 y_v(const double *y) { return rf_v3(y[3], y[4], y[5]); }
 static rf_vec3 y_u(const double *y) { return rf_v3(y[6], y[7], y[8]); }
+
+/* The state at parameter lam in y; returns its time from the segment's start. */
+static double path_at(const seg_path *P, double lam, double *y)
+{
+    const face_dyn *f = P->f;
+    rf_vec3 w, x;
+    double t = rf_hodograph_at(&P->h, lam, &w, &x);
+    if (f->mode != LAW_SLIDE) {
+        y_set(y, x, w, rf_v3(0, 0, 0));
+        return t;
+    }
+    double b = 1.0 - 1.0 / f->K;
+    rf_vec3 v = rf_v3_add(rf_v3_madd(P->v0, b * t, f->gt), rf_v3_scale(rf_v3_sub(w, P->u0), 1.0 / f->K));
+    rf_vec3 c = rf_v3_add(rf_v3_madd(rf_v3_scale(P->v0, t), 0.5 * b * t * t, f->gt),
+                          rf_v3_scale(rf_v3_madd(x, -t, P->u0), 1.0 / f->K));
+    y_set(y, c, v, w);
+    return t;
+}
+
+/* The parameter step from a state where the hodograph's vector is w: the path departs
+ * from the step's parabola by at most about RF_PATH_DEV (the jerk B A sin(psi) / |w|
+ * times h^3 / 40, h = dlambda |w| / A) and the step lasts about RF_PATH_MAX_DT at most.
+ * |w| falls with lambda for k >= 1; for k < 1 the step is at most 1 / (1 - k), over
+ * which |w| grows by a factor e at most, so that the estimate of its length holds. */
+static double path_step(const seg_path *P, rf_vec3 w)
+{
+    const rf_hodograph *h = &P->h;
+    double wl = rf_v3_norm(w);
+    double dl = RF_PATH_MAX_DT * h->A / wl;
+    if (h->k < 1.0)
+        dl = rf_fmin(dl, 1.0 / (1.0 - h->k));
+    double jerk = h->k * h->A * fabs(rf_v3_dot(w, h->e2)) * wl;
+    if (jerk > 0)
+        dl = rf_fmin(dl, cbrt(40.0 * RF_PATH_DEV * h->A * h->A / jerk));
+    return dl;
+}
+
+/* One step of a segment: parameters la to lb, starting ta after the segment's start and
+ * lasting h; lg is the parameter last asked for in it. */
+typedef struct seg_step {
+    const seg_path *p;
+    double la, lb, ta, h, lg;
+} seg_step;
+
+/* The state at time tau in [0, h] of the step. */
+static void step_at(seg_step *s, double tau, double *y)
+{
+    double lam = s->la;
+    if (tau >= s->h)
+        lam = s->lb;
+    else if (tau > 0.0)
+        lam = s->lg = rf_hodograph_lambda(&s->p->h, s->ta + tau, s->la, s->lb, s->lg);
+    path_at(s->p, lam, y);
+}
 
 /* Scalar event function at a state (relative centre c + c0). */
 static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const rf_face_edges *fe,
@@ -879,7 +855,7 @@ static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const
 }
 
 /* Rate of change of the event function at a state (relative centre c + c0). */
-static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
+static double event_rate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_event *ev,
                          const rf_face_edges *fe, rf_vec3 c0, const double *y)
 {
     rf_vec3 v = y_v(y);
@@ -887,10 +863,9 @@ static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_eve
     case EV_EXIT:
         return rf_v3_dot(fe->m[ev->edge], v);
     case EV_REST:
-    case EV_ZERO: {
-        double dy[9];
-        rhs(o, y, dy);
-        return 2.0 * (y[3] * dy[3] + y[4] * dy[4] + y[5] * dy[5]);
+    case EV_ZERO: { /* the point mass and the rolling sphere */
+        double vl = rf_v3_norm(v);
+        return vl > 0 ? 2.0 * rf_v3_dot(v, law_accel(f, rf_v3_scale(v, 1.0 / vl))) : 0.0;
     }
     case EV_CONTACT: {
         const rf_contact *c = &ev->con;
@@ -910,13 +885,14 @@ static double event_rate(rf_motion *m, const ode *o, ev_kind kind, const seg_eve
     }
 }
 
-/* Time in (0, h] where the event function crosses zero on the step from y to y1, on
- * its continuous extension (regula falsi, Illinois); -1 when it does not (the step's
+/* Time in (0, h] where the event function crosses zero on the step from y, on
+ * the closed-form path (regula falsi, Illinois); -1 when it does not (the step's
  * parabola was only close). */
-static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                             const rf_face_edges *fe, rf_vec3 c0, const double *y,
-                             const double *y1, const dp_stages *st, double h, double guess)
+static double locate_bracket(rf_motion *m, ev_kind kind, const seg_event *ev,
+                             const rf_face_edges *fe, rf_vec3 c0, seg_step *st,
+                             const double *y, double guess)
 {
+    double h = st->h;
     double tmp[9];
     double lo = 0.0, hi = h;
     double flo = event_value(m, kind, ev, fe, c0, y);
@@ -926,12 +902,12 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
         hi = rf_fmin(h, guess + 1e-6 * h + 1e-12);
-        dp_dense(o, y, y1, st, hi, tmp);
+        step_at(st, hi, tmp);
         fhi = event_value(m, kind, ev, fe, c0, tmp);
     }
     if (fhi > 0.0) {
         hi = h;
-        dp_dense(o, y, y1, st, h, tmp);
+        step_at(st, h, tmp);
         fhi = event_value(m, kind, ev, fe, c0, tmp);
     }
     if (fhi > 0.0)
@@ -939,7 +915,7 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
     double t = (guess > lo && guess < hi) ? guess : lo + (hi - lo) * flo / (flo - fhi);
     int side = 0;
     for (int it = 0; it < 60 && hi - lo > RF_TIME_TOL; it++) {
-        dp_dense(o, y, y1, st, t, tmp);
+        step_at(st, t, tmp);
         double ft = event_value(m, kind, ev, fe, c0, tmp);
         if (ft > 0) {
             lo = t, flo = ft;
@@ -961,21 +937,22 @@ static double locate_bracket(rf_motion *m, const ode *o, ev_kind kind, const seg
     return hi; /* the event has happened at hi */
 }
 
-/* Time in [0, h] where the event function crosses zero on the integrated path, and in
- * ye the integrated state there; -1 when it does not cross (the step's parabola was
- * only close).  Newton's method on the step's continuous extension from the parabola's estimate
+/* Time in [0, h] where the event function crosses zero on the closed-form path, and in
+ * ye the state there; -1 when it does not cross (the step's parabola was
+ * only close).  Newton's method on the closed-form path from the parabola's estimate
  * (the event function's rate is known at every state): the time returned is where the
  * event has happened, within RF_TIME_TOL after the crossing; a bracketing regula falsi
  * when Newton's method leaves the bracket. */
-static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *ev,
-                     const rf_face_edges *fe, rf_vec3 c0, const double *y, const double *y1,
-                     const dp_stages *st, double h, double guess, double *ye)
+static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_event *ev,
+                     const rf_face_edges *fe, rf_vec3 c0, seg_step *st, const double *y,
+                     double guess, double *ye)
 {
+    double h = st->h;
     double f0 = event_value(m, kind, ev, fe, c0, y);
     int start = f0 <= 0.0, reentry = 0;
     int found_later = guess > 0.0 && guess < h;
     if (kind == EV_CONTACT && (guess == 0.0 ? f0 <= m->tol_len : start && found_later)) {
-        double rate = event_rate(m, o, kind, ev, fe, c0, y);
+        double rate = event_rate(m, f, kind, ev, fe, c0, y);
         if (guess == 0.0)
             start = start || rate < -RF_APPROACH_EPS; /* touching and approaching, as the
                                                          search found it at the start */
@@ -991,9 +968,9 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
         double lo = 0.0, hi = -1.0, t = guess;
         double tmp[9];
         for (int it = 0; it < 8; it++) {
-            dp_dense(o, y, y1, st, t, tmp);
+            step_at(st, t, tmp);
             double ft = event_value(m, kind, ev, fe, c0, tmp);
-            double rate = event_rate(m, o, kind, ev, fe, c0, tmp);
+            double rate = event_rate(m, f, kind, ev, fe, c0, tmp);
             if (ft <= 0.0) {
                 hi = t;
                 memcpy(ye, tmp, sizeof tmp);
@@ -1018,69 +995,63 @@ static double locate(rf_motion *m, const ode *o, ev_kind kind, const seg_event *
     }
     if (reentry) {
         /* no bracket from the start: the search's estimate on the step */
-        dp_dense(o, y, y1, st, guess, ye);
+        step_at(st, guess, ye);
         return guess;
     }
-    double te = locate_bracket(m, o, kind, ev, fe, c0, y, y1, st, h, guess);
+    double te = locate_bracket(m, kind, ev, fe, c0, st, y, guess);
     if (te > 0.0)
-        dp_dense(o, y, y1, st, te, ye);
+        step_at(st, te, ye);
     else if (te == 0.0)
         memcpy(ye, y, 9 * sizeof *ye);
     return te;
 }
 
-static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe,
-                               int holds)
+static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe,
+                                int holds)
 {
     rf_support ex = segment_exclusion(m);
-    ode o = {f, f->mode == LAW_SLIDE ? 9 : 6};
+    seg_path P;
+    path_init(&P, f, m->s.v, u0);
+    int slide = f->mode == LAW_SLIDE;
+    double weps = slide ? RF_SLIP_EPS : RF_SPEED_EPS;
     rf_vec3 c0 = m->s.p;
-    double y[9] = {0, 0, 0, m->s.v.x, m->s.v.y, m->s.v.z, u0.x, u0.y, u0.z};
-    double yn[9];
-    double t = 0.0, tcap = m->t_end - m->s.t;
-    double speed = rf_v3_norm(m->s.v);
-    double h = m->ode_h > 0 ? m->ode_h : rf_fmin(0.05, 0.02 * (1.0 + speed) / (1.0 + f->G));
+    double y[9], yn[9];
+    y_set(y, rf_v3(0, 0, 0), m->s.v, slide ? u0 : rf_v3(0, 0, 0));
+    double lam = 0.0, t = 0.0, tcap = m->t_end - m->s.t;
     double stop = m->scene->sim->stop_speed;
     for (long steps = 0;; steps++) {
         if (t >= tcap)
             return RF_SURF_MAX_TIME;
-        if (steps > RF_ODE_MAX_STEPS)
+        if (steps > RF_PATH_MAX_STEPS)
             return RF_SURF_CONTINUE; /* start a fresh segment */
-        if (f->mode != LAW_SLIDE && rf_v3_norm(y_v(y)) <= RF_SPEED_EPS) {
+        if (!slide && rf_v3_norm(y_v(y)) <= RF_SPEED_EPS) {
             m->s.v = rf_v3(0, 0, 0);
             return RF_SURF_CONTINUE; /* from rest: a closed-form segment */
         }
-        if (f->mode == LAW_SLIDE && rf_v3_norm(y_u(y)) <= RF_SLIP_EPS) {
+        if (slide && rf_v3_norm(y_u(y)) <= RF_SLIP_EPS) {
             m->sup.rolling = 1; /* the slip has vanished */
             rf_set_spin(m, f->n, rf_v3(0, 0, 0));
             rf_motion_event(m);
             return RF_SURF_CONTINUE;
         }
-        double hs = rf_fmin(h, tcap - t);
-        if (f->mode == LAW_SLIDE) {
-            rf_vec3 u = y_u(y);
-            double ul = rf_v3_norm(u);
-            rf_vec3 du = law_slip_rate(f, ul > 0 ? rf_v3_scale(u, 1.0 / ul) : f->e1);
-            double dus = ul > 0 ? rf_v3_dot(du, u) / ul : -1.0;
-            if (dus < 0 && ul / -dus <= hs) {
-                hs = ul / -dus;
-            }
+        seg_step st = {&P, lam, lam + path_step(&P, slide ? y_u(y) : y_v(y)), t, 0.0, lam};
+        double tb = path_at(&P, st.lb, yn);
+        if (P.h.k > 1.0 && rf_v3_norm(slide ? y_u(yn) : y_v(yn)) <= weps) {
+            st.lb = INFINITY; /* on to the end, where w vanishes */
+            tb = path_at(&P, st.lb, yn);
         }
-        dp_stages st;
-        double err = dp_step(&o, y, hs, yn, &st);
-        if (err > 1.0 && hs > 1e-12) {
-            h = hs * rf_fmax(0.2, 0.9 * pow(err, -0.2));
-            continue;
+        if (tb > tcap) {
+            st.lb = rf_hodograph_lambda(&P.h, tcap, lam, st.lb, lam);
+            path_at(&P, st.lb, yn);
+            tb = tcap;
         }
-        /* accepted step [t, t + hs]: project back onto the plane */
-        double y1[9];
-        memcpy(y1, yn, sizeof y1);
+        double hs = tb - t;
+        st.h = hs;
+        /* the step [t, t + hs]: its parabola, for the searches */
         rf_vec3 cn = y_c(yn), vn = y_v(yn);
-        cn = rf_v3_madd(cn, -rf_v3_dot(cn, f->n), f->n);
-        vn = rf_in_plane(vn, f->n);
-        yn[0] = cn.x, yn[1] = cn.y, yn[2] = cn.z, yn[3] = vn.x, yn[4] = vn.y, yn[5] = vn.z;
         rf_vec3 ck = rf_v3_add(c0, y_c(y)), vk = y_v(y);
-        rf_vec3 afit = rf_v3_scale(rf_v3_sub(rf_v3_sub(cn, y_c(y)), rf_v3_scale(vk, hs)), 2.0 / (hs * hs));
+        rf_vec3 afit = hs > 0 ? rf_v3_scale(rf_v3_sub(rf_v3_sub(cn, y_c(y)), rf_v3_scale(vk, hs)), 2.0 / (hs * hs))
+                              : rf_v3(0, 0, 0);
         rf_arc arc = {ck, vk, afit};
         seg_event ev = {EV_NONE, hs, 0, 0, {0}, 0.0};
         double guess = -1;
@@ -1102,7 +1073,7 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         /* rest, or a speed so small that friction's direction is undefined: stop
          * there and go on from rest (along the fall line) */
         double level = holds ? stop : RF_SPEED_EPS;
-        if (f->mode != LAW_SLIDE && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level) {
+        if (!slide && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level) {
             ev.kind = holds ? EV_REST : EV_ZERO, ev.t = hs, ev.level = level;
             guess = -1;
         }
@@ -1123,47 +1094,35 @@ static rf_surface_end face_ode(rf_motion *m, const face_dyn *f, rf_vec3 u0, cons
         }
         double te = -1.0;
         double ye[9];
-        int have_ye = 0;
         if (ev.kind == EV_SCENE) {
             te = ts;
+            step_at(&st, te, ye);
+        } else if (ev.kind == EV_EXIT && tx <= 0.0) {
+            te = 0.0;
+            memcpy(ye, y, sizeof ye);
         } else if (ev.kind != EV_NONE) {
-            if (ev.kind == EV_EXIT && tx <= 0.0) {
-                te = 0.0;
-            } else {
-                te = locate(m, &o, ev.kind, &ev, fe, c0, y, y1, &st, hs, guess, ye);
-                have_ye = 1;
-            }
+            te = locate(m, f, ev.kind, &ev, fe, c0, &st, y, guess, ye);
         }
         if (te >= 0.0) {
-            if (have_ye) {
-                /* ye is the state at te */
-            } else if (te > 0) {
-                dp_dense(&o, y, y1, &st, te, ye);
-            } else {
-                memcpy(ye, y, sizeof ye);
-            }
             rf_vec3 ce = y_c(ye);
-            ce = rf_v3_madd(ce, -rf_v3_dot(ce, f->n), f->n);
-            rf_vec3 ve = rf_in_plane(y_v(ye), f->n);
             rf_vec3 ae = te > 0 ? rf_v3_scale(rf_v3_sub(rf_v3_sub(ce, y_c(y)), rf_v3_scale(vk, te)), 2.0 / (te * te))
                                 : rf_v3(0, 0, 0);
             rf_arc ea = {ck, vk, ae};
             rf_motion_advance(m, &ea, te);
             m->s.p = rf_v3_add(c0, ce);
-            m->s.v = ve;
+            m->s.v = y_v(ye);
             if (!m->point)
-                rf_set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(ye) : rf_v3(0, 0, 0));
+                rf_set_spin(m, f->n, y_u(ye));
             return dispatch(m, &ev, law_accel(f, f->e1), fe);
         }
         rf_motion_advance(m, &arc, hs);
         m->s.p = cabs;
         m->s.v = vn;
         if (!m->point)
-            rf_set_spin(m, f->n, f->mode == LAW_SLIDE ? y_u(yn) : rf_v3(0, 0, 0));
+            rf_set_spin(m, f->n, y_u(yn));
         memcpy(y, yn, sizeof y);
-        t += hs;
-        h = hs * rf_fmin(5.0, 0.9 * pow(rf_fmax(err, 1e-10), -0.2));
-        m->ode_h = h;
+        lam = st.lb;
+        t = tb;
     }
 }
 
@@ -1216,7 +1175,7 @@ static rf_surface_end face_step(rf_motion *m)
     }
     if (closed)
         return face_closed(m, &f, dir, u0, &fe, holds);
-    return face_ode(m, &f, u0, &fe, holds);
+    return face_path(m, &f, u0, &fe, holds);
 }
 
 /* ---- a crease ---------------------------------------------------------------------- */
