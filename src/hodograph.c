@@ -35,11 +35,18 @@ void rf_hodograph_init(rf_hodograph *h, rf_vec3 w0, rf_vec3 n, rf_vec3 e1, doubl
     h->Q = a <= 0 ? W - a : b * b / (W + a);
     h->R = b;
     h->A = A;
-    h->k = B / A;
+    double k = h->k = B / A;
+    const double ex[6] = {k - 1.0, k + 1.0, 2.0 * k - 2.0, 2.0 * k + 2.0, 2.0 * k - 1.0, 2.0 * k + 1.0};
+    for (int i = 0; i < 6; i++)
+        h->inv[i] = ex[i] != 0.0 ? 1.0 / ex[i] : 0.0;
+    double P = h->P, Q = h->Q;
+    h->c[0] = P / (2.0 * A), h->c[1] = Q / (2.0 * A);
+    h->c[2] = P * P / (4.0 * A), h->c[3] = Q * Q / (4.0 * A);
+    h->c[4] = b * P / (2.0 * A), h->c[5] = b * Q / (2.0 * A);
 }
 
-/* I(a) from e = sigma^a - 1 = expm1(-a lambda) */
-static double integral(double a, double e, double lam) { return a != 0.0 ? -e / a : lam; }
+/* I(a) from inv = 1 / a (0 for a = 0) and e = sigma^a - 1 = expm1(-a lambda) */
+static double integral(double inv, double e, double lam) { return inv != 0.0 ? -e * inv : lam; }
 
 double rf_hodograph_time(const rf_hodograph *h, double lam, double *speed)
 {
@@ -47,23 +54,22 @@ double rf_hodograph_time(const rf_hodograph *h, double lam, double *speed)
     double em = expm1(-(k - 1.0) * lam), ep = expm1(-(k + 1.0) * lam);
     if (speed)
         *speed = 0.5 * (h->P * (1.0 + em) + h->Q * (1.0 + ep));
-    return (h->P * integral(k - 1.0, em, lam) + h->Q * integral(k + 1.0, ep, lam)) / (2.0 * h->A);
+    return h->c[0] * integral(h->inv[0], em, lam) + h->c[1] * integral(h->inv[1], ep, lam);
 }
 
 double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x)
 {
-    double k = h->k, P = h->P, Q = h->Q, R = h->R, A = h->A;
+    double k = h->k;
     double em = expm1(-(k - 1.0) * lam), e0 = expm1(-k * lam), ep = expm1(-(k + 1.0) * lam);
-    /* sigma^(2k-2) - 1, sigma^(2k-1) - 1, sigma^(2k+1) - 1, sigma^(2k+2) - 1; the second
+    /* sigma^(2k-2) - 1, sigma^(2k+2) - 1, sigma^(2k-1) - 1, sigma^(2k+1) - 1; the third
      * directly, as the sum of em and e0 would cancel for k near 1/2 */
-    double e2m = em * (em + 2.0), e1m = expm1(-(2.0 * k - 1.0) * lam), e1p = ep + e0 + ep * e0,
-           e2p = ep * (ep + 2.0);
-    double t = (P * integral(k - 1.0, em, lam) + Q * integral(k + 1.0, ep, lam)) / (2.0 * A);
-    double wa = 0.5 * (P * (1.0 + em) - Q * (1.0 + ep)), wb = R * (1.0 + e0);
-    double xa = (P * P * integral(2.0 * k - 2.0, e2m, lam) - Q * Q * integral(2.0 * k + 2.0, e2p, lam)) /
-                (4.0 * A);
-    double xb = R * (P * integral(2.0 * k - 1.0, e1m, lam) + Q * integral(2.0 * k + 1.0, e1p, lam)) /
-                (2.0 * A);
+    double e2m = em * (em + 2.0), e2p = ep * (ep + 2.0), e1m = expm1(-(2.0 * k - 1.0) * lam),
+           e1p = ep + e0 + ep * e0;
+    const double *c = h->c, *inv = h->inv;
+    double t = c[0] * integral(inv[0], em, lam) + c[1] * integral(inv[1], ep, lam);
+    double wa = 0.5 * (h->P * (1.0 + em) - h->Q * (1.0 + ep)), wb = h->R * (1.0 + e0);
+    double xa = c[2] * integral(inv[2], e2m, lam) - c[3] * integral(inv[3], e2p, lam);
+    double xb = c[4] * integral(inv[4], e1m, lam) + c[5] * integral(inv[5], e1p, lam);
     *w = rf_v3_add(rf_v3_scale(h->e1, wa), rf_v3_scale(h->e2, wb));
     *x = rf_v3_add(rf_v3_scale(h->e1, xa), rf_v3_scale(h->e2, xb));
     return t;

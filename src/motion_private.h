@@ -41,7 +41,9 @@ static inline rf_vec3 rf_in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -
 #define RF_COPLANAR_EPS 1e-9       /* faces whose normals differ less are one plane */
 #define RF_SLIP_EPS 1e-6           /* slip speed (m/s) below which a sphere rolls */
 #define RF_PATH_DEV 1e-6           /* (m) a surface step's path departs from its parabola
-                                      by about this much at most */
+                                      by about this much at most: a contact the parabola
+                                      misses is met at the next step's start, within the
+                                      touch band (RF_TOUCH_BAND * RF_LEN_TOL) */
 #define RF_PATH_MAX_DT 0.05        /* (s) longest step of a surface segment */
 #define RF_PATH_MAX_STEPS 100000   /* steps of one surface segment */
 #define RF_SPEED_EPS 1e-6          /* speeds below this (m/s) on a face count as rest */
@@ -72,6 +74,8 @@ typedef struct rf_hodograph {
     rf_vec3 e1, e2;    /* the fall line; in-plane across it, on the side of w0 */
     double A, k;       /* k = B / A */
     double P, Q, R;    /* |w0| + w0.e1, |w0| - w0.e1, w0.e2 */
+    double inv[6];     /* 1 / a (0 for a = 0) for a = k-1, k+1, 2k-2, 2k+2, 2k-1, 2k+1 */
+    double c[6];       /* P / 2A, Q / 2A, P^2 / 4A, Q^2 / 4A, R P / 2A, R Q / 2A */
 } rf_hodograph;
 
 /* w0 in the plane of n, not along e1; A > 0, B >= 0. */

@@ -819,21 +819,47 @@ static double path_step(const seg_path *P, rf_vec3 w)
 }
 
 /* One step of a segment: parameters la to lb, starting ta after the segment's start and
- * lasting h; lg is the parameter last asked for in it. */
+ * lasting h; lg is the parameter last found for a time in it.  Events are located in
+ * the parameter: the rate of an event function in it is its rate in time times
+ * dt/dlambda = |w| / A. */
 typedef struct seg_step {
     const seg_path *p;
     double la, lb, ta, h, lg;
 } seg_step;
 
-/* The state at time tau in [0, h] of the step. */
-static void step_at(seg_step *s, double tau, double *y)
+/* The state at parameter lam of the step in y; returns its time from the step's start. */
+static double step_eval(const seg_step *s, double lam, double *y)
 {
-    double lam = s->la;
+    return path_at(s->p, lam, y) - s->ta;
+}
+
+/* The parameter at time tau in [0, h] of the step. */
+static double step_lam(seg_step *s, double tau)
+{
+    if (tau <= 0.0)
+        return s->la;
     if (tau >= s->h)
-        lam = s->lb;
-    else if (tau > 0.0)
-        lam = s->lg = rf_hodograph_lambda(&s->p->h, s->ta + tau, s->la, s->lb, s->lg);
-    path_at(s->p, lam, y);
+        return s->lb;
+    if (s->lg == s->la && s->lb < INFINITY)
+        s->lg = s->la + (s->lb - s->la) * tau / s->h; /* the first: in proportion */
+    return s->lg = rf_hodograph_lambda(&s->p->h, s->ta + tau, s->la, s->lb, s->lg);
+}
+
+/* The state at time tau in [0, h] of the step. */
+static void step_at(seg_step *s, double tau, double *y) { step_eval(s, step_lam(s, tau), y); }
+
+/* dlambda/dt at a state of the step. */
+static double step_pace(const seg_step *s, const double *y)
+{
+    rf_vec3 w = s->p->f->mode == LAW_SLIDE ? rf_v3(y[6], y[7], y[8]) : rf_v3(y[3], y[4], y[5]);
+    return s->p->h.A / rf_v3_norm(w);
+}
+
+/* The parameter a fraction r of the way from (llo, tlo) to (lhi, thi): of the parameter,
+ * or of the time when lhi is infinite (the last step of a motion that ends). */
+static double step_between(seg_step *s, double llo, double lhi, double tlo, double thi, double r)
+{
+    return lhi < INFINITY ? llo + (lhi - llo) * r : step_lam(s, tlo + (thi - tlo) * r);
 }
 
 /* Scalar event function at a state (relative centre c + c0). */
@@ -886,63 +912,67 @@ static double event_rate(rf_motion *m, const face_dyn *f, ev_kind kind, const se
 }
 
 /* Time in (0, h] where the event function crosses zero on the step from y, on
- * the closed-form path (regula falsi, Illinois); -1 when it does not (the step's
- * parabola was only close). */
+ * the closed-form path (regula falsi, Illinois, in the parameter), and in ye the state
+ * there; -1 when it does not (the step's parabola was only close). */
 static double locate_bracket(rf_motion *m, ev_kind kind, const seg_event *ev,
                              const rf_face_edges *fe, rf_vec3 c0, seg_step *st,
-                             const double *y, double guess)
+                             const double *y, double guess, double *ye)
 {
     double h = st->h;
     double tmp[9];
-    double lo = 0.0, hi = h;
+    double llo = st->la, lo = 0.0, lhi = st->lb, hi = h;
     double flo = event_value(m, kind, ev, fe, c0, y);
-    if (flo <= 0.0)
+    if (flo <= 0.0) {
+        memcpy(ye, y, 9 * sizeof *ye);
         return 0.0;
+    }
     double fhi = 1.0;
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
-        hi = rf_fmin(h, guess + 1e-6 * h + 1e-12);
-        step_at(st, hi, tmp);
-        fhi = event_value(m, kind, ev, fe, c0, tmp);
+        lhi = step_lam(st, rf_fmin(h, guess + 1e-6 * h + 1e-12));
+        hi = step_eval(st, lhi, ye);
+        fhi = event_value(m, kind, ev, fe, c0, ye);
     }
     if (fhi > 0.0) {
-        hi = h;
-        step_at(st, h, tmp);
-        fhi = event_value(m, kind, ev, fe, c0, tmp);
+        lhi = st->lb;
+        hi = step_eval(st, lhi, ye);
+        fhi = event_value(m, kind, ev, fe, c0, ye);
     }
     if (fhi > 0.0)
         return -1.0;
-    double t = (guess > lo && guess < hi) ? guess : lo + (hi - lo) * flo / (flo - fhi);
+    double x = (guess > lo && guess < hi) ? step_lam(st, guess)
+                                          : step_between(st, llo, lhi, lo, hi, flo / (flo - fhi));
     int side = 0;
     for (int it = 0; it < 60 && hi - lo > RF_TIME_TOL; it++) {
-        step_at(st, t, tmp);
+        double t = step_eval(st, x, tmp);
         double ft = event_value(m, kind, ev, fe, c0, tmp);
         if (ft > 0) {
-            lo = t, flo = ft;
+            llo = x, lo = t, flo = ft;
             if (side == 1)
                 fhi *= 0.5; /* Illinois */
             side = 1;
         } else {
-            hi = t, fhi = ft;
+            lhi = x, hi = t, fhi = ft;
+            memcpy(ye, tmp, sizeof tmp);
             if (side == -1)
                 flo *= 0.5;
             side = -1;
             if (ft == 0.0)
                 break;
         }
-        t = lo + (hi - lo) * flo / (flo - fhi);
-        if (!(t > lo && t < hi))
-            t = 0.5 * (lo + hi);
+        x = step_between(st, llo, lhi, lo, hi, flo / (flo - fhi));
+        if (!(x > llo && x < lhi))
+            x = step_between(st, llo, lhi, lo, hi, 0.5);
     }
     return hi; /* the event has happened at hi */
 }
 
 /* Time in [0, h] where the event function crosses zero on the closed-form path, and in
- * ye the state there; -1 when it does not cross (the step's parabola was
- * only close).  Newton's method on the closed-form path from the parabola's estimate
- * (the event function's rate is known at every state): the time returned is where the
- * event has happened, within RF_TIME_TOL after the crossing; a bracketing regula falsi
- * when Newton's method leaves the bracket. */
+ * ye the state there; -1 when it does not cross (the step's parabola was only close).
+ * Newton's method in the step's parameter from the parabola's estimate (the event
+ * function's rate is known at every state): the time returned is where the event has
+ * happened, within RF_TIME_TOL after the crossing; a bracketing regula falsi when
+ * Newton's method leaves the bracket. */
 static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_event *ev,
                      const rf_face_edges *fe, rf_vec3 c0, seg_step *st, const double *y,
                      double guess, double *ye)
@@ -965,10 +995,10 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
         return 0.0;
     }
     if (found_later) {
-        double lo = 0.0, hi = -1.0, t = guess;
+        double lo = 0.0, hi = -1.0, lam = step_lam(st, guess);
         double tmp[9];
         for (int it = 0; it < 8; it++) {
-            step_at(st, t, tmp);
+            double t = step_eval(st, lam, tmp);
             double ft = event_value(m, kind, ev, fe, c0, tmp);
             double rate = event_rate(m, f, kind, ev, fe, c0, tmp);
             if (ft <= 0.0) {
@@ -985,12 +1015,12 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
             if (!(rate < 0.0))
                 break;
             double dt = -ft / rate;
-            double tn = t + dt;
             if (ft > 0.0 && dt < 0.25 * RF_TIME_TOL)
-                tn = t + 0.25 * RF_TIME_TOL; /* just past the crossing */
+                dt = 0.25 * RF_TIME_TOL; /* just past the crossing */
+            double tn = t + dt;
             if (!(tn > lo && tn <= h && (hi < 0.0 || tn < hi)))
                 break;
-            t = tn;
+            lam = rf_fmin(st->lb, lam + dt * step_pace(st, tmp));
         }
     }
     if (reentry) {
@@ -998,12 +1028,7 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
         step_at(st, guess, ye);
         return guess;
     }
-    double te = locate_bracket(m, kind, ev, fe, c0, st, y, guess);
-    if (te > 0.0)
-        step_at(st, te, ye);
-    else if (te == 0.0)
-        memcpy(ye, y, 9 * sizeof *ye);
-    return te;
+    return locate_bracket(m, kind, ev, fe, c0, st, y, guess, ye);
 }
 
 static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe,
