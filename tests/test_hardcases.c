@@ -650,6 +650,10 @@ TEST(hard_replay_spheres_stay_out)
          * at the start: the step's event locator took the touch for a near miss and
          * dropped the face met later in the same step with it (sank to the centre) */
         {10, 46, 40},
+        /* resting in a corner of three faces, hopping off the edge of the third ever
+         * more gently: the last hop, from a hair inside the other two faces' planes,
+         * never cleared them, and the flight fell 0.37 r through them unseen */
+        {14, 11, 140},
         /* an 80 t sphere hopping on an edge, each hop smaller, until the rise of one
          * stays within the tolerance: it then fell 13 mm into the edge unseen (0.99 r),
          * the path never having been clear of it */
