@@ -321,21 +321,6 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
             *t = t0;
             return 1;
         }
-        /* touching at the start, never clear of the plane (a hop of less than a hair
-         * from a hair inside it), and then deeper than the touch band: met when it is
-         * that deep, where the contact point is checked */
-        double fmin, fmax;
-        rf_quadratic_range(f, t0, t1, &fmin, &fmax);
-        if (fmax <= tol && fmin < -band) {
-            double r[2], g[3] = {f[0] + band, f[1], f[2]};
-            int n = rf_quadratic_roots(g[2], g[1], g[0], r);
-            for (int k = 0; k < n; k++) {
-                if (r[k] > t0 && r[k] <= t1 && f[1] + 2.0 * f[2] * r[k] < 0.0) {
-                    *t = r[k];
-                    return 1;
-                }
-            }
-        }
     }
     double r[2];
     int n = rf_quadratic_roots(f[2], f[1], f[0], r);
@@ -349,6 +334,23 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
             continue;
         *t = x;
         return 1;
+    }
+    if (f0 <= tol && f0 >= -band) {
+        /* no crossing, but touching at the start, never clear of the plane (a hop of
+         * less than a hair from a hair inside it) and then deeper than the touch band:
+         * met when it is that deep, where the contact point is checked */
+        double fmin, fmax;
+        rf_quadratic_range(f, t0, t1, &fmin, &fmax);
+        if (fmax <= tol && fmin < -band) {
+            double g[3] = {f[0] + band, f[1], f[2]};
+            n = rf_quadratic_roots(g[2], g[1], g[0], r);
+            for (int k = 0; k < n; k++) {
+                if (r[k] > t0 && r[k] <= t1 && f[1] + 2.0 * f[2] * r[k] < 0.0) {
+                    *t = r[k];
+                    return 1;
+                }
+            }
+        }
     }
     return 0;
 }

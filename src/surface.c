@@ -1020,7 +1020,7 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
             double tn = t + dt;
             if (!(tn > lo && tn <= h && (hi < 0.0 || tn < hi)))
                 break;
-            lam = rf_fmin(st->lb, lam + dt * step_pace(st, tmp));
+            lam = rf_fmax(st->la, rf_fmin(st->lb, lam + dt * step_pace(st, tmp)));
         }
     }
     if (reentry) {
