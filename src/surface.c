@@ -782,6 +782,20 @@ static rf_vec3 y_c(const double *y) { return rf_v3(y[0], y[1], y[2]); }
 static rf_vec3 y_v(const double *y) { return rf_v3(y[3], y[4], y[5]); }
 static rf_vec3 y_u(const double *y) { return rf_v3(y[6], y[7], y[8]); }
 
+/* The hodograph's vector of a state: the slip of the slipping sphere, else the velocity. */
+static rf_vec3 path_w(const seg_path *P, const double *y)
+{
+    return P->f->mode == LAW_SLIDE ? y_u(y) : y_v(y);
+}
+
+/* The parabola from p at velocity v that has moved by dc after h (no acceleration
+ * for h = 0): a step's, for the searches, or its part up to an event. */
+static rf_arc fit_arc(rf_vec3 p, rf_vec3 v, rf_vec3 dc, double h)
+{
+    rf_vec3 a = h > 0 ? rf_v3_scale(rf_v3_madd(dc, -h, v), 2.0 / (h * h)) : rf_v3(0, 0, 0);
+    return (rf_arc){p, v, a};
+}
+
 /* The state at parameter lam in y; returns its time from the segment's start. */
 static double path_at(const seg_path *P, double lam, double *y)
 {
@@ -851,8 +865,7 @@ static void step_at(seg_step *s, double tau, double *y) { step_eval(s, step_lam(
 /* dlambda/dt at a state of the step. */
 static double step_pace(const seg_step *s, const double *y)
 {
-    rf_vec3 w = s->p->f->mode == LAW_SLIDE ? rf_v3(y[6], y[7], y[8]) : rf_v3(y[3], y[4], y[5]);
-    return s->p->h.A / rf_v3_norm(w);
+    return s->p->h.A / rf_v3_norm(path_w(s->p, y));
 }
 
 /* The parameter a fraction r of the way from (llo, tlo) to (lhi, thi): of the parameter,
@@ -1049,19 +1062,19 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
             return RF_SURF_MAX_TIME;
         if (steps > RF_PATH_MAX_STEPS)
             return RF_SURF_CONTINUE; /* start a fresh segment */
-        if (!slide && rf_v3_norm(y_v(y)) <= RF_SPEED_EPS) {
-            m->s.v = rf_v3(0, 0, 0);
-            return RF_SURF_CONTINUE; /* from rest: a closed-form segment */
-        }
-        if (slide && rf_v3_norm(y_u(y)) <= RF_SLIP_EPS) {
+        if (rf_v3_norm(path_w(&P, y)) <= weps) {
+            if (!slide) {
+                m->s.v = rf_v3(0, 0, 0);
+                return RF_SURF_CONTINUE; /* from rest: a closed-form segment */
+            }
             m->sup.rolling = 1; /* the slip has vanished */
             rf_set_spin(m, f->n, rf_v3(0, 0, 0));
             rf_motion_event(m);
             return RF_SURF_CONTINUE;
         }
-        seg_step st = {&P, lam, lam + path_step(&P, slide ? y_u(y) : y_v(y)), t, 0.0, lam};
+        seg_step st = {&P, lam, lam + path_step(&P, path_w(&P, y)), t, 0.0, lam};
         double tb = path_at(&P, st.lb, yn);
-        if (P.h.k > 1.0 && rf_v3_norm(slide ? y_u(yn) : y_v(yn)) <= weps) {
+        if (P.h.k > 1.0 && rf_v3_norm(path_w(&P, yn)) <= weps) {
             st.lb = INFINITY; /* on to the end, where w vanishes */
             tb = path_at(&P, st.lb, yn);
         }
@@ -1075,9 +1088,7 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
         /* the step [t, t + hs]: its parabola, for the searches */
         rf_vec3 cn = y_c(yn), vn = y_v(yn);
         rf_vec3 ck = rf_v3_add(c0, y_c(y)), vk = y_v(y);
-        rf_vec3 afit = hs > 0 ? rf_v3_scale(rf_v3_sub(rf_v3_sub(cn, y_c(y)), rf_v3_scale(vk, hs)), 2.0 / (hs * hs))
-                              : rf_v3(0, 0, 0);
-        rf_arc arc = {ck, vk, afit};
+        rf_arc arc = fit_arc(ck, vk, rf_v3_sub(cn, y_c(y)), hs);
         seg_event ev = {EV_NONE, hs, 0, 0, {0}, 0.0};
         double guess = -1;
         int edge = 0;
@@ -1130,9 +1141,7 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
         }
         if (te >= 0.0) {
             rf_vec3 ce = y_c(ye);
-            rf_vec3 ae = te > 0 ? rf_v3_scale(rf_v3_sub(rf_v3_sub(ce, y_c(y)), rf_v3_scale(vk, te)), 2.0 / (te * te))
-                                : rf_v3(0, 0, 0);
-            rf_arc ea = {ck, vk, ae};
+            rf_arc ea = fit_arc(ck, vk, rf_v3_sub(ce, y_c(y)), te);
             rf_motion_advance(m, &ea, te);
             m->s.p = rf_v3_add(c0, ce);
             m->s.v = y_v(ye);
