@@ -210,3 +210,24 @@ char *mt_grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *
     }
     return buf;
 }
+
+void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void *ctx, double *y,
+            int n, double T, long steps)
+{
+    double h = T / steps;
+    for (long i = 0; i < steps; i++) {
+        double k1[8], k2[8], k3[8], k4[8], tmp[8];
+        f(y, k1, ctx);
+        for (int j = 0; j < n; j++)
+            tmp[j] = y[j] + 0.5 * h * k1[j];
+        f(tmp, k2, ctx);
+        for (int j = 0; j < n; j++)
+            tmp[j] = y[j] + 0.5 * h * k2[j];
+        f(tmp, k3, ctx);
+        for (int j = 0; j < n; j++)
+            tmp[j] = y[j] + h * k3[j];
+        f(tmp, k4, ctx);
+        for (int j = 0; j < n; j++)
+            y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
+    }
+}

@@ -53,6 +53,10 @@ void mt_simulate_t(const rf_terrain *t, rf_rock_model model, double mass,
 void mt_simulate_opts(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
                       const rf_state *s, unsigned long seed, double sample_spacing, mt_run *r);
 void mt_run_free(mt_run *r);
+/* Classical Runge-Kutta for y' = f(y) (at most 8 components) over [0, T] in `steps`
+ * equal steps: the tests' reference for laws without a closed form of their own. */
+void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void *ctx, double *y,
+            int n, double T, long steps);
 const rf_path_point *mt_first_impact(const mt_run *r);
 
 /* Smallest distance from p to the terrain (all triangles). */

@@ -3,41 +3,30 @@
  * speeding up (k < 1), the exponents that vanish (k = 1, 1/2 and next to them), slowing
  * to a stop (k > 1), and starting nearly up and nearly down the fall line. */
 #include "motion_private.h"
+#include "motion_test_util.h"
 #include "test.h"
 
 #include <math.h>
 
 #define PI 3.14159265358979323846
 
-/* w' = A e1 - B w^ in the plane's coordinates (e1 = x axis); y = (wx, wy, x, y). */
-static void law(double A, double B, const double *y, double *dy)
+/* w' = A e1 - B w^ in the plane's coordinates (e1 = x axis); y = (wx, wy, x, y),
+ * ctx = {A, B}. */
+static void law(const double *y, double *dy, const void *ctx)
 {
+    const double *AB = ctx;
     double wl = hypot(y[0], y[1]);
-    dy[0] = A - B * y[0] / wl;
-    dy[1] = -B * y[1] / wl;
+    dy[0] = AB[0] - AB[1] * y[0] / wl;
+    dy[1] = -AB[1] * y[1] / wl;
     dy[2] = y[0];
     dy[3] = y[1];
 }
 
-/* Classical Runge-Kutta over [0, T] in n steps from y. */
+/* The law integrated over [0, T] in n steps from y. */
 static void rk4(double A, double B, double *y, double T, long n)
 {
-    double h = T / n;
-    for (long i = 0; i < n; i++) {
-        double k1[4], k2[4], k3[4], k4[4], tmp[4];
-        law(A, B, y, k1);
-        for (int j = 0; j < 4; j++)
-            tmp[j] = y[j] + 0.5 * h * k1[j];
-        law(A, B, tmp, k2);
-        for (int j = 0; j < 4; j++)
-            tmp[j] = y[j] + 0.5 * h * k2[j];
-        law(A, B, tmp, k3);
-        for (int j = 0; j < 4; j++)
-            tmp[j] = y[j] + h * k3[j];
-        law(A, B, tmp, k4);
-        for (int j = 0; j < 4; j++)
-            y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-    }
+    const double AB[2] = {A, B};
+    mt_rk4(law, AB, y, 4, T, n);
 }
 
 /* A plane tilted about x and y, so that e1 and e2 are not along the axes. */

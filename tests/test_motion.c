@@ -50,38 +50,24 @@ TEST(motion_point_slides_eq1_eq2)
  * mu g_n u^, u' = g_t - K mu g_n u^; rolling sphere: v' = 5/7 (g_t - mu_r g_n v^). */
 typedef enum { ACROSS_POINT, ACROSS_SLIP, ACROSS_ROLL } across_law;
 
-static void across_rhs(across_law law, double theta, double c, const double *y, double *dy)
+typedef struct across {
+    across_law law;
+    double theta, c; /* c: mu, or mu_r for the rolling sphere */
+} across;
+
+static void across_rhs(const double *y, double *dy, const void *ctx)
 {
-    double G_t = G * sin(theta), gn = G * cos(theta);
-    const double *d = law == ACROSS_SLIP ? y + 2 : y; /* the direction of friction */
+    const across *a = ctx;
+    double G_t = G * sin(a->theta), gn = G * cos(a->theta), c = a->c;
+    const double *d = a->law == ACROSS_SLIP ? y + 2 : y; /* the direction of friction */
     double dl = hypot(d[0], d[1]);
-    double k = law == ACROSS_ROLL ? 5.0 / 7.0 : 1.0;
+    double k = a->law == ACROSS_ROLL ? 5.0 / 7.0 : 1.0;
     dy[0] = k * (G_t - c * gn * d[0] / dl);
     dy[1] = k * (-c * gn * d[1] / dl);
-    dy[2] = law == ACROSS_SLIP ? G_t - 3.5 * c * gn * d[0] / dl : 0.0;
-    dy[3] = law == ACROSS_SLIP ? -3.5 * c * gn * d[1] / dl : 0.0;
+    dy[2] = a->law == ACROSS_SLIP ? G_t - 3.5 * c * gn * d[0] / dl : 0.0;
+    dy[3] = a->law == ACROSS_SLIP ? -3.5 * c * gn * d[1] / dl : 0.0;
     dy[4] = y[0];
     dy[5] = y[1];
-}
-
-static void across_rk4(across_law law, double theta, double c, double *y, double T, long n)
-{
-    double h = T / n;
-    for (long i = 0; i < n; i++) {
-        double k1[6], k2[6], k3[6], k4[6], tmp[6];
-        across_rhs(law, theta, c, y, k1);
-        for (int j = 0; j < 6; j++)
-            tmp[j] = y[j] + 0.5 * h * k1[j];
-        across_rhs(law, theta, c, tmp, k2);
-        for (int j = 0; j < 6; j++)
-            tmp[j] = y[j] + 0.5 * h * k2[j];
-        across_rhs(law, theta, c, tmp, k3);
-        for (int j = 0; j < 6; j++)
-            tmp[j] = y[j] + h * k3[j];
-        across_rhs(law, theta, c, tmp, k4);
-        for (int j = 0; j < 6; j++)
-            y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-    }
 }
 
 /* A rock set moving across an incline at (v_xi, v_eta): after T its centre and speed
@@ -105,7 +91,8 @@ static void across_incline(across_law law, double theta, double mu, double mu_r,
     ENSURE_MSG(r.rec.reason == RF_END_MAX_TIME, "reason %d", (int)r.rec.reason);
     ENSURE(r.rec.n_impacts == 0);
     double y[6] = {vxi, veta, vxi, veta, 0.0, 0.0}; /* a sphere without spin slips at v */
-    across_rk4(law, theta, law == ACROSS_ROLL ? mu_r : mu, y, T, 200000);
+    across ref = {law, theta, law == ACROSS_ROLL ? mu_r : mu};
+    mt_rk4(across_rhs, &ref, y, 6, T, 200000);
     rf_vec3 p = rf_v3_madd(rf_v3_madd(s.p, y[4], e1), y[5], rf_v3(0, 1, 0));
     double path = hypot(y[4], y[5]);
     ENSURE_MSG(rf_v3_norm(rf_v3_sub(r.rec.stop, p)) <= 2e-12 * path,
