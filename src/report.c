@@ -1165,8 +1165,9 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     rf_svg *s = &h.s;
     for (size_t k = 0; lines && k < r->nrel; k++) {
         double v[2] = {cc[k].v_class_d, cc[k].v_project};
-        const char *what[2] = {"mu = 0.35 (Table 2, D)", "mu of the project"};
-        char mu_text[64];
+        char mu_d_text[64], mu_text[64];
+        snprintf(mu_d_text, sizeof mu_d_text, "mu = %.2f (Table 2, D)", rf_table2_friction('D'));
+        const char *what[2] = {mu_d_text, "mu of the project"};
         if (r->have_project) {
             snprintf(mu_text, sizeof mu_text, "mu = %.2f (project)",
                      r->proj.terrain_spec.surface.friction.mean);
@@ -1338,7 +1339,9 @@ static int section_road(report *r)
             put_num(f, r->proj.terrain_spec.surface.friction.mean, 2);
             fputs(" (project) (m/s)</th>", f);
         }
-        fputs("<th>V Eq. 1, &mu; = 0.35 (Table 2, D) (m/s)</th><th>simulated V mean (m/s)</th>"
+        fputs("<th>V Eq. 1, &mu; = ", f);
+        put_num(f, rf_table2_friction('D'), 2);
+        fputs(" (Table 2, D) (m/s)</th><th>simulated V mean (m/s)</th>"
               "<th>simulated V max (m/s)</th><th>rocks arriving</th>"
               "<th>attainment width 2 L tan 45&deg; (m)</th><th>simulated spread (m)</th></tr>\n",
               f);
@@ -1363,7 +1366,9 @@ static int section_road(report *r)
                 rf_svg_escape(r->summary, r->rel[j].name);
                 fputs(" to ", r->summary);
                 rf_svg_escape(r->summary, m->name);
-                fputs(": Eq. 1 with &mu; = 0.35 gives ", r->summary);
+                fputs(": Eq. 1 with &mu; = ", r->summary);
+                put_num(r->summary, rf_table2_friction('D'), 2);
+                fputs(" gives ", r->summary);
                 put_num(r->summary, c->v_class_d, 1);
                 fputs(" m/s and the empirical attainment width is ", r->summary);
                 put_num(r->summary, c->width, 0);
