@@ -142,8 +142,7 @@ static int check_run(rf_store *s, int64_t run, const rf_rules *rules, int print)
 {
     rf_error err;
     long failed = 0;
-    if (rf_rules_evaluate(rf_store_db(s), run, rules, &failed, &err) ||
-        (print && rf_rules_print(rf_store_db(s), run, rules, stdout, &err))) {
+    if (rf_rules_evaluate(rf_store_db(s), run, rules, print ? stdout : NULL, &failed, &err)) {
         rf_error_print(&err, stderr);
         return EXIT_BAD_INPUT;
     }

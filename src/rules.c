@@ -529,7 +529,7 @@ static int kind_of(const char *text)
 /* One measure of the run as the classification needs it. */
 typedef struct measure_row {
     int64_t id;
-    const char *name;
+    char *name;
     rf_measure_kind kind;
     int importance;
     double capacity[RF_N_LIMIT_STATES];
@@ -544,8 +544,8 @@ static const char measures_sql[] =
 static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, measure_row *m,
                             rf_error *err)
 {
+    const char *name = (const char *)sqlite3_column_text(st, 1);
     m->id = sqlite3_column_int64(st, 0);
-    m->name = (const char *)sqlite3_column_text(st, 1);
     m->kind = (rf_measure_kind)kind_of((const char *)sqlite3_column_text(st, 2));
     const char *importance = (const char *)sqlite3_column_text(st, 3);
     m->importance = importance_of(importance);
@@ -553,7 +553,9 @@ static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, m
         return rf_error_set(err, sqlite3_db_filename(sqlite3_db_handle(st), "main"), 0, 0,
                             "measure '%s' has importance '%s'; expected most_important, "
                             "important or usual",
-                            m->name, importance ? importance : "NULL");
+                            name, importance ? importance : "NULL");
+    if (!(m->name = strdup(name ? name : "")))
+        return rf_error_set(err, "", 0, 0, "out of memory");
     double mel = rf_query_column_real(st, 4), sel = rf_query_column_real(st, 5);
     double project[RF_N_LIMIT_STATES];
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)
@@ -564,6 +566,69 @@ static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, m
         sel = NAN;
     rf_rules_capacities(r, m->kind, mel, sel, project, m->capacity);
     return 0;
+}
+
+/* A run's measures that the rules judge, read once for the evaluation and the
+ * printout, with the project document parsed once for them. */
+typedef struct run_measures {
+    int found;       /* the run exists */
+    char *project;   /* runs.project */
+    measure_row *m;
+    size_t n;
+} run_measures;
+
+static void run_measures_free(run_measures *L)
+{
+    for (size_t i = 0; i < L->n; i++)
+        free(L->m[i].name);
+    free(L->m);
+    free(L->project);
+}
+
+static int read_run_measures(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L,
+                             rf_error *err)
+{
+    memset(L, 0, sizeof *L);
+    sqlite3_stmt *runs = NULL, *measures = NULL;
+    rf_ydoc doc, *pd = NULL;
+    size_t cap = 0;
+    int status = -1, rc;
+    if (prepare(db, "SELECT project, project_yaml FROM runs WHERE id = ?1", &runs, err) ||
+        prepare(db, measures_sql, &measures, err))
+        goto done;
+    sqlite3_bind_int64(runs, 1, run);
+    if (sqlite3_step(runs) == SQLITE_ROW) {
+        const char *project = (const char *)sqlite3_column_text(runs, 0);
+        L->found = 1;
+        if (!(L->project = strdup(project ? project : ""))) {
+            rf_error_set(err, "", 0, 0, "out of memory");
+            goto done;
+        }
+        pd = project_doc((const char *)sqlite3_column_text(runs, 1), &doc);
+    }
+    sqlite3_bind_int64(measures, 1, run);
+    while ((rc = sqlite3_step(measures)) == SQLITE_ROW) {
+        if (rf_grow((void **)&L->m, &cap, L->n + 1, sizeof *L->m)) {
+            rf_error_set(err, "", 0, 0, "out of memory");
+            goto done;
+        }
+        if (read_measure_row(measures, r, pd, &L->m[L->n], err))
+            goto done;
+        L->n++;
+    }
+    if (rc != SQLITE_DONE) {
+        db_error(db, "reading measures", err);
+        goto done;
+    }
+    status = 0;
+done:
+    if (pd)
+        rf_ydoc_free(pd);
+    sqlite3_finalize(runs);
+    sqlite3_finalize(measures);
+    if (status)
+        run_measures_free(L);
+    return status;
 }
 
 static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m,
@@ -644,11 +709,10 @@ static int write_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measu
     return 0;
 }
 
-static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
-                    rf_error *err)
+static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
+                    long *n_failed, rf_error *err)
 {
-    sqlite3_stmt *runs = NULL, *measures = NULL, *ins_class = NULL, *ins_check = NULL;
-    rf_ydoc doc, *pd = NULL;
+    sqlite3_stmt *ins_class = NULL, *ins_check = NULL;
     long *n_within = calloc(r->nchecks + 1, sizeof *n_within);
     int status = -1;
     if (!n_within) {
@@ -665,9 +729,7 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
         db_error(db, "replacing the run's classifications", err);
         goto done;
     }
-    if (prepare(db, "SELECT project_yaml FROM runs WHERE id = ?1", &runs, err) ||
-        prepare(db, measures_sql, &measures, err) ||
-        prepare(db,
+    if (prepare(db,
                 "INSERT INTO classifications (interception_id, action_level, importance,"
                 " limit_state, required_state, ok) VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
                 &ins_class, err) ||
@@ -676,49 +738,47 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
                 " VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
                 &ins_check, err))
         goto done;
-    sqlite3_bind_int64(runs, 1, run);
-    pd = project_doc(sqlite3_step(runs) == SQLITE_ROW ? (const char *)sqlite3_column_text(runs, 0)
-                                                      : NULL,
-                     &doc);
-    sqlite3_bind_int64(measures, 1, run);
-    while ((rc = sqlite3_step(measures)) == SQLITE_ROW) {
-        measure_row m;
+    for (size_t i = 0; i < L->n; i++) {
         long n = 0, n_meeting = 0;
         memset(n_within, 0, (r->nchecks + 1) * sizeof *n_within);
-        if (read_measure_row(measures, r, pd, &m, err) ||
-            classify_measure(db, r, &m, ins_class, &n, n_within, &n_meeting, err) ||
-            write_checks(db, run, r, &m, ins_check, n, n_within, n_meeting, n_failed, err))
+        if (classify_measure(db, r, &L->m[i], ins_class, &n, n_within, &n_meeting, err) ||
+            write_checks(db, run, r, &L->m[i], ins_check, n, n_within, n_meeting, n_failed,
+                         err))
             goto done;
-    }
-    if (rc != SQLITE_DONE) {
-        db_error(db, "reading measures", err);
-        goto done;
     }
     status = 0;
 done:
-    if (pd)
-        rf_ydoc_free(pd);
-    sqlite3_finalize(runs);
-    sqlite3_finalize(measures);
     sqlite3_finalize(ins_class);
     sqlite3_finalize(ins_check);
     free(n_within);
     return status;
 }
 
-int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
+static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
+                     FILE *out, rf_error *err);
+
+int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
                       rf_error *err)
 {
     long failed = 0;
-    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
-        return db_error(db, "evaluating the rules", err);
-    int status = evaluate(db, run, r, &failed, err);
-    if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
-        status = db_error(db, "committing the checks", err);
-    if (status != 0 && !sqlite3_get_autocommit(db))
-        sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
+    run_measures L;
+    if (read_run_measures(db, run, r, &L, err))
+        return -1;
+    int status = -1;
+    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK) {
+        db_error(db, "evaluating the rules", err);
+    } else {
+        status = evaluate(db, run, r, &L, &failed, err);
+        if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
+            status = db_error(db, "committing the checks", err);
+        if (status != 0 && !sqlite3_get_autocommit(db))
+            sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
+    }
+    if (status == 0 && out)
+        status = print_run(db, run, r, &L, out, err);
     if (n_failed)
         *n_failed = status == 0 ? failed : 0;
+    run_measures_free(&L);
     return status;
 }
 
@@ -805,88 +865,60 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
     return 0;
 }
 
-/* A measure of the printout: read once for the table, kept for its details. */
-typedef struct printed_measure {
-    measure_row m; /* m.name is name */
-    char *name;
-    long n;        /* interceptions */
-} printed_measure;
-
-int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err)
+static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
+                     FILE *out, rf_error *err)
 {
-    sqlite3_stmt *runs = NULL, *measures = NULL, *checks = NULL;
-    rf_ydoc doc, *pd = NULL;
-    printed_measure *shown = NULL;
-    size_t nshown = 0, cap = 0;
+    if (!L->found)
+        return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
+                            (long long)run);
+    sqlite3_stmt *checks = NULL;
+    long *n = calloc(L->n + 1, sizeof *n); /* interceptions per measure */
     int status = -1;
-    if (prepare(db, "SELECT project, project_yaml FROM runs WHERE id = ?1", &runs, err) ||
-        prepare(db, measures_sql, &measures, err) ||
-        prepare(db, "SELECT count(*), coalesce(sum(NOT passed), 0) FROM checks"
+    if (!n) {
+        rf_error_set(err, "", 0, 0, "out of memory");
+        goto done;
+    }
+    if (prepare(db, "SELECT count(*), coalesce(sum(NOT passed), 0) FROM checks"
                     " WHERE run_id = ?1",
                 &checks, err))
         goto done;
-    sqlite3_bind_int64(runs, 1, run);
-    if (sqlite3_step(runs) != SQLITE_ROW) {
-        rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
-                     (long long)run);
-        goto done;
-    }
-    pd = project_doc((const char *)sqlite3_column_text(runs, 1), &doc);
-    fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run,
-            (const char *)sqlite3_column_text(runs, 0), r->path, r->name);
+    fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run, L->project,
+            r->path, r->name);
     fprintf(out, "%-16s %-10s %-14s", "measure", "kind", "importance");
     rf_query_print_stats_header(out);
-    sqlite3_bind_int64(measures, 1, run);
-    while (sqlite3_step(measures) == SQLITE_ROW) {
-        if (rf_grow((void **)&shown, &cap, nshown + 1, sizeof *shown)) {
-            rf_error_set(err, "", 0, 0, "out of memory");
+    for (size_t i = 0; i < L->n; i++) {
+        const measure_row *m = &L->m[i];
+        rf_measure_stats st;
+        if (rf_query_measure_stats(db, m->id, &st, err))
             goto done;
-        }
-        printed_measure *p = &shown[nshown];
-        rf_measure_stats s;
-        if (read_measure_row(measures, r, pd, &p->m, err) ||
-            rf_query_measure_stats(db, p->m.id, &s, err))
-            goto done;
-        if (!(p->name = strdup(p->m.name))) {
-            rf_error_set(err, "", 0, 0, "out of memory");
-            goto done;
-        }
-        p->m.name = p->name;
-        p->n = s.n;
-        nshown++;
-        fprintf(out, "%-16s %-10s %-14s", p->name, rf_measure_kind_name(p->m.kind),
-                rf_importance_name(p->m.importance));
-        rf_query_print_stats(out, &s);
+        n[i] = st.n;
+        fprintf(out, "%-16s %-10s %-14s", m->name, rf_measure_kind_name(m->kind),
+                rf_importance_name(m->importance));
+        rf_query_print_stats(out, &st);
     }
     fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
                  "maximum; h95: 95th-percentile passing height\n");
-    for (size_t i = 0; i < nshown; i++) {
-        const measure_row *m = &shown[i].m;
+    for (size_t i = 0; i < L->n; i++) {
+        const measure_row *m = &L->m[i];
         fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
                 rf_importance_name(m->importance));
         print_capacities(r, m, out);
-        if ((shown[i].n > 0 && print_states(db, r, m, shown[i].n, out, err)) ||
+        if ((n[i] > 0 && print_states(db, r, m, n[i], out, err)) ||
             print_checks(db, r, m, out, err))
             goto done;
     }
     sqlite3_bind_int64(checks, 1, run);
     if (sqlite3_step(checks) == SQLITE_ROW) {
-        long n = (long)sqlite3_column_int64(checks, 0);
+        long nc = (long)sqlite3_column_int64(checks, 0);
         long failed = (long)sqlite3_column_int64(checks, 1);
         if (failed)
-            fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, n);
+            fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, nc);
         else
-            fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", n);
+            fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
     }
     status = 0;
 done:
-    if (pd)
-        rf_ydoc_free(pd);
-    for (size_t i = 0; i < nshown; i++)
-        free(shown[i].name);
-    free(shown);
-    sqlite3_finalize(runs);
-    sqlite3_finalize(measures);
+    free(n);
     sqlite3_finalize(checks);
     return status;
 }

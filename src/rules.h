@@ -8,7 +8,7 @@
  *             the state Table 3 requires, whether a check passes;
  *   evaluate  against a results database: every interception of a run classified into
  *             `classifications`, every measure's checks into `checks`, then a printed
- *             table (rf_rules_evaluate, rf_rules_print). */
+ *             table (rf_rules_evaluate). */
 #ifndef ROCKFALL_RULES_H
 #define ROCKFALL_RULES_H
 
@@ -108,11 +108,10 @@ int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err);
 
 /* Classifies every interception of the run's barriers and embankments and writes the
  * checks of each, replacing what an earlier evaluation of the run wrote, in one
- * transaction.  *n_failed (may be NULL) gets the number of failed checks. */
-int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, long *n_failed,
+ * transaction.  When out is not NULL it then prints the evaluated run there: per
+ * measure the statistics, capacities, share per limit state and each check's verdict,
+ * then the overall verdict.  *n_failed (may be NULL) gets the number of failed checks. */
+int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
                       rf_error *err);
-/* Prints the evaluated run: per measure the statistics, capacities, share per
- * limit state and each check's verdict, then the overall verdict. */
-int rf_rules_print(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, rf_error *err);
 
 #endif

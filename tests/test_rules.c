@@ -300,7 +300,7 @@ static long evaluate(scene *t, const rf_rules *r)
 {
     rf_error err = {{0}};
     long failed = -1;
-    ENSURE_MSG(rf_rules_evaluate(rf_store_db(t->s), t->run, r, &failed, &err) == 0, "%s",
+    ENSURE_MSG(rf_rules_evaluate(rf_store_db(t->s), t->run, r, NULL, &failed, &err) == 0, "%s",
                err.message);
     return failed;
 }
