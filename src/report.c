@@ -1748,19 +1748,12 @@ static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, lon
 }
 
 /* A measure's interceptions, read once for its statistics, share and figure. */
+/* What the measure table found for a measure, kept for its section (the crossings
+ * themselves are read again, one measure at a time, for its figure). */
 typedef struct measure_crossings {
-    rf_crossing_row *x;
-    size_t n;
     rf_measure_stats stats;
     double share; /* % within serviceability, not overtopped; NAN when not defined */
 } measure_crossings;
-
-static void free_measure_crossings(measure_crossings *mc, size_t n)
-{
-    for (size_t k = 0; k < n; k++)
-        free(mc[k].x);
-    free(mc);
-}
 
 /* The share of the crossings with an energy within `capacity` that are not
  * overtopped, counted as SQL's avg(energy_kj <= capacity AND outcome <> 'overtopped'):
@@ -1798,16 +1791,20 @@ static int section_measures(report *r, long *npass, long *nfail)
     for (size_t k = 0; k < r->nmea; k++) {
         const rep_measure *m = &r->mea[k];
         measure_crossings *c = &mc[k];
-        if (rf_query_crossings(r->db, m->id, &c->x, &c->n, r->err) ||
-            rf_measure_stats_of(c->x, c->n, &c->stats, r->err)) {
-            free_measure_crossings(mc, r->nmea);
+        rf_crossing_row *x = NULL;
+        size_t nx = 0;
+        if (rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
+            rf_measure_stats_of(x, nx, &c->stats, r->err)) {
+            free(x);
+            free(mc);
             return -1;
         }
         const rf_measure_stats *s = &c->stats;
         double service = isfinite(m->cap[RF_SERVICEABILITY]) ? m->cap[RF_SERVICEABILITY] : m->sel;
         c->share = !is_control(m) && isfinite(service) && s->n
-                       ? 100.0 * share_within(c->x, c->n, service)
+                       ? 100.0 * share_within(x, nx, service)
                        : NAN;
+        free(x);
         fputs("<tr>", f);
         td_text(f, m->name);
         td_text(f, m->kind);
@@ -1874,7 +1871,12 @@ static int section_measures(report *r, long *npass, long *nfail)
         }
         char file[64], cap[600];
         snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
-        if (figure_measure(r, m, mc[k].x, mc[k].n, file)) {
+        rf_crossing_row *x = NULL;
+        size_t nx = 0;
+        int failed = rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
+                     figure_measure(r, m, x, nx, file);
+        free(x);
+        if (failed) {
             status = -1;
             break;
         }
@@ -1889,7 +1891,7 @@ static int section_measures(report *r, long *npass, long *nfail)
         if (checks_table(r, f, m->id, npass, nfail) < 0)
             status = -1;
     }
-    free_measure_crossings(mc, r->nmea);
+    free(mc);
     return status;
 }
 
