@@ -102,7 +102,6 @@ typedef struct report {
     contour_grid grid;
     double bx0, bx1, by0, by1; /* plan extent (m) */
     double pw, ph;             /* plan plot size (px) */
-    double hazard_cell;
     FILE *summary, *notes, *body; /* parts of index.html */
 } report;
 
@@ -1472,14 +1471,13 @@ static int map_cell_row(report *r, sqlite3_stmt *st, void *ctx)
     return 0;
 }
 
-/* The energy map, or with reach the reach map, of the cells; class_counts (may be
- * NULL) gets the number of cells in each class. */
-static int figure_hazard(report *r, const map_cell *cells, size_t n, int reach,
+/* The energy map, or with reach the reach map, of the cells of size `cell`;
+ * class_counts (may be NULL) gets the number of cells in each class. */
+static int figure_hazard(report *r, const map_cell *cells, size_t n, double cell, int reach,
                          long *class_counts)
 {
     rf_svg s;
     char title[200];
-    double cell = r->hazard_cell;
     if (reach)
         snprintf(title, sizeof title, "Reach probability per %g m cell", cell);
     else
@@ -1529,7 +1527,7 @@ static int section_hazard(report *r)
         fputs("<li>No hazard cells in this run: no hazard maps.</li>\n", r->notes);
         return 0;
     }
-    r->hazard_cell = hazard_cell_size(r, &h);
+    double cell = hazard_cell_size(r, &h);
     /* both maps draw the same cells: one read */
     map_cell *cells = NULL;
     size_t n = 0;
@@ -1539,7 +1537,8 @@ static int section_hazard(report *r)
                            " WHERE run_id = ?1 ORDER BY iy, ix",
                            r->run, map_cell_row, (void **)&cells, &n, sizeof *cells);
     if (!status)
-        status = figure_hazard(r, cells, n, 0, counts) || figure_hazard(r, cells, n, 1, NULL);
+        status = figure_hazard(r, cells, n, cell, 0, counts) ||
+                 figure_hazard(r, cells, n, cell, 1, NULL);
     free(cells);
     if (status)
         return -1;
@@ -1549,7 +1548,7 @@ static int section_hazard(report *r)
             "is shown in classes with limits at %.0f, %.0f and %.0f kJ: %ld cells reach %.0f kJ "
             "or more, %ld of them %.0f kJ or more (the 95th percentile per cell: %ld and %ld). "
             "The largest energy anywhere is ",
-            h.ncells, r->hazard_cell, rf_report_energy_limits[0], rf_report_energy_limits[1],
+            h.ncells, cell, rf_report_energy_limits[0], rf_report_energy_limits[1],
             rf_report_energy_limits[2], over3000, rf_report_energy_limits[1], over6000,
             rf_report_energy_limits[2], h.p95_over[0], h.p95_over[1]);
     put_num(f, h.emax, 0);
