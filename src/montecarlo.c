@@ -43,10 +43,10 @@ const gsl_rng_type *rf_rng_type(void) { return gsl_rng_taus2; }
 
 /* ---- start states ------------------------------------------------------------- */
 
-rf_body rf_release_body(const rf_project *p, size_t release)
+rf_body rf_release_body(const rf_project *p, size_t release, rf_rock_model model)
 {
     const rf_rock *rock = &p->rocks[p->releases[release].rock];
-    return rf_body_make(rock->mass, rock->density, p->sim.model);
+    return rf_body_make(rock->mass, rock->density, model);
 }
 
 rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b, gsl_rng *rng)
@@ -207,7 +207,7 @@ static void run_chunk(worker *w, chunk *c)
         o->release = rel;
         o->idx = idx;
         gsl_rng_set(w->rng, rf_trajectory_seed(p->seed, rel, idx));
-        rf_body body = rf_release_body(p, rel);
+        rf_body body = rf_release_body(p, rel, p->sim.model);
         rf_state start = rf_release_start(p, rel, &body, w->rng);
         rf_sink sink = {0};
         sink.ctx = w;

@@ -345,7 +345,7 @@ static void noto_trajectories(rf_project *p, rf_engine_kind engine, double dt, i
     p->sim.dt = dt;
     p->sim.contact = RF_CONTACT_CENTRE;
     rf_scene sc = {&p->terrain, &p->sim, NULL, 0, p->measures, p->nmeasures};
-    rf_body b = rf_release_body(p, 0);
+    rf_body b = rf_release_body(p, 0, p->sim.model);
     rf_workspace *ws = rf_workspace_alloc(&p->terrain);
     gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
     ENSURE(ws && rng);
@@ -511,7 +511,7 @@ TEST(motion_grazing_touches_are_not_impacts)
     ENSURE(rf_project_load("projects/noto/noto-3.1-no-trees.yaml", &p, &err) == 0);
     p.sim.contact = RF_CONTACT_CENTRE;
     rf_scene sc = {&p.terrain, &p.sim, NULL, 0, p.measures, p.nmeasures};
-    rf_body b = rf_release_body(&p, 0);
+    rf_body b = rf_release_body(&p, 0, p.sim.model);
     rf_workspace *ws = rf_workspace_alloc(&p.terrain);
     gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
     long total = 0;

@@ -703,7 +703,7 @@ typedef struct vt_line_stats {
 
 static vt_line_stats line_stats(const rf_project *p, const rf_forest *fs, size_t nf, long n)
 {
-    rf_body b = rf_release_body(p, 0);
+    rf_body b = rf_release_body(p, 0, p->sim.model);
     vt_runner R;
     runner_init(&R, &p->terrain, &p->sim, fs, nf, p->measures, p->nmeasures, b);
     vt_line_stats st;

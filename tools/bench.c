@@ -93,9 +93,7 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
     sink.interception = on_crossing;
     for (long k = 0; k < n; k++) {
         gsl_rng_set(rng, rf_trajectory_seed(p->seed, 0, first + k));
-        /* the rock of the release in the row's model (rf_release_body takes the project's) */
-        const rf_rock *rock = &p->rocks[rel->rock];
-        rf_body body = rf_body_make(rock->mass, rock->density, sim->model);
+        rf_body body = rf_release_body(p, 0, sim->model); /* in the row's model */
         rf_state s0 = rf_release_start(p, 0, &body, rng);
         rf_trajectory_record rec;
         rp.speed = NAN;

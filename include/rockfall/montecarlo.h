@@ -37,8 +37,8 @@ int rf_montecarlo_run(const rf_project *p, struct rf_store *s, const rf_run_opti
 unsigned long rf_trajectory_seed(uint64_t project_seed, size_t release, long idx);
 /* The generator every trajectory uses. */
 const gsl_rng_type *rf_rng_type(void);
-/* The rock body of a release under the project's simulation model. */
-rf_body rf_release_body(const rf_project *p, size_t release);
+/* The rock body of a release under a rock model (the project's: p->sim.model). */
+rf_body rf_release_body(const rf_project *p, size_t release, rf_rock_model model);
 /* Start state of one trajectory of a release: the release point moved by the random
  * horizontal jitter (uniform in a disc), the rock resting on the ground along the
  * surface normal, raised by the release height, with the release velocity. */
