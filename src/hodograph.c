@@ -22,7 +22,7 @@
 
 void rf_hodograph_init(rf_hodograph *h, rf_vec3 w0, rf_vec3 n, rf_vec3 e1, double A, double B)
 {
-    h->e1 = e1;
+    *h = (rf_hodograph){.e1 = e1}; /* every field set below; none left to chance */
     h->e2 = rf_v3_cross(n, e1);
     double a = rf_v3_dot(w0, e1), b = rf_v3_dot(w0, h->e2);
     if (b < 0) {
@@ -43,10 +43,17 @@ void rf_hodograph_init(rf_hodograph *h, rf_vec3 w0, rf_vec3 n, rf_vec3 e1, doubl
     h->c[0] = P / (2.0 * A), h->c[1] = Q / (2.0 * A);
     h->c[2] = P * P / (4.0 * A), h->c[3] = Q * Q / (4.0 * A);
     h->c[4] = b * P / (2.0 * A), h->c[5] = b * Q / (2.0 * A);
+    h->tend = k > 1.0 ? rf_hodograph_time(h, INFINITY, NULL) : INFINITY;
 }
 
 /* I(a) from inv = 1 / a (0 for a = 0) and e = sigma^a - 1 = expm1(-a lambda) */
 static double integral(double inv, double e, double lam) { return inv != 0.0 ? -e * inv : lam; }
+
+/* t from em = sigma^(k-1) - 1 and ep = sigma^(k+1) - 1 */
+static double time_of(const rf_hodograph *h, double em, double ep, double lam)
+{
+    return h->c[0] * integral(h->inv[0], em, lam) + h->c[1] * integral(h->inv[1], ep, lam);
+}
 
 double rf_hodograph_time(const rf_hodograph *h, double lam, double *speed)
 {
@@ -54,7 +61,7 @@ double rf_hodograph_time(const rf_hodograph *h, double lam, double *speed)
     double em = expm1(-(k - 1.0) * lam), ep = expm1(-(k + 1.0) * lam);
     if (speed)
         *speed = 0.5 * (h->P * (1.0 + em) + h->Q * (1.0 + ep));
-    return h->c[0] * integral(h->inv[0], em, lam) + h->c[1] * integral(h->inv[1], ep, lam);
+    return time_of(h, em, ep, lam);
 }
 
 double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x)
@@ -66,7 +73,7 @@ double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x
     double e2m = em * (em + 2.0), e2p = ep * (ep + 2.0), e1m = expm1(-(2.0 * k - 1.0) * lam),
            e1p = ep + e0 + ep * e0;
     const double *c = h->c, *inv = h->inv;
-    double t = c[0] * integral(inv[0], em, lam) + c[1] * integral(inv[1], ep, lam);
+    double t = time_of(h, em, ep, lam);
     double wa = 0.5 * (h->P * (1.0 + em) - h->Q * (1.0 + ep)), wb = h->R * (1.0 + e0);
     double xa = c[2] * integral(inv[2], e2m, lam) - c[3] * integral(inv[3], e2p, lam);
     double xb = c[4] * integral(inv[4], e1m, lam) + c[5] * integral(inv[5], e1p, lam);
@@ -75,14 +82,11 @@ double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x
     return t;
 }
 
-double rf_hodograph_end(const rf_hodograph *h)
-{
-    return h->k > 1.0 ? rf_hodograph_time(h, INFINITY, NULL) : INFINITY;
-}
+double rf_hodograph_end(const rf_hodograph *h) { return h->tend; }
 
 double rf_hodograph_lambda(const rf_hodograph *h, double t, double lo, double hi, double guess)
 {
-    if (hi == INFINITY && t >= rf_hodograph_end(h))
+    if (hi == INFINITY && t >= h->tend)
         return INFINITY;
     /* Newton's method (dt/dlambda = |w| / A) kept inside the bracket [lo, hi] */
     double lam = guess >= lo && guess <= hi ? guess : lo;

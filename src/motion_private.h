@@ -76,6 +76,7 @@ typedef struct rf_hodograph {
     double P, Q, R;    /* |w0| + w0.e1, |w0| - w0.e1, w0.e2 */
     double inv[6];     /* 1 / a (0 for a = 0) for a = k-1, k+1, 2k-2, 2k+2, 2k-1, 2k+1 */
     double c[6];       /* P / 2A, Q / 2A, P^2 / 4A, Q^2 / 4A, R P / 2A, R Q / 2A */
+    double tend;       /* the time w vanishes at (k > 1), else INFINITY */
 } rf_hodograph;
 
 /* w0 in the plane of n, not along e1; A > 0, B >= 0. */
