@@ -518,36 +518,28 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
     const rf_triangle *F = &t->tri[from];
     rf_vec3 q = m->centre ? m->s.p : rf_v3_madd(m->s.p, -m->rho, F->n);
     int32_t to = rf_face_after(m, from, edge, fe, q, acc);
-    if (to < 0) {
-        if (m->point || m->centre)
-            return RF_SURF_EXITED;
-        if (m->sup.n == 2) {
-            /* out of a crease over the terrain's edge: the other face still holds it */
-            m->sup.n = 1;
-            m->sup.tri[0] = m->sup.tri[1 - slot];
-            m->sup.tri[1] = -1;
-            m->sup.left = from;
-            return RF_SURF_CONTINUE;
-        }
-        go_flight(m, from);
-        return RF_SURF_FLIGHT;
-    }
+    if (to < 0 && (m->point || m->centre))
+        return RF_SURF_EXITED;
     if (m->sup.n == 2) {
         int32_t other = m->sup.tri[1 - slot];
-        if (rf_coplanar(F, &t->tri[to], m->tol_len)) {
+        if (to >= 0 && rf_coplanar(F, &t->tri[to], m->tol_len)) {
             m->sup.tri[slot] = to;
             m->sup.left = from;
             return RF_SURF_CONTINUE;
         }
-        /* the crease goes on between the other face and the next one, or ends: carry
-         * on on the other face */
-        if (m->point && try_crease(m, other, to) == 0)
+        /* the crease goes on between the other face and the next one, or ends (also
+         * over the terrain's edge): carry on on the other face */
+        if (to >= 0 && m->point && try_crease(m, other, to) == 0)
             return RF_SURF_CONTINUE; /* a point moves on along the valley line */
         m->sup.n = 1;
         m->sup.tri[0] = other;
         m->sup.tri[1] = -1;
         m->sup.left = from;
         return RF_SURF_CONTINUE;
+    }
+    if (to < 0) {
+        go_flight(m, from);
+        return RF_SURF_FLIGHT;
     }
     const rf_triangle *Tn = &t->tri[to];
     if (rf_coplanar(F, Tn, m->tol_len)) {
