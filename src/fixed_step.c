@@ -224,7 +224,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
     double hs = h;
     int slip_end = 0, can_stick = 0;
     if (slide) {
-        double K = 1.0 + m->body->mass * m->rho * m->rho / m->body->inertia;
+        double K = rf_slip_factor(m->body, m->rho);
         can_stick = K * m->sup.mu * RF_GRAVITY * n.z > RF_GRAVITY * sqrt(fmax(0.0, 1.0 - n.z * n.z));
         double ul = rf_v3_norm(u);
         double dus = ul > 0 ? rf_v3_dot(du, u) / ul : 0.0;

@@ -328,6 +328,9 @@ void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u);
 int rf_coplanar(const rf_triangle *A, const rf_triangle *B, double tol);
 /* m / (m + I / r^2) of a body rolling with contact radius rho: 5/7 for the sphere. */
 double rf_roll_factor(const rf_body *b, double rho);
+/* 1 + m r^2 / I of a body slipping with contact radius rho: the slip grows K times
+ * faster than the centre's velocity under friction (7/2 for the sphere). */
+double rf_slip_factor(const rf_body *b, double rho);
 /* 1 when friction (mu) can keep the sphere on face n rolling without slip: the contact
  * force rolling needs, 2/7 m g_t with the rolling resistance, is at most mu m g_n
  * (a rock at rest where it stays needs none). */

@@ -51,6 +51,11 @@ double rf_roll_factor(const rf_body *b, double rho)
     return 1.0 / (1.0 + b->inertia / (b->mass * rho * rho)); /* 5/7 for I = 2/5 m r^2 */
 }
 
+double rf_slip_factor(const rf_body *b, double rho)
+{
+    return 1.0 + b->mass * rho * rho / b->inertia; /* 7/2 for I = 2/5 m r^2 */
+}
+
 static void face_setup(const rf_motion *m, rf_vec3 n, face_dyn *f)
 {
     f->n = n;
@@ -74,7 +79,7 @@ static void face_setup(const rf_motion *m, rf_vec3 n, face_dyn *f)
     } else {
         f->mode = LAW_SLIDE, f->k = 1.0, f->c = m->sup.mu;
     }
-    f->K = m->point ? 1.0 : 1.0 + m->body->mass * m->rho * m->rho / m->body->inertia;
+    f->K = m->point ? 1.0 : rf_slip_factor(m->body, m->rho);
 }
 
 /* The surface laws (module comment): acceleration of the centre and rate of the slip. */
