@@ -172,7 +172,6 @@ typedef struct search {
     rf_motion *m;
     const rf_arc *arc;
     const rf_support *ex;
-    int planar;       /* the arc lies on the support planes (a surface segment) */
     double best;      /* earliest contact so far (exclusive bound) */
     int found;
     rf_contact *c;
@@ -529,6 +528,12 @@ static inline uint64_t point_hash(rf_vec3 p)
  * north-east from that node, 3 the node itself); cell triangle 0 is (SW, SE, NE), 1 is
  * (SW, NE, NW).  Meshes: hashes of the coordinates (vertex keys even, edge keys odd),
  * confirmed by comparing the coordinates. */
+/* The key of a mesh edge between vertices of hashes ha and hb (either order). */
+static uint64_t mesh_edge_key(uint64_t ha, uint64_t hb)
+{
+    return ha < hb ? mix64(ha ^ mix64(hb)) : mix64(hb ^ mix64(ha));
+}
+
 static void feature_keys(const rf_terrain *t, int32_t idx, uint64_t ek[3], uint64_t vk[3])
 {
     if (t->is_grid) {
@@ -545,9 +550,8 @@ static void feature_keys(const rf_terrain *t, int32_t idx, uint64_t ek[3], uint6
     const rf_triangle *T = &t->tri[idx];
     uint64_t h[3] = {point_hash(T->a), point_hash(T->b), point_hash(T->c)};
     for (int k = 0; k < 3; k++) {
-        uint64_t a = h[k], b = h[(k + 1) % 3];
         vk[k] = h[k] << 1;
-        ek[k] = mix64((a < b ? a : b) ^ mix64(a < b ? b : a)) | 1ULL;
+        ek[k] = mesh_edge_key(h[k], h[(k + 1) % 3]) | 1ULL;
     }
 }
 
@@ -844,7 +848,7 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
         if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
         if (excluded_tri(ex, idx)) {
-            if (!s->planar && m->rho > 0 && !m->centre)
+            if (s->sp.n == 0 && m->rho > 0 && !m->centre) /* a flight */
                 pend_push(s, idx, ta, tb, &npend); /* as in test_line_candidates */
             continue;
         }
@@ -872,7 +876,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
                       rf_contact *c)
 {
     const rf_terrain *t = m->terrain;
-    search s = {m, arc, ex, 0, INFINITY, 0, c};
+    search s = {m, arc, ex, INFINITY, 0, c};
     if (!(T >= 0))
         return 0;
     double vh0 = sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
@@ -975,7 +979,7 @@ void rf_tri_box_build(const rf_terrain *t, float *box)
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                            rf_contact *c)
 {
-    search s = {m, arc, ex, 1, INFINITY, 0, c};
+    search s = {m, arc, ex, INFINITY, 0, c};
     if (!(T >= 0))
         return 0;
     rf_vec3 lo, hi;
@@ -1127,10 +1131,9 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
         return -1;
     for (size_t i = 0; i < t->ntri; i++)
         for (int k = 0; k < 3; k++) {
-            rf_vec3 a = rf_tri_vertex(&t->tri[i], k), b = rf_tri_vertex(&t->tri[i], (k + 1) % 3);
-            uint64_t ha = point_hash(a), hb = point_hash(b);
-            uint64_t lo = ha < hb ? ha : hb, hi = ha < hb ? hb : ha;
-            r[3 * i + (size_t)k] = (edge_ref){mix64(lo ^ mix64(hi)), (int32_t)i, k};
+            uint64_t ha = point_hash(rf_tri_vertex(&t->tri[i], k)),
+                     hb = point_hash(rf_tri_vertex(&t->tri[i], k + 1));
+            r[3 * i + (size_t)k] = (edge_ref){mesh_edge_key(ha, hb), (int32_t)i, k};
         }
     qsort(r, n, sizeof *r, edge_ref_cmp);
     for (size_t i = 0; i < n;) {
