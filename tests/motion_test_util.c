@@ -195,14 +195,15 @@ double mt_terrain_distance(const rf_terrain *t, rf_vec3 p)
     return best;
 }
 
-char *mt_grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx)
+char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
+                   double (*z)(int i, int j, void *), void *ctx)
 {
-    size_t cap = 128 + (size_t)nx * (size_t)ny * 24;
+    size_t cap = 256 + (size_t)nx * (size_t)ny * 26;
     char *buf = malloc(cap);
     size_t n = (size_t)snprintf(buf, cap,
-                                "ncols %d\nnrows %d\nxllcorner 0\nyllcorner 0\ncellsize %.17g\n"
-                                "NODATA_value -9999\n",
-                                nx, ny, cell);
+                                "ncols %d\nnrows %d\nxllcorner %.17g\nyllcorner %.17g\n"
+                                "cellsize %.17g\nNODATA_value -9999\n",
+                                nx, ny, x0, y0, cell);
     for (int j = ny - 1; j >= 0; j--) {
         for (int i = 0; i < nx; i++)
             n += (size_t)snprintf(buf + n, cap - n, i ? " %.17g" : "%.17g", z(i, j, ctx));

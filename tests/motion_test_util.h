@@ -29,9 +29,11 @@ void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_sur
 void mt_dem_text(rf_terrain *t, const char *name, const char *text, rf_surface s);
 void mt_mesh_text(rf_terrain *t, const char *name, const char *text, rf_surface s);
 
-/* The text of an ESRI grid of nx * ny nodes at spacing cell, node (i, j) at height
- * z(i, j, ctx) (-9999: nodata); malloc'd. */
-char *mt_grid_text(int nx, int ny, double cell, double (*z)(int i, int j, void *), void *ctx);
+/* The text of an ESRI grid of nx * ny nodes at spacing cell from the lower left corner
+ * (x0, y0), node (i, j) at height z(i, j, ctx) (-9999: nodata), asked for row by row
+ * from the top (j = ny - 1), i ascending in each; malloc'd. */
+char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
+                   double (*z)(int i, int j, void *), void *ctx);
 
 rf_state mt_state(rf_vec3 p, rf_vec3 v);
 

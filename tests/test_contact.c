@@ -75,7 +75,7 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             z[j * N + i] = 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(rng);
-    char *txt = mesh ? mesh_text(z) : mt_grid_text(N, N, 1.0, node_z, z);
+    char *txt = mesh ? mesh_text(z) : mt_grid_text(N, N, 1.0, 0.0, 0.0, node_z, z);
     rf_terrain t;
     if (mesh)
         mt_mesh_text(&t, "bumpy.stl", txt, PLAIN);

@@ -135,7 +135,7 @@ static double pyramid_z(int i, int j, void *ctx)
 
 TEST(hard_exact_hits_on_vertices_edges_corners)
 {
-    char *txt = mt_grid_text(11, 11, 1.0, pyramid_z, NULL);
+    char *txt = mt_grid_text(11, 11, 1.0, 0.0, 0.0, pyramid_z, NULL);
     rf_terrain t;
     mt_dem_text(&t, "pyr.asc", txt, ROCKY);
     free(txt);
@@ -181,7 +181,7 @@ static double step_z(int i, int j, void *ctx)
 
 TEST(hard_big_rock_against_step_no_penetration)
 {
-    char *txt = mt_grid_text(61, 21, 0.5, step_z, NULL);
+    char *txt = mt_grid_text(61, 21, 0.5, 0.0, 0.0, step_z, NULL);
     rf_terrain t;
     mt_dem_text(&t, "step.asc", txt, ROCKY);
     free(txt);
@@ -251,7 +251,7 @@ static double holed_z(int i, int j, void *ctx)
 
 TEST(hard_nodata_holes_and_terrain_edges)
 {
-    char *txt = mt_grid_text(21, 11, 1.0, holed_z, NULL);
+    char *txt = mt_grid_text(21, 11, 1.0, 0.0, 0.0, holed_z, NULL);
     rf_terrain t;
     mt_dem_text(&t, "hole.asc", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
     free(txt);
@@ -370,7 +370,7 @@ static double rough_z(int i, int j, void *ctx)
 /* A 61 x 41 rough slope of 1 m cells with a nodata hole, its heights drawn from rng. */
 static void rough_terrain(rf_terrain *t, const char *name, gsl_rng *rng)
 {
-    char *txt = mt_grid_text(61, 41, 1.0, rough_z, rng);
+    char *txt = mt_grid_text(61, 41, 1.0, 0.0, 0.0, rough_z, rng);
     mt_dem_text(t, name, txt, ROCKY);
     free(txt);
 }
@@ -491,6 +491,27 @@ typedef struct replay {
     unsigned long seed;
 } replay;
 
+/* The heights of a replayed scene's grid, drawn from g node by node. */
+typedef struct replay_grid {
+    gsl_rng *g;
+    double cell, slope, rough, holes;
+    int steps;
+} replay_grid;
+
+static double replay_z(int i, int j, void *ctx)
+{
+    const replay_grid *q = ctx;
+    (void)j;
+    double z = 100.0 - q->slope * i * q->cell + q->rough * gsl_rng_uniform(q->g);
+    if (q->steps && i % 7 == 3)
+        z -= 3.0 * q->cell * gsl_rng_uniform(q->g);
+    if (q->holes > 0 && gsl_rng_uniform(q->g) < q->holes)
+        z = -9999;
+    if (gsl_rng_uniform(q->g) < 0.1)
+        z = floor(z); /* flat patches and shared heights */
+    return z;
+}
+
 static void replay_scene(unsigned long seed, long it, long k, replay *rp)
 {
     gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
@@ -500,24 +521,9 @@ static void replay_scene(unsigned long seed, long it, long k, replay *rp)
     double slope = gsl_rng_uniform(g) * 1.6, rough = gsl_rng_uniform(g) * 2.0 * cell;
     double holes = gsl_rng_uniform(g) < 0.3 ? 0.02 : 0.0;
     int steps = gsl_rng_uniform(g) < 0.3;
-    size_t cap = (size_t)nx * (size_t)ny * 26 + 256, len = 0;
-    char *txt = malloc(cap);
+    replay_grid q = {g, cell, slope, rough, holes, steps};
+    char *txt = mt_grid_text(nx, ny, cell, 1000.0, 2000.0, replay_z, &q);
     ENSURE(txt != NULL);
-    len += (size_t)snprintf(txt, cap, "ncols %d\nnrows %d\nxllcorner 1000.0\nyllcorner 2000.0\n"
-                            "cellsize %.17g\nNODATA_value -9999\n", nx, ny, cell);
-    for (int j = ny - 1; j >= 0; j--) {
-        for (int i = 0; i < nx; i++) {
-            double z = 100.0 - slope * i * cell + rough * gsl_rng_uniform(g);
-            if (steps && i % 7 == 3)
-                z -= 3.0 * cell * gsl_rng_uniform(g);
-            if (holes > 0 && gsl_rng_uniform(g) < holes)
-                z = -9999;
-            if (gsl_rng_uniform(g) < 0.1)
-                z = floor(z); /* flat patches and shared heights */
-            len += (size_t)snprintf(txt + len, cap - len, "%.17g ", z);
-        }
-        len += (size_t)snprintf(txt + len, cap - len, "\n");
-    }
     double e = gsl_rng_uniform(g), esd = gsl_rng_uniform(g) < 0.5 ? 0 : 0.3 * gsl_rng_uniform(g);
     if (gsl_rng_uniform(g) < 0.2)
         e = gsl_rng_uniform(g) < 0.5 ? 0.0 : 1.0;
