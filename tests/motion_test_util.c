@@ -19,13 +19,7 @@ void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_sur
 static void build_file(rf_terrain *t, rf_terrain_source src, const char *name, const char *text,
                        rf_surface s)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", rf_test_tmpdir(), name);
-    FILE *f = fopen(path, "w");
-    ENSURE(f != NULL);
-    fputs(text, f);
-    fclose(f);
-    char *files[1] = {path};
+    char *files[1] = {(char *)rf_test_write(name, text)};
     rf_terrain_spec spec;
     memset(&spec, 0, sizeof spec);
     spec.source = src;

@@ -20,6 +20,10 @@ int rf_test_rockfall(const char *args, char *out, size_t cap);
 const char *rf_test_tmpdir(void);
 /* The whole text of a file, NUL-terminated and malloc'd; NULL when it cannot be read. */
 char *rf_test_read_text(const char *path);
+/* The path of file `name` in the case's directory (valid for the next three calls). */
+const char *rf_test_path(const char *name);
+/* Writes text to file `name` of the case's directory (ENSUREs); returns rf_test_path. */
+const char *rf_test_write(const char *name, const char *text);
 
 #define TEST(name)                                                                     \
     static void name(void);                                                            \

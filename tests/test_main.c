@@ -94,6 +94,25 @@ char *rf_test_read_text(const char *path)
     return s;
 }
 
+const char *rf_test_path(const char *name)
+{
+    static char buf[4][600];
+    static int k;
+    k = (k + 1) % 4;
+    snprintf(buf[k], sizeof buf[k], "%s/%s", rf_test_tmpdir(), name);
+    return buf[k];
+}
+
+const char *rf_test_write(const char *name, const char *text)
+{
+    const char *path = rf_test_path(name);
+    FILE *f = fopen(path, "w");
+    ENSURE_MSG(f != NULL, "cannot write %s", path);
+    ENSURE(fputs(text, f) >= 0);
+    ENSURE(fclose(f) == 0);
+    return path;
+}
+
 static int selected(const char *name, int argc, char **argv)
 {
     if (argc < 2)

@@ -77,36 +77,10 @@ static void make_project(test_project *t, const char *project_path, int with_roa
     t->p.nmeasures = n;
 }
 
-static const char *tmp_path(const char *name)
-{
-    static char buf[4][600];
-    static int k;
-    k = (k + 1) % 4;
-    snprintf(buf[k], sizeof buf[k], "%s/%s", rf_test_tmpdir(), name);
-    return buf[k];
-}
-
-static void write_text(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    ENSURE(f);
-    ENSURE(fputs(text, f) >= 0);
-    ENSURE(fclose(f) == 0);
-}
-
 static char *read_text(const char *path)
 {
-    FILE *f = fopen(path, "rb");
-    ENSURE_MSG(f, "cannot open %s", path);
-    ENSURE(fseek(f, 0, SEEK_END) == 0);
-    long n = ftell(f);
-    ENSURE(n >= 0);
-    rewind(f);
-    char *s = malloc((size_t)n + 1);
-    ENSURE(s);
-    ENSURE(fread(s, 1, (size_t)n, f) == (size_t)n);
-    s[n] = 0;
-    fclose(f);
+    char *s = rf_test_read_text(path);
+    ENSURE_MSG(s, "cannot read %s", path);
     return s;
 }
 
@@ -213,7 +187,7 @@ static rf_store *project_store(test_project *t, const char *project_path, int wi
                                const char *db)
 {
     make_project(t, project_path, with_road);
-    return open_store(tmp_path(db));
+    return open_store(rf_test_path(db));
 }
 
 /* Writes the report of the run into dir; returns its index.html (malloc'd). */
@@ -261,8 +235,7 @@ TEST(report_polyline_station)
 
 TEST(report_full_run_writes_every_figure)
 {
-    const char *yaml = tmp_path("slope.yaml");
-    write_text(yaml, PROJECT_YAML);
+    const char *yaml = rf_test_write("slope.yaml", PROJECT_YAML);
     test_project t;
     rf_store *s = project_store(&t, yaml, 1, "full.db");
     int64_t run = write_run(s, &t, 1, 1);
@@ -282,7 +255,7 @@ TEST(report_full_run_writes_every_figure)
     ENSURE_MSG(sqlite3_exec(rf_store_db(s), sql, NULL, NULL, NULL) == SQLITE_OK, "%s",
                sqlite3_errmsg(rf_store_db(s)));
 
-    const char *dir = tmp_path("report");
+    const char *dir = rf_test_path("report");
     char *html = report_html(s, run, dir);
     ENSURE(strncmp(html, "<!doctype html>", 15) == 0);
     ENSURE(strstr(html, "</body></html>\n"));
@@ -353,7 +326,7 @@ TEST(report_full_run_writes_every_figure)
     ENSURE(!strstr(html, "nan") && !strstr(html, "could not be reloaded"));
 
     /* deterministic: a second report is the same, byte for byte */
-    const char *dir2 = tmp_path("again");
+    const char *dir2 = rf_test_path("again");
     report_ok(s, run, dir2);
     const char *files[] = {"index.html", "plan.svg", "hazard-energy.svg", "road-0-position.svg",
                            "measure-1-energy.svg"};
@@ -381,7 +354,7 @@ TEST(report_without_road_paths_cells_or_project)
     test_project t;
     rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 0, "bare.db");
     int64_t run = write_run(s, &t, 0, 0);
-    const char *dir = tmp_path("bare/deeper/report");
+    const char *dir = rf_test_path("bare/deeper/report");
     char *html = report_html(s, run, dir);
     ENSURE(strstr(html, "no control line"));
     ENSURE(strstr(html, "could not be reloaded"));
@@ -413,13 +386,12 @@ TEST(report_missing_run_and_bad_folder_are_errors)
     rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "err.db");
     int64_t run = write_run(s, &t, 1, 1);
     rf_error err = {0};
-    const char *dir = tmp_path("missing");
+    const char *dir = rf_test_path("missing");
     ENSURE(rf_report_write(rf_store_db(s), run + 41, dir, &err) != 0);
     ENSURE_MSG(strstr(err.message, "no run"), "%s", err.message);
     ENSURE(!exists(dir));
 
-    const char *file = tmp_path("a-file");
-    write_text(file, "not a folder\n");
+    const char *file = rf_test_write("a-file", "not a folder\n");
     char sub[700];
     snprintf(sub, sizeof sub, "%s/report", file);
     memset(&err, 0, sizeof err);
@@ -437,7 +409,7 @@ TEST(report_of_an_empty_run)
     int64_t run = 0;
     ENSURE(rf_store_run_begin(s, &t.p, 0, &run, &err) == 0);
     ENSURE(rf_store_run_finish(s, "complete", 0, &err) == 0);
-    const char *dir = tmp_path("empty");
+    const char *dir = rf_test_path("empty");
     char *html = report_html(s, run, dir);
     ENSURE(strstr(html, "0 of 0 trajectories"));
     ENSURE(strstr(html, "No rock reached this line"));

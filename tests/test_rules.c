@@ -252,18 +252,11 @@ static void scene_begin(scene *t, const char *db)
     ENSURE(rf_store_batch_begin(t->s, &err) == 0);
 }
 
-static const char *tmp_db(const char *name)
-{
-    static char buf[600];
-    snprintf(buf, sizeof buf, "%s/%s", rf_test_tmpdir(), name);
-    return buf;
-}
-
 /* A scene (scene_init) whose run is begun in the database `db` of the test's directory. */
 static void scene_open(scene *t, rf_importance importance, const char *yaml, const char *db)
 {
     scene_init(t, importance, yaml);
-    scene_begin(t, tmp_db(db));
+    scene_begin(t, rf_test_path(db));
 }
 
 /* One trajectory of the release of `level` that meets `measure` with this energy. */
@@ -545,7 +538,7 @@ TEST(rules_sel_default_lives_in_the_rule_file)
 
 TEST(rules_views_added_to_an_older_database)
 {
-    const char *path = tmp_db("old.db");
+    const char *path = rf_test_path("old.db");
     rf_store *s;
     rf_error err = {{0}};
     ENSURE(rf_store_open(path, &s, &err) == 0);
@@ -571,7 +564,7 @@ TEST(rules_path_of_run)
     scene t;
     scene_init(&t, RF_USUAL, "name: x\nrules: ../../rules/table3.yaml\n");
     t.p.path = "projects/site/site.yaml";
-    scene_begin(&t, tmp_db("path.db"));
+    scene_begin(&t, rf_test_path("path.db"));
     scene_finish(&t);
     char *path = NULL;
     rf_error err = {{0}};
@@ -596,8 +589,8 @@ TEST(rules_cli_check_exit_status)
     scene_init(&t, RF_USUAL, NULL);
     char pass_db[600], fail_db[600], args[2048];
     static char out[65536];
-    snprintf(pass_db, sizeof pass_db, "%s", tmp_db("pass.db"));
-    snprintf(fail_db, sizeof fail_db, "%s", tmp_db("fail.db"));
+    snprintf(pass_db, sizeof pass_db, "%s", rf_test_path("pass.db"));
+    snprintf(fail_db, sizeof fail_db, "%s", rf_test_path("fail.db"));
     scene_begin(&t, pass_db);
     hits(&t, 2, M_B1, 50, 48);
     hits(&t, 2, M_E1, 20, 20);

@@ -73,13 +73,6 @@ static void make_project(test_project *t)
 
 /* ---- helpers -------------------------------------------------------------------- */
 
-static const char *db_path(const char *name)
-{
-    static char buf[512];
-    snprintf(buf, sizeof buf, "%s/%s", rf_test_tmpdir(), name);
-    return buf;
-}
-
 static rf_store *open_store(const char *path)
 {
     rf_store *s = NULL;
@@ -229,7 +222,7 @@ static void write_trajectory(rf_store *s, int64_t run, size_t release, long idx,
 static rf_store *open_project_store(test_project *t, const char *name, const char **path)
 {
     make_project(t);
-    *path = db_path(name);
+    *path = rf_test_path(name);
     return open_store(*path);
 }
 
@@ -314,7 +307,7 @@ TEST(store_schema_has_every_table_and_column)
         {"tree_hits", "id", "run_id", "trajectory_id", "t_s", "x", "y", "z", "speed_before_ms",
          "speed_after_ms", "energy_lost_kj"},
     };
-    const char *path = db_path("schema.db");
+    const char *path = rf_test_path("schema.db");
     rf_store *s = open_store(path);
     sqlite3 *db = rf_store_db(s);
     for (size_t t = 0; t < sizeof tables / sizeof tables[0]; t++) {
@@ -612,7 +605,7 @@ TEST(store_reopen_adds_a_third_run)
 
 TEST(store_rejects_another_schema_version)
 {
-    const char *path = db_path("future.db");
+    const char *path = rf_test_path("future.db");
     rf_store *s = open_store(path);
     rf_store_close(s);
     sqlite3 *db = open_raw(path);
@@ -633,7 +626,7 @@ TEST(store_rejects_another_schema_version)
     sqlite3_close(db);
 
     /* Another application's SQLite database (no schema version, some tables). */
-    const char *other = db_path("other.db");
+    const char *other = rf_test_path("other.db");
     sqlite3_open_v2(other, &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, NULL);
     exec_raw(db, "CREATE TABLE photos (id INTEGER PRIMARY KEY, file TEXT)");
     sqlite3_close(db);
@@ -660,7 +653,7 @@ static int exists(const char *path)
 
 TEST(store_rejects_a_file_that_is_no_database)
 {
-    const char *path = db_path("project.yaml");
+    const char *path = rf_test_path("project.yaml");
     FILE *f = fopen(path, "w");
     ENSURE(f);
     for (int i = 0; i < 40; i++)
@@ -687,7 +680,7 @@ TEST(store_rejects_a_file_that_is_no_database)
     free(after);
 
     /* A directory that does not exist. */
-    ENSURE(rf_store_open(db_path("no/such/dir/results.db"), &s, &err) != 0);
+    ENSURE(rf_store_open(rf_test_path("no/such/dir/results.db"), &s, &err) != 0);
     ENSURE(strstr(err.message, "opening the results database") != NULL);
 }
 

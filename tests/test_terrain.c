@@ -404,19 +404,6 @@ TEST(terrain_asc_center)
     rf_terrain_free(&t);
 }
 
-/* Writes text to the file `name` of the test's directory; returns its path (valid until
- * the next call). */
-static const char *tmp_file(const char *name, const char *text)
-{
-    static char path[512];
-    snprintf(path, sizeof path, "%s/%s", rf_test_tmpdir(), name);
-    FILE *f = fopen(path, "w");
-    ENSURE(f != NULL);
-    fputs(text, f);
-    fclose(f);
-    return path;
-}
-
 static void ensure_build_error(const char *path, rf_terrain_source src, int line, int column,
                                const char *needle)
 {
@@ -443,14 +430,14 @@ TEST(terrain_bad_files)
     ensure_build_error(DATA "short.asc", RF_TERRAIN_DEM, 8, 1, "expected 6 values, found 5");
     ensure_build_error(DATA "bad_header.asc", RF_TERRAIN_DEM, 5, 10, "two");
 
-    ensure_build_error(tmp_file("bad.obj", "v 0 0 1.5\nv 2.5 0 1.25\nv 0 3.5 1.75\n"
+    ensure_build_error(rf_test_write("bad.obj", "v 0 0 1.5\nv 2.5 0 1.25\nv 0 3.5 1.75\n"
                                            "f 1 2 3\nf 1 2 4\n"),
                        RF_TERRAIN_MESH, 5, 7, "bad vertex index");
-    ensure_build_error(tmp_file("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\n"
+    ensure_build_error(rf_test_write("bad.stl", "solid x\nfacet normal 0 0 1\nouter loop\nvertex 1 2 3\n"
                                            "  vertex 4 5 six\n"),
                        RF_TERRAIN_MESH, 5, 14, "six");
     /* A mesh whose only triangle has no area. */
-    ensure_build_error(tmp_file("flat.obj", "v 0 0 1.5\nv 2.5 0 1.25\nv 5 0 1.0\nf 1 2 3\n"),
+    ensure_build_error(rf_test_write("flat.obj", "v 0 0 1.5\nv 2.5 0 1.25\nv 5 0 1.0\nf 1 2 3\n"),
                        RF_TERRAIN_MESH, 0, 0, "no triangle");
 }
 
@@ -553,7 +540,7 @@ TEST(terrain_obj)
 TEST(terrain_obj_y_up)
 {
     /* File (x, y, z) with y up: world (X, Y, Z) = (x, z, y). */
-    const char *path = tmp_file("yup.obj", "v 1.5 7.25 -2.0\nv 6.5 8.125 -2.0\nv 1.5 9.375 3.75\n"
+    const char *path = rf_test_write("yup.obj", "v 1.5 7.25 -2.0\nv 6.5 8.125 -2.0\nv 1.5 9.375 3.75\n"
                                            "f 1 2 3\n");
     rf_terrain t;
     build_mesh(path, 'y', &t);
