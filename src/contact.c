@@ -848,8 +848,12 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
         if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
         if (excluded_tri(ex, idx)) {
-            if (s->sp.n == 0 && m->rho > 0 && !m->centre) /* a flight */
-                pend_push(s, idx, ta, tb, &npend); /* as in test_line_candidates */
+            /* as in test_line_candidates: not its face, but its edges and vertices;
+             * in a surface segment those of the face just left over an edge, which a
+             * path on the other face can curve back into (the support's own lie on
+             * its planes and are passed over by vertex_out) */
+            if (m->rho > 0 && !m->centre)
+                pend_push(s, idx, ta, tb, &npend);
             continue;
         }
         double w0;

@@ -124,7 +124,8 @@ typedef struct rf_support {
     int n;
     int32_t tri[3];   /* tri[0], tri[1]: the faces; tri[2] only in search exclusions */
     int32_t left;     /* a face the rock has just left over its edge (or -1): the next
-                         segment's contact search ignores it */
+                         segment's contact search ignores its face, not its edges and
+                         vertices */
     int rolling;      /* sphere rolls without slip */
     int32_t zone;     /* zone whose coefficients mu and mu_r were drawn */
     double mu, mu_r;

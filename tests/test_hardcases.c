@@ -664,6 +664,11 @@ TEST(hard_replay_spheres_stay_out)
          * stays within the tolerance: it then fell 13 mm into the edge unseen (0.99 r),
          * the path never having been clear of it */
         {10, 26, 130},
+        /* rolling out of a crease of two faces of different cells when the contact
+         * point leaves one of them over its edge: on the other face, a segment of half
+         * a second with the face left out of the search altogether, and the sphere
+         * curved back through that face's edge (sank to 0.46 r) */
+        {12, 56, 195},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
