@@ -180,6 +180,8 @@ typedef struct search {
     int line;
     double ux, uy, s0, d0, vh;
     support_planes sp; /* a surface segment's support planes (n = 0 in a flight) */
+    const rf_contact *skip; /* features passed over (rf_contact_search_near) */
+    int nskip;
 } search;
 
 /* The support planes vertex v is on or below, a bit each, in a surface segment (a
@@ -198,8 +200,37 @@ static unsigned vertex_out(const search *s, rf_vec3 v)
     return bits;
 }
 
+/* 1 when the feature (kind, index) of triangle idx is one of s->skip, by its points (a
+ * shared edge or vertex may be asked for by another holder). */
+static int skipped(const search *s, int32_t idx, rf_feature kind, int index)
+{
+    const rf_triangle *tri = s->m->terrain->tri;
+    for (int k = 0; k < s->nskip; k++) {
+        const rf_contact *c = &s->skip[k];
+        if (c->kind != kind)
+            continue;
+        if (kind == RF_FEAT_FACE) {
+            if (c->tri == idx)
+                return 1;
+            continue;
+        }
+        rf_vec3 a = rf_tri_vertex(&tri[idx], index), b = rf_tri_vertex(&tri[c->tri], c->index);
+        if (kind == RF_FEAT_VERTEX) {
+            if (same_point(a, b))
+                return 1;
+            continue;
+        }
+        rf_vec3 a1 = rf_tri_vertex(&tri[idx], index + 1), b1 = rf_tri_vertex(&tri[c->tri], c->index + 1);
+        if ((same_point(a, b) && same_point(a1, b1)) || (same_point(a, b1) && same_point(a1, b)))
+            return 1;
+    }
+    return 0;
+}
+
 static void take(search *s, double t, int32_t idx, rf_feature kind, int index, rf_vec3 point)
 {
+    if (s->nskip > 0 && skipped(s, idx, kind, index))
+        return;
     s->best = t;
     s->found = 1;
     s->c->t = t;
@@ -437,9 +468,10 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
          * support's plane, which is not tested (a sphere in a concave corner) */
         if (rho > 0 ? inside_closed(T, q) || inside_margin(T, q) >= -1e-6 * rho
                     : inside_margin(T, q) >= -tol) {
-            if (t_face < s->best)
+            int skip = s->nskip > 0 && skipped(s, idx, RF_FEAT_FACE, 0);
+            if (t_face < s->best && !skip)
                 take(s, t_face, idx, RF_FEAT_FACE, 0, q);
-            if (f0 > tol)
+            if (f0 > tol && !skip)
                 return 0; /* nothing of this triangle is met before its plane */
         }
     }
@@ -981,9 +1013,11 @@ void rf_tri_box_build(const rf_terrain *t, float *box)
 }
 
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
-                           rf_contact *c)
+                           const rf_contact *skip, int nskip, rf_contact *c)
 {
     search s = {m, arc, ex, INFINITY, 0, c};
+    s.skip = skip;
+    s.nskip = nskip;
     if (!(T >= 0))
         return 0;
     rf_vec3 lo, hi;

@@ -46,6 +46,8 @@ static inline rf_vec3 rf_in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -
                                       touch band (RF_TOUCH_BAND * RF_LEN_TOL) */
 #define RF_PATH_MAX_DT 0.05        /* (s) longest step of a surface segment */
 #define RF_PATH_MAX_STEPS 100000   /* steps of one surface segment */
+#define RF_PATH_MAX_SKIPS 4        /* contacts of a step's parabola its path does not make,
+                                      passed over to find a later one */
 #define RF_SPEED_EPS 1e-6          /* speeds below this (m/s) on a face count as rest */
 #define RF_MAX_EVENTS 200000       /* a trajectory ends (max_time) after this many events */
 #define RF_STALL_EVENTS 16         /* events without progress in time before a rescue */
@@ -221,9 +223,11 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
                       rf_contact *c);
 /* rf_contact_search for a surface segment: the arc lies on the support planes (m->sup),
  * the support faces, faces in their planes and features on or below a support plane
- * are skipped (a centre r above the plane cannot reach them). */
+ * are skipped (a centre r above the plane cannot reach them), and so are the nskip
+ * features in skip (contacts of the step's parabola that the exact path does not
+ * make). */
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
-                           rf_contact *c);
+                           const rf_contact *skip, int nskip, rf_contact *c);
 /* Time (<= T) at which the centre's horizontal path leaves the terrain (outside its
  * bounds or over a hole); T when it does not. */
 double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T);

@@ -698,7 +698,7 @@ static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex,
 {
     if (!m->point && !m->centre && ev->t > 0) {
         rf_contact con;
-        if (rf_contact_search_near(m, arc, ev->t, ex, &con) && con.t < ev->t) {
+        if (rf_contact_search_near(m, arc, ev->t, ex, NULL, 0, &con) && con.t < ev->t) {
             consider(ev, EV_CONTACT, con.t);
             ev->con = con;
         }
@@ -1086,55 +1086,72 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
         rf_vec3 cn = y_c(yn), vn = y_v(yn);
         rf_vec3 ck = rf_v3_add(c0, y_c(y)), vk = y_v(y);
         rf_arc arc = fit_arc(ck, vk, rf_v3_sub(cn, y_c(y)), hs);
-        seg_event ev = {EV_NONE, hs, 0, 0, {0}, 0.0};
-        double guess = -1;
-        int edge = 0;
-        double tx = exit_time(m, fe, &arc, hs, &edge);
         rf_vec3 cabs = rf_v3_add(c0, cn);
-        int outside = 0;
-        for (int k = 0; k < 3; k++) {
-            if (rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
-                outside = 1;
-                if (!(tx < hs))
-                    edge = k, tx = hs;
+        /* the step's events; again without an exit or contact of its parabola that the
+         * path does not make, which may have hidden a later one */
+        rf_contact skip[RF_PATH_MAX_SKIPS];
+        int nskip = 0, no_exit = 0;
+        seg_event ev;
+        double te, ts, tx = hs, ye[9];
+        for (;;) {
+            ev = (seg_event){EV_NONE, hs, 0, 0, {0}, 0.0};
+            double guess = -1;
+            if (!no_exit) {
+                int edge = 0;
+                tx = exit_time(m, fe, &arc, hs, &edge);
+                int outside = 0;
+                for (int k = 0; k < 3; k++) {
+                    if (rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
+                        outside = 1;
+                        if (!(tx < hs))
+                            edge = k, tx = hs;
+                    }
+                }
+                if (tx < hs || outside) {
+                    ev.kind = EV_EXIT, ev.t = tx, ev.edge = edge;
+                    guess = tx;
+                }
             }
-        }
-        if (tx < hs || outside) {
-            ev.kind = EV_EXIT, ev.t = tx, ev.edge = edge;
-            guess = tx;
-        }
-        /* rest, or a speed so small that friction's direction is undefined: stop
-         * there and go on from rest (along the fall line) */
-        double level = holds ? stop : RF_SPEED_EPS;
-        if (!slide && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level) {
-            ev.kind = holds ? EV_REST : EV_ZERO, ev.t = hs, ev.level = level;
-            guess = -1;
-        }
-        if (!m->point && !m->centre) {
-            rf_contact con;
-            double tl = ev.kind == EV_NONE ? hs : rf_fmin(hs, ev.t + 0.1 * hs);
-            if (rf_contact_search_near(m, &arc, tl, &ex, &con) && con.t <= ev.t) {
-                ev.kind = EV_CONTACT, ev.t = con.t, ev.con = con;
-                guess = con.t;
+            /* rest, or a speed so small that friction's direction is undefined: stop
+             * there and go on from rest (along the fall line) */
+            double level = holds ? stop : RF_SPEED_EPS;
+            if (!slide && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level) {
+                ev.kind = holds ? EV_REST : EV_ZERO, ev.t = hs, ev.level = level;
+                guess = -1;
             }
-        }
-        /* scene events on the step's parabola, before any terrain event */
-        double ts = rf_scene_horizon(m, &arc, ev.kind != EV_NONE ? ev.t : hs);
-        if (m->scene_pending && ts < (ev.kind != EV_NONE ? ev.t : hs)) {
-            ev.kind = EV_SCENE, ev.t = ts;
-        } else {
-            m->scene_pending = 0;
-        }
-        double te = -1.0;
-        double ye[9];
-        if (ev.kind == EV_SCENE) {
-            te = ts;
-            step_at(&st, te, ye);
-        } else if (ev.kind == EV_EXIT && tx <= 0.0) {
-            te = 0.0;
-            memcpy(ye, y, sizeof ye);
-        } else if (ev.kind != EV_NONE) {
-            te = locate(m, f, ev.kind, &ev, fe, c0, &st, y, guess, ye);
+            if (!m->point && !m->centre) {
+                rf_contact con;
+                double tl = ev.kind == EV_NONE ? hs : rf_fmin(hs, ev.t + 0.1 * hs);
+                if (rf_contact_search_near(m, &arc, tl, &ex, skip, nskip, &con) && con.t <= ev.t) {
+                    ev.kind = EV_CONTACT, ev.t = con.t, ev.con = con;
+                    guess = con.t;
+                }
+            }
+            /* scene events on the step's parabola, before any terrain event */
+            ts = rf_scene_horizon(m, &arc, ev.kind != EV_NONE ? ev.t : hs);
+            if (m->scene_pending && ts < (ev.kind != EV_NONE ? ev.t : hs)) {
+                ev.kind = EV_SCENE, ev.t = ts;
+            } else {
+                m->scene_pending = 0;
+            }
+            te = -1.0;
+            if (ev.kind == EV_SCENE) {
+                te = ts;
+                step_at(&st, te, ye);
+            } else if (ev.kind == EV_EXIT && tx <= 0.0) {
+                te = 0.0;
+                memcpy(ye, y, sizeof ye);
+            } else if (ev.kind != EV_NONE) {
+                te = locate(m, f, ev.kind, &ev, fe, c0, &st, y, guess, ye);
+            }
+            if (te >= 0.0 || ev.kind == EV_NONE)
+                break;
+            if (ev.kind == EV_CONTACT && nskip < RF_PATH_MAX_SKIPS)
+                skip[nskip++] = ev.con;
+            else if (ev.kind == EV_EXIT)
+                no_exit = 1;
+            else
+                break;
         }
         if (te >= 0.0) {
             rf_vec3 ce = y_c(ye);

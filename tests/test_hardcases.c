@@ -669,6 +669,11 @@ TEST(hard_replay_spheres_stay_out)
          * a second with the face left out of the search altogether, and the sphere
          * curved back through that face's edge (sank to 0.46 r) */
         {12, 56, 195},
+        /* an 18 kg sphere on a face whose step's parabola touched an edge of the face
+         * just left at the start, tangent and curving in, which the path itself does
+         * not: the step was taken whole, and with it a face the search had found later
+         * in it (sank to 0.035 r) */
+        {28, 59, 215},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
