@@ -415,13 +415,15 @@ static void edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges 
     }
 }
 
-/* First time in [0, T] the contact point of the arc leaves the face; T when it does
- * not.  *edge receives the edge. */
+/* First time in [0, T] the contact point of the arc leaves the face, not over edge
+ * `skip` (-1: none); T when it does not.  *edge receives the edge. */
 static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_arc *arc, double T,
-                        int *edge)
+                        int skip, int *edge)
 {
     double best = INFINITY;
     for (int k = 0; k < 3; k++) {
+        if (k == skip)
+            continue;
         double f[3] = {rf_v3_dot(fe->m[k], arc->p) - fe->o[k], rf_v3_dot(fe->m[k], arc->v),
                        0.5 * rf_v3_dot(fe->m[k], arc->a)};
         double r[3], t = INFINITY;
@@ -446,6 +448,24 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
         }
     }
     return best < T ? best : T;
+}
+
+/* The edge of A whose ends are both vertices of B, or -1. */
+static int shared_edge(const rf_triangle *A, const rf_triangle *B)
+{
+    int on[3];
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 v = rf_tri_vertex(A, k);
+        on[k] = 0;
+        for (int j = 0; j < 3; j++) {
+            rf_vec3 w = rf_tri_vertex(B, j);
+            on[k] |= v.x == w.x && v.y == w.y && v.z == w.z;
+        }
+    }
+    for (int k = 0; k < 3; k++)
+        if (on[k] && on[(k + 1) % 3])
+            return k;
+    return -1;
 }
 
 /* How a rock that reaches the edge of its face meets the next face `to` (not coplanar
@@ -737,7 +757,7 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
     }
     rf_arc arc = {m->s.p, m->s.v, a};
     int edge = 0;
-    double tx = exit_time(m, fe, &arc, ev.t, &edge);
+    double tx = exit_time(m, fe, &arc, ev.t, -1, &edge);
     if (tx < ev.t) {
         consider(&ev, EV_EXIT, tx);
         ev.edge = edge;
@@ -1098,7 +1118,7 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
             double guess = -1;
             if (!no_exit) {
                 int edge = 0;
-                tx = exit_time(m, fe, &arc, hs, &edge);
+                tx = exit_time(m, fe, &arc, hs, -1, &edge);
                 int outside = 0;
                 for (int k = 0; k < 3; k++) {
                     if (rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
@@ -1295,9 +1315,14 @@ static rf_surface_end crease_step(rf_motion *m)
     rf_arc arc = {m->s.p, m->s.v, a};
     rf_face_edges fe[2];
     for (int slot = 0; slot < 2; slot++) {
-        edges_setup(m, &t->tri[m->sup.tri[slot]], &fe[slot]);
+        const rf_triangle *S = &t->tri[m->sup.tri[slot]];
+        edges_setup(m, S, &fe[slot]);
         int edge = 0;
-        double tx = exit_time(m, &fe[slot], &arc, ev.t, &edge);
+        /* not over the edge the faces share: the contact points move along it (the
+         * point mass on it), and the crease's direction, from two nearly parallel
+         * normals, may stray from it by a hair */
+        double tx = exit_time(m, &fe[slot], &arc, ev.t,
+                              shared_edge(S, &t->tri[m->sup.tri[1 - slot]]), &edge);
         if (tx < ev.t) {
             consider(&ev, EV_EXIT, tx);
             ev.edge = edge;

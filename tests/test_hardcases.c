@@ -698,6 +698,25 @@ TEST(hard_replay_flight_off_an_edge_past_its_end_goes_on)
 
 
 
+/* A point mass sliding along the valley line of two faces 3e-5 rad apart, exactly on
+ * their common edge: the crease's direction, from the two normals, strayed from that
+ * edge by a hair, and the point left the crease over it at once, flew, landed on the
+ * first face, crossed onto the second, and so on in no time, until the rescues ran out
+ * (17 000 events).  It now slides on along the valley and leaves the terrain. */
+TEST(hard_replay_point_along_a_shallow_valley_line_goes_on)
+{
+    replay rp;
+    replay_scene(1, 40, 251, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_POINT && rp.sim.engine == RF_ENGINE_EXACT);
+    mt_run r;
+    replay_run(&rp, &r);
+    ENSURE_MSG(r.rec.reason == RF_END_EXITED, "reason %d after %zu points", (int)r.rec.reason,
+               r.npoints);
+    ENSURE_MSG(r.npoints < 200, "%zu points", r.npoints);
+    mt_run_free(&r);
+    rf_terrain_free(&rp.t);
+}
+
 /* The fixed-step engine with a point mass that comes to a grid node at the bottom of a
  * pit (a height rounded down beside higher ones), where every step crosses into the
  * next of the six faces around the node after less than a nanosecond: it ends.  It
