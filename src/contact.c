@@ -881,9 +881,9 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
             continue;
         if (excluded_tri(ex, idx)) {
             /* as in test_line_candidates: not its face, but its edges and vertices;
-             * in a surface segment those of the face just left over an edge, which a
-             * path on the other face can curve back into (the support's own lie on
-             * its planes and are passed over by vertex_out) */
+             * in a surface segment those of the face just left over an edge (the
+             * support faces were dropped before), which a path on the other face of
+             * a crease that ended can curve back into */
             if (m->rho > 0 && !m->centre)
                 pend_push(s, idx, ta, tb, &npend);
             continue;

@@ -1107,30 +1107,29 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
         rf_vec3 ck = rf_v3_add(c0, y_c(y)), vk = y_v(y);
         rf_arc arc = fit_arc(ck, vk, rf_v3_sub(cn, y_c(y)), hs);
         rf_vec3 cabs = rf_v3_add(c0, cn);
-        /* the step's events; again without an exit or contact of its parabola that the
-         * path does not make, which may have hidden a later one */
+        /* the step's events; again without an edge or contact of its parabola that the
+         * path does not cross or make, which may have hidden a later event */
         rf_contact skip[RF_PATH_MAX_SKIPS];
-        int nskip = 0, no_exit = 0;
+        int nskip = 0, skip_edge = -1;
         seg_event ev;
-        double te, ts, tx = hs, ye[9];
+        double te, ts, tx, ye[9];
         for (;;) {
             ev = (seg_event){EV_NONE, hs, 0, 0, {0}, 0.0};
             double guess = -1;
-            if (!no_exit) {
-                int edge = 0;
-                tx = exit_time(m, fe, &arc, hs, -1, &edge);
-                int outside = 0;
-                for (int k = 0; k < 3; k++) {
-                    if (rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
-                        outside = 1;
-                        if (!(tx < hs))
-                            edge = k, tx = hs;
-                    }
+            st.lg = st.la;
+            int edge = 0;
+            tx = exit_time(m, fe, &arc, hs, skip_edge, &edge);
+            int outside = 0;
+            for (int k = 0; k < 3; k++) {
+                if (k != skip_edge && rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
+                    outside = 1;
+                    if (!(tx < hs))
+                        edge = k, tx = hs;
                 }
-                if (tx < hs || outside) {
-                    ev.kind = EV_EXIT, ev.t = tx, ev.edge = edge;
-                    guess = tx;
-                }
+            }
+            if (tx < hs || outside) {
+                ev.kind = EV_EXIT, ev.t = tx, ev.edge = edge;
+                guess = tx;
             }
             /* rest, or a speed so small that friction's direction is undefined: stop
              * there and go on from rest (along the fall line) */
@@ -1168,8 +1167,8 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
                 break;
             if (ev.kind == EV_CONTACT && nskip < RF_PATH_MAX_SKIPS)
                 skip[nskip++] = ev.con;
-            else if (ev.kind == EV_EXIT)
-                no_exit = 1;
+            else if (ev.kind == EV_EXIT && skip_edge < 0)
+                skip_edge = ev.edge;
             else
                 break;
         }
@@ -1320,9 +1319,10 @@ static rf_surface_end crease_step(rf_motion *m)
         int edge = 0;
         /* not over the edge the faces share: the contact points move along it (the
          * point mass on it), and the crease's direction, from two nearly parallel
-         * normals, may stray from it by a hair */
-        double tx = exit_time(m, &fe[slot], &arc, ev.t,
-                              shared_edge(S, &t->tri[m->sup.tri[1 - slot]]), &edge);
+         * normals, may stray from it by a hair (in centre mode the centre lies over
+         * one face, beyond the other's column, and the crease ends there) */
+        int shared = m->centre ? -1 : shared_edge(S, &t->tri[m->sup.tri[1 - slot]]);
+        double tx = exit_time(m, &fe[slot], &arc, ev.t, shared, &edge);
         if (tx < ev.t) {
             consider(&ev, EV_EXIT, tx);
             ev.edge = edge;
