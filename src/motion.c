@@ -185,8 +185,8 @@ static int flight_step(rf_motion *m)
     }
     if (hit) {
         rf_motion_advance(m, &arc, c.t);
+        rf_contact_resolve(m, &c); /* knows the face flown off from flight_ex */
         m->flight_ex.n = 0;
-        rf_contact_resolve(m, &c);
         rf_motion_event(m);
         return -1;
     }

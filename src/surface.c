@@ -371,6 +371,10 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     if (rf_v3_hnorm(w) < 1e-9)
         w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
     int32_t to = rf_face_beyond(t, -2, c->point, w);
+    /* not back onto the face just flown off, met at its own edge as the rock leaves
+     * it along that edge: it would leave it again at once */
+    if (m->flight_ex.n > 0 && to == m->flight_ex.tri[0])
+        to = -1;
     if (to >= 0 && pivot_clear(m, c->point, to) && rf_pivot(m, c->point, to) == 0) {
         rf_support_single(m, to, m->sup.n == 0);
         m->sup.rolling = 1;
