@@ -292,13 +292,21 @@ static void count_impact(rf_motion *m, double e0, double vin)
  * face's offset plane, and the lift is paid from the kinetic energy; when the rock
  * cannot pay, the face acts as a wall at the border of its column and the horizontal
  * velocity into it is reflected with restitution e.  Returns 1 after a reflection. */
+static double centre_lift_height(const rf_motion *m, const rf_triangle *T, double *gap)
+{
+    *gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
+    if (!(*gap > 0))
+        return 0.0;
+    return T->n.z >= 0.2 ? *gap / T->n.z : *gap * T->n.z;
+}
+
 static int centre_lift(rf_motion *m, const rf_contact *c)
 {
     const rf_triangle *T = &m->terrain->tri[c->tri];
-    double gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
+    double gap;
+    double lift = centre_lift_height(m, T, &gap);
     if (!(gap > 0))
         return 0;
-    double lift = T->n.z >= 0.2 ? gap / T->n.z : gap * T->n.z;
     double cost = m->body->mass * RF_GRAVITY * lift;
     double ke = rf_motion_energy(m);
     if (ke > cost) {
@@ -733,12 +741,16 @@ static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex,
     rf_motion_advance(m, arc, ev->t);
 }
 
-/* A segment of constant acceleration on one face. */
+/* A segment of constant acceleration on one face; along the wall at its column edge
+ * `wall` (centre mode, -1: none; dir along that edge), which takes the part of the
+ * acceleration across it. */
 static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, rf_vec3 u0,
-                                  const rf_face_edges *fe, int holds)
+                                  const rf_face_edges *fe, int holds, int wall)
 {
     rf_support ex = segment_exclusion(m);
     rf_vec3 a = law_accel(f, dir);
+    if (wall >= 0)
+        a = rf_v3_scale(dir, rf_v3_dot(a, dir));
     double speed = rf_v3_norm(m->s.v);
     seg_event ev = {EV_MAX_TIME, m->t_end - m->s.t, 0, 0, {0}, 0.0};
     if (ev.t < 0)
@@ -761,7 +773,7 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
     }
     rf_arc arc = {m->s.p, m->s.v, a};
     int edge = 0;
-    double tx = exit_time(m, fe, &arc, ev.t, -1, &edge);
+    double tx = exit_time(m, fe, &arc, ev.t, wall, &edge);
     if (tx < ev.t) {
         consider(&ev, EV_EXIT, tx);
         ev.edge = edge;
@@ -1205,6 +1217,40 @@ static int along(rf_vec3 x, rf_vec3 e1)
     return xl == 0.0 || rf_v3_norm(rf_v3_cross(x, e1)) <= 1e-12 * xl;
 }
 
+/* Centre mode: the edge of the support's column that the centre lies on and is pressed
+ * against by the surface law, beyond which lies a face whose offset plane is above the
+ * centre and which the rock cannot pay the lift onto: a wall (centre_lift reflects the
+ * velocity into it), along which the rock moves on.  -1 when none.  Without it, the
+ * rock left the face over that edge, was reflected and turned back into it, ever more
+ * nearly along it, at every event in no time. */
+static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe)
+{
+    const rf_terrain *t = m->terrain;
+    int32_t from = m->sup.tri[0];
+    const rf_triangle *F = &t->tri[from];
+    double speed = rf_v3_norm(m->s.v);
+    rf_vec3 a = law_accel(f, speed > 0 ? rf_v3_scale(m->s.v, 1.0 / speed) : f->e1);
+    for (int k = 0; k < 3; k++) {
+        if (fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) > m->tol_len ||
+            rf_v3_dot(fe->m[k], m->s.v) > RF_APPROACH_EPS || !(rf_v3_dot(fe->m[k], a) < 0))
+            continue;
+        /* into it slower than the stay speed: the wall keeps it (as a face does) */
+        rf_vec3 va = rf_tri_vertex(F, k), vb = rf_tri_vertex(F, k + 1);
+        rf_vec3 L = rf_v3_unit(rf_v3_sub(vb, va));
+        if (rf_v3_norm(rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, L), L)) > m->v_stay)
+            continue;
+        rf_vec3 mid = rf_v3_scale(rf_v3_add(va, vb), 0.5);
+        int32_t to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[k], -1.0));
+        if (to < 0 || to == from)
+            continue;
+        double gap;
+        double lift = centre_lift_height(m, &m->terrain->tri[to], &gap);
+        if (gap > m->tol_len && m->body->mass * RF_GRAVITY * lift >= rf_motion_energy(m))
+            return k;
+    }
+    return -1;
+}
+
 static rf_surface_end face_step(rf_motion *m)
 {
     int32_t tri = m->sup.tri[0];
@@ -1244,8 +1290,25 @@ static rf_surface_end face_step(rf_motion *m)
         dir = speed > 0 ? rf_v3_scale(m->s.v, 1.0 / speed) : f.e1;
         closed = f.G == 0.0 || along(m->s.v, f.e1);
     }
+    if (m->centre && f.mode != LAW_SLIDE) {
+        int wall = wall_edge(m, &f, &fe);
+        if (wall >= 0) {
+            /* along the wall: the velocity's part along it, friction against it */
+            rf_vec3 L = rf_v3_unit(rf_v3_sub(rf_tri_vertex(T, wall + 1), rf_tri_vertex(T, wall)));
+            double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f.gt, L);
+            double e0 = rf_motion_energy(m);
+            double vin = rf_v3_norm(rf_v3_madd(m->s.v, -s, L));
+            m->s.v = rf_v3_scale(L, s);
+            count_impact(m, e0, vin);
+            int stays = fabs(gl) <= f.c * f.gn;
+            if (fabs(s) <= m->scene->sim->stop_speed && stays)
+                return RF_SURF_REST;
+            dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
+            return face_closed(m, &f, dir, u0, &fe, stays, wall);
+        }
+    }
     if (closed)
-        return face_closed(m, &f, dir, u0, &fe, holds);
+        return face_closed(m, &f, dir, u0, &fe, holds, -1);
     return face_path(m, &f, u0, &fe, holds);
 }
 

@@ -592,7 +592,8 @@ static void replay_sphere_stays_out(unsigned long seed, long it, long k)
     rf_terrain_free(&rp.t);
 }
 
-/* A rock of the exact engine in the replay ends for `reason` within 2 000 events. */
+/* A rock of the exact engine in the replay ends for `reason` within 2 000 events,
+ * gaining no energy at an impact. */
 static void replay_ends(unsigned long seed, long it, long k, rf_rock_model model, int reason)
 {
     replay rp;
@@ -603,6 +604,8 @@ static void replay_ends(unsigned long seed, long it, long k, rf_rock_model model
     ENSURE_MSG((int)r.rec.reason == reason, "reason %d after %zu points", (int)r.rec.reason,
                r.npoints);
     ENSURE_MSG(r.npoints < 2000, "%zu points", r.npoints);
+    ENSURE_MSG(r.energy_gain_kj <= 1e-9 * (1.0 + r.rec.max_energy_kj), "scene %lu/%ld/%ld: energy gain",
+               seed, it, k);
     mt_run_free(&r);
     rf_terrain_free(&rp.t);
 }
@@ -712,6 +715,21 @@ TEST(hard_replay_flight_off_an_edge_past_its_end_goes_on)
 TEST(hard_replay_point_along_a_shallow_valley_line_goes_on)
 {
     replay_ends(1, 40, 251, RF_MODEL_POINT, RF_END_EXITED);
+}
+
+/* Centre contact: spheres rolling down a face against the border of its column, beyond
+ * which a face rises that they cannot pay the lift onto.  Each event left the face
+ * over that border, was reflected off it and turned back into it by the face, ever
+ * more nearly along it, in no time, until the rescues ran out (18 500 to 21 400
+ * events).  They now roll along that wall, and rest. */
+TEST(hard_replay_centre_contact_along_a_wall_rests)
+{
+    static const struct {
+        unsigned long seed;
+        long it, k;
+    } cases[] = {{43, 52, 136}, {93, 40, 245}, {94, 3, 253}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        replay_sphere_rests(cases[i].seed, cases[i].it, cases[i].k);
 }
 
 /* A 62 t sphere rolling along a convex edge of its face, its velocity almost along the
