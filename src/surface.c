@@ -287,36 +287,49 @@ static void count_impact(rf_motion *m, double e0, double vin)
         m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
 }
 
+/* Centre mode: the move that puts the centre onto face T's offset plane when it is
+ * closer to that plane than r by *gap > 0: vertical, so that it stays over the face
+ * (Eq. 6); on a face steeper than n.z = 0.2, where that would be over five times the
+ * gap, along the normal as far as the centre stays over the face's column, and
+ * vertical for the rest. */
+static rf_vec3 centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap)
+{
+    *gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
+    if (!(*gap > 0))
+        return rf_v3(0, 0, 0);
+    double along = 0.0;
+    if (T->n.z < 0.2) {
+        rf_face_edges fe;
+        rf_column_edges(T, &fe);
+        along = *gap;
+        for (int k = 0; k < 3; k++) {
+            double mn = rf_v3_dot(fe.m[k], T->n);
+            if (mn < 0)
+                along = rf_fmin(along, rf_fmax(0.0, (rf_v3_dot(fe.m[k], m->s.p) - fe.o[k]) / -mn));
+        }
+    }
+    return rf_v3_madd(rf_v3(0, 0, (*gap - along) / T->n.z), along, T->n);
+}
+
 /* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
  * over a face whose plane it is already closer to than r.  It is lifted onto that
  * face's offset plane, and the lift is paid from the kinetic energy; when the rock
  * cannot pay, the face acts as a wall at the border of its column and the horizontal
  * velocity into it is reflected with restitution e.  Returns 1 after a reflection. */
-static double centre_lift_height(const rf_motion *m, const rf_triangle *T, double *gap)
-{
-    *gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
-    if (!(*gap > 0))
-        return 0.0;
-    return T->n.z >= 0.2 ? *gap / T->n.z : *gap * T->n.z;
-}
-
 static int centre_lift(rf_motion *m, const rf_contact *c)
 {
     const rf_triangle *T = &m->terrain->tri[c->tri];
     double gap;
-    double lift = centre_lift_height(m, T, &gap);
+    rf_vec3 move = centre_lift_move(m, T, &gap);
     if (!(gap > 0))
         return 0;
-    double cost = m->body->mass * RF_GRAVITY * lift;
+    double cost = m->body->mass * RF_GRAVITY * move.z;
     double ke = rf_motion_energy(m);
     if (ke > cost) {
         double s = sqrt((ke - cost) / ke);
         m->s.v = rf_v3_scale(m->s.v, s);
         m->s.w = rf_v3_scale(m->s.w, s);
-        if (T->n.z >= 0.2)
-            m->s.p.z += lift; /* stays over the face (Eq. 6) */
-        else
-            m->s.p = rf_v3_madd(m->s.p, gap, T->n);
+        m->s.p = rf_v3_add(m->s.p, move);
         return 0;
     }
     /* the border of the face's column the centre is crossing: nearest to it among
@@ -1244,8 +1257,8 @@ static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe)
         if (to < 0 || to == from)
             continue;
         double gap;
-        double lift = centre_lift_height(m, &m->terrain->tri[to], &gap);
-        if (gap > m->tol_len && m->body->mass * RF_GRAVITY * lift >= rf_motion_energy(m))
+        rf_vec3 move = centre_lift_move(m, &m->terrain->tri[to], &gap);
+        if (gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m))
             return k;
     }
     return -1;

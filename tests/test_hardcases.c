@@ -732,6 +732,16 @@ TEST(hard_replay_centre_contact_along_a_wall_rests)
         replay_sphere_rests(cases[i].seed, cases[i].it, cases[i].k);
 }
 
+/* Centre contact: a 5 kg sphere lifted onto a face steeper than n.z = 0.2 along its
+ * normal, which moved the centre out of that face's column and beyond the wall there;
+ * it left the face, was reflected and turned back at every event in no time, until
+ * the rescues ran out (19 000 events).  The lift along the normal now stops at the
+ * column's border, and the sphere goes on. */
+TEST(hard_replay_centre_contact_lift_onto_a_steep_face_stays_over_it)
+{
+    replay_ends(9, 7, 191, RF_MODEL_SPHERE, RF_END_EXITED);
+}
+
 /* A 62 t sphere rolling along a convex edge of its face, its velocity almost along the
  * edge: it left the face over that edge, met the edge at once curving in, rolled over
  * it back onto the face it had just left, left it again, and so on in no time until
