@@ -1048,6 +1048,10 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
         else
             reentry = rate > 0.0; /* found later, the rock moving out of its reach: the
                                      re-entry, not the start */
+    } else if (kind == EV_EXIT && start && found_later && f0 >= -m->tol_len) {
+        /* on the edge at the start (a hair beyond it) and moving in: the exit the
+         * parabola found later, as exit_time has it, not the start */
+        reentry = event_rate(m, f, kind, ev, fe, c0, y) > 0.0;
     }
     if (start && !reentry) {
         memcpy(ye, y, 9 * sizeof *ye);
