@@ -1162,16 +1162,16 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     if (hist_open(r, &h, file, title, cmax * 1.15))
         return -1;
     rf_svg *s = &h.s;
+    char mu_d_text[64], mu_text[64];
+    snprintf(mu_d_text, sizeof mu_d_text, "mu = %.2f (Table 2, D)", rf_table2_friction('D'));
+    const char *what[2] = {mu_d_text, "mu of the project"};
+    if (r->have_project) {
+        snprintf(mu_text, sizeof mu_text, "mu = %.2f (project)",
+                 r->proj.terrain_spec.surface.friction.mean);
+        what[1] = mu_text;
+    }
     for (size_t k = 0; lines && k < r->nrel; k++) {
         double v[2] = {cc[k].v_class_d, cc[k].v_project};
-        char mu_d_text[64], mu_text[64];
-        snprintf(mu_d_text, sizeof mu_d_text, "mu = %.2f (Table 2, D)", rf_table2_friction('D'));
-        const char *what[2] = {mu_d_text, "mu of the project"};
-        if (r->have_project) {
-            snprintf(mu_text, sizeof mu_text, "mu = %.2f (project)",
-                     r->proj.terrain_spec.surface.friction.mean);
-            what[1] = mu_text;
-        }
         for (int j = 0; j < 2; j++) {
             if (!isfinite(v[j]))
                 continue;
@@ -1746,13 +1746,12 @@ static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, lon
                        measure_id > 0 ? measure_id : r->run, check_cells, &c);
 }
 
-/* A measure's interceptions, read once for its statistics, share and figure. */
-/* What the measure table found for a measure, kept for its section (the crossings
- * themselves are read again, one measure at a time, for its figure). */
-typedef struct measure_crossings {
+/* What the measure table found for a measure, kept for its section (its crossings
+ * are read one measure at a time, for its statistics, share and figure). */
+typedef struct measure_found {
     rf_measure_stats stats;
     double share; /* % within serviceability, not overtopped; NAN when not defined */
-} measure_crossings;
+} measure_found;
 
 /* The share of the crossings with an energy within `capacity` that are not
  * overtopped, counted as SQL's avg(energy_kj <= capacity AND outcome <> 'overtopped'):
@@ -1784,12 +1783,12 @@ static int section_measures(report *r, long *npass, long *nfail)
           "<th>h95 (m)</th><th>SEL / serviceability (kJ)</th><th>MEL / ultimate (kJ)</th>"
           "<th>within serviceability, not overtopped (%)</th></tr>\n",
           f);
-    measure_crossings *mc = calloc(r->nmea, sizeof *mc);
+    measure_found *mc = calloc(r->nmea, sizeof *mc);
     if (!mc)
         return oom(r);
     for (size_t k = 0; k < r->nmea; k++) {
         const rep_measure *m = &r->mea[k];
-        measure_crossings *c = &mc[k];
+        measure_found *c = &mc[k];
         rf_crossing_row *x = NULL;
         size_t nx = 0;
         if (rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
@@ -1803,7 +1802,14 @@ static int section_measures(report *r, long *npass, long *nfail)
         c->share = !is_control(m) && isfinite(service) && s->n
                        ? 100.0 * share_within(x, nx, service)
                        : NAN;
+        char file[64];
+        snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
+        int failed = s->n > 0 && figure_measure(r, m, x, nx, file);
         free(x);
+        if (failed) {
+            free(mc);
+            return -1;
+        }
         fputs("<tr>", f);
         td_text(f, m->name);
         td_text(f, m->kind);
@@ -1870,15 +1876,6 @@ static int section_measures(report *r, long *npass, long *nfail)
         }
         char file[64], cap[600];
         snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
-        rf_crossing_row *x = NULL;
-        size_t nx = 0;
-        int failed = rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
-                     figure_measure(r, m, x, nx, file);
-        free(x);
-        if (failed) {
-            status = -1;
-            break;
-        }
         snprintf(cap, sizeof cap,
                  "Energy of the rocks crossing %s by outcome, with its capacities (dashed)",
                  m->name);
