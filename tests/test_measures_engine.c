@@ -748,7 +748,7 @@ TEST(measures_engine_line_on_terrain_edge)
     for (int mode = 0; mode < 4 * 6; mode++) {
         rf_rock_model model = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
         int fixed = (mode >> 1) & 1, start = mode >> 2;
-        rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.001);
+        rf_simulation sim = engine_k(model, fixed);
         rf_body b = rf_body_make(2385.0, 2650.0, model);
         double x0 = 12.385 + 1.7 * start, y0 = 30.5 + 2.385 * start, vy = 3.85 - 0.55 * start;
         double r = rf_body_contact_radius(&b);

@@ -83,7 +83,7 @@ static void across_incline(across_law law, double theta, double mu, double mu_r,
     rf_body b = rf_body_make(mass, 2650.0, model);
     rf_vec3 e1 = rf_v3(cos(theta), 0.0, -sin(theta)), n = rf_v3(sin(theta), 0.0, cos(theta));
     rf_vec3 v0 = rf_v3_madd(rf_v3(0.0, veta, 0.0), vxi, e1);
-    rf_state s = mt_incline_state(theta, L, 30.0, 150.0, model == RF_MODEL_POINT ? 0.0 : b.radius, v0);
+    rf_state s = mt_incline_state(theta, L, 30.0, 150.0, rf_body_contact_radius(&b), v0);
     if (law == ACROSS_ROLL)
         s.w = rf_v3_scale(rf_v3_cross(n, v0), 1.0 / b.radius); /* no slip */
     mt_run r;

@@ -18,14 +18,6 @@
 
 #define DATA "tests/data/project/"
 
-static void write_file(const char *path, const char *text)
-{
-    FILE *f = fopen(path, "w");
-    ENSURE_MSG(f, "cannot write %s", path);
-    fputs(text, f);
-    fclose(f);
-}
-
 static int load_ok(const char *path, rf_project *p)
 {
     rf_error err = {{0}};
@@ -145,7 +137,6 @@ TEST(project_barrier_and_rolling_defaults)
 {
     char dir[512], path[600], grid[600];
     snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
-    snprintf(path, sizeof path, "%s/p.yaml", dir);
     char cwd[256];
     ENSURE(getcwd(cwd, sizeof cwd));
     snprintf(grid, sizeof grid, "%s/" DATA "grid5.asc", cwd);
@@ -165,7 +156,7 @@ TEST(project_barrier_and_rolling_defaults)
              "  - {name: B, kind: barrier, line: [[0, 5], [40, 5]], height: 3, mel: 2385}\n"
              "  - {name: road, kind: control, line: [[0, 1], [40, 1]], behaviour: collect}\n",
              grid);
-    write_file(path, text);
+    snprintf(path, sizeof path, "%s", rf_test_write("p.yaml", text));
     rf_project p;
     ENSURE(load_ok(path, &p));
     /* An absolute terrain path stays as it is. */
@@ -324,16 +315,13 @@ TEST(project_paths_relative_to_file)
     ENSURE(system(mk) == 0);
     char *grid = rf_test_read_text(DATA "grid5.asc");
     ENSURE(grid);
-    snprintf(path, sizeof path, "%s/g.asc", sub);
-    write_file(path, grid);
+    rf_test_write("terrain/g.asc", grid);
     free(grid);
-    snprintf(path, sizeof path, "%s/rules.yaml", dir);
-    write_file(path, "rules: []\n");
+    rf_test_write("rules.yaml", "rules: []\n");
     snprintf(text, sizeof text,
              "name: rel\nterrain: {dem: terrain/g.asc}\nrocks: [{name: r, mass: 1}]\n"
              "releases: [{name: A, point: [35, 5], rock: r}]\nrules: rules.yaml\n");
-    snprintf(path, sizeof path, "%s/project.yaml", dir);
-    write_file(path, text);
+    snprintf(path, sizeof path, "%s", rf_test_write("project.yaml", text));
     rf_project p;
     ENSURE(load_ok(path, &p));
     char want[700];
