@@ -70,7 +70,6 @@ static inline unsigned edge_live(rf_workspace *ws, int32_t idx);
 /* ---- triangle helpers ---------------------------------------------------------------- */
 
 
-static inline int same_point(rf_vec3 a, rf_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 static int excluded_tri(const rf_support *ex, int32_t idx)
 {
@@ -200,36 +199,27 @@ static unsigned vertex_out(const search *s, rf_vec3 v)
     return bits;
 }
 
-/* 1 when the feature (kind, index) of triangle idx is one of s->skip, by its points (a
- * shared edge or vertex may be asked for by another holder). */
+/* 1 when the edge or vertex (kind, index) of triangle idx is one of s->skip (a shared
+ * one may be asked for by another holder). */
 static int skipped(const search *s, int32_t idx, rf_feature kind, int index)
 {
     const rf_triangle *tri = s->m->terrain->tri;
+    int e = kind == RF_FEAT_EDGE ? 4 : 0;
     for (int k = 0; k < s->nskip; k++) {
         const rf_contact *c = &s->skip[k];
-        if (c->kind != kind)
-            continue;
-        if (kind == RF_FEAT_FACE) {
-            if (c->tri == idx)
-                return 1;
-            continue;
-        }
-        rf_vec3 a = rf_tri_vertex(&tri[idx], index), b = rf_tri_vertex(&tri[c->tri], c->index);
-        if (kind == RF_FEAT_VERTEX) {
-            if (same_point(a, b))
-                return 1;
-            continue;
-        }
-        rf_vec3 a1 = rf_tri_vertex(&tri[idx], index + 1), b1 = rf_tri_vertex(&tri[c->tri], c->index + 1);
-        if ((same_point(a, b) && same_point(a1, b1)) || (same_point(a, b1) && same_point(a1, b)))
+        if (c->kind == kind && (kind == RF_FEAT_FACE ? c->tri == idx
+                                                     : rf_same_feature(&tri[c->tri], c->index | e,
+                                                                       &tri[idx], index | e)))
             return 1;
     }
     return 0;
 }
 
+/* The earliest contact so far (an edge or vertex in s->skip is passed over here, a face
+ * by test_face). */
 static void take(search *s, double t, int32_t idx, rf_feature kind, int index, rf_vec3 point)
 {
-    if (s->nskip > 0 && skipped(s, idx, kind, index))
+    if (s->nskip > 0 && kind != RF_FEAT_FACE && skipped(s, idx, kind, index))
         return;
     s->best = t;
     s->found = 1;
@@ -592,18 +582,6 @@ static inline unsigned slot_of(uint64_t key)
     return (unsigned)((key * 0x9E3779B97F4A7C15ULL) >> 40) & (RF_FEAT_SLOTS - 1);
 }
 
-/* 1 when triangle S's feature j (a vertex, or an edge when j & 4) is T's feature k. */
-static int same_feature(const rf_triangle *S, int j, const rf_triangle *T, int k)
-{
-    if ((j ^ k) & 4)
-        return 0;
-    rf_vec3 sa = rf_tri_vertex(S, j & 3), qa = rf_tri_vertex(T, k & 3);
-    if (!(k & 4))
-        return same_point(sa, qa);
-    rf_vec3 sb = rf_tri_vertex(S, ((j & 3) + 1) % 3), qb = rf_tri_vertex(T, ((k & 3) + 1) % 3);
-    return (same_point(sa, qa) && same_point(sb, qb)) || (same_point(sa, qb) && same_point(sb, qa));
-}
-
 /* 1 the first time the feature with this key (feature k of triangle idx: vertex k, or
  * edge k & 3 when k & 4) is met in the current generation of the table. */
 static int feat_first(rf_workspace *ws, uint64_t key, int32_t idx, int k)
@@ -619,7 +597,7 @@ static int feat_first(rf_workspace *ws, uint64_t key, int32_t idx, int k)
             ws->feat_used++;
             return 1;
         }
-        if (sl->key == key && (t->is_grid || same_feature(&t->tri[sl->tri], sl->k, &t->tri[idx], k)))
+        if (sl->key == key && (t->is_grid || rf_same_feature(&t->tri[sl->tri], sl->k, &t->tri[idx], k)))
             return 0;
     }
 }
@@ -1095,16 +1073,14 @@ static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int
     if (a < 0 || b < 0)
         return;
     const rf_triangle *A = &t->tri[a], *B = &t->tri[b];
-    rf_vec3 va = rf_tri_vertex(A, ka), vb = rf_tri_vertex(A, (ka + 1) % 3), oa = rf_tri_vertex(A, (ka + 2) % 3);
+    rf_vec3 va = rf_tri_vertex(A, ka), vb = rf_tri_vertex(A, ka + 1), oa = rf_tri_vertex(A, ka + 2);
     int kb = -1;
-    for (int k = 0; k < 3; k++) {
-        rf_vec3 p = rf_tri_vertex(B, k), q = rf_tri_vertex(B, (k + 1) % 3);
-        if ((same_point(p, va) && same_point(q, vb)) || (same_point(p, vb) && same_point(q, va)))
+    for (int k = 0; k < 3; k++)
+        if (rf_same_feature(A, ka | 4, B, k | 4))
             kb = k;
-    }
     if (kb < 0)
         return;
-    rf_vec3 ob = rf_tri_vertex(B, (kb + 2) % 3);
+    rf_vec3 ob = rf_tri_vertex(B, kb + 2);
     if (edge_concave(A, B, va, vb, oa, ob))
         live[a] &= (uint8_t)~(1u << ka);
 }
@@ -1292,7 +1268,7 @@ double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
     case RF_FEAT_FACE:
         return rf_v3_dot(T->n, p) - T->d;
     case RF_FEAT_EDGE: {
-        rf_vec3 q = rf_v3_closest_on_segment(rf_tri_vertex(T, c->index), rf_tri_vertex(T, (c->index + 1) % 3), p);
+        rf_vec3 q = rf_v3_closest_on_segment(rf_tri_vertex(T, c->index), rf_tri_vertex(T, c->index + 1), p);
         return rf_v3_norm(rf_v3_sub(p, q));
     }
     default:
@@ -1336,7 +1312,7 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
                 if (c->kind == RF_FEAT_EDGE) {
                     double bd = INFINITY;
                     for (int i = 0; i < 3; i++) {
-                        rf_vec3 qq = rf_v3_closest_on_segment(rf_tri_vertex(T, i), rf_tri_vertex(T, (i + 1) % 3), p);
+                        rf_vec3 qq = rf_v3_closest_on_segment(rf_tri_vertex(T, i), rf_tri_vertex(T, i + 1), p);
                         double dd = rf_v3_norm(rf_v3_sub(qq, q));
                         if (dd < bd)
                             bd = dd, c->index = i;

@@ -28,6 +28,21 @@ static inline rf_vec3 rf_tri_vertex(const rf_triangle *T, int i)
     return i == 0 ? T->a : (i == 1 ? T->b : T->c);
 }
 
+static inline int rf_same_point(rf_vec3 a, rf_vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* 1 when triangle S's feature j (a vertex, or an edge when j & 4) is T's feature k. */
+static inline int rf_same_feature(const rf_triangle *S, int j, const rf_triangle *T, int k)
+{
+    if ((j ^ k) & 4)
+        return 0;
+    rf_vec3 sa = rf_tri_vertex(S, j & 3), qa = rf_tri_vertex(T, k & 3);
+    if (!(k & 4))
+        return rf_same_point(sa, qa);
+    rf_vec3 sb = rf_tri_vertex(S, (j & 3) + 1), qb = rf_tri_vertex(T, (k & 3) + 1);
+    return (rf_same_point(sa, qa) && rf_same_point(sb, qb)) ||
+           (rf_same_point(sa, qb) && rf_same_point(sb, qa));
+}
+
 /* The part of x in the plane of unit normal n. */
 static inline rf_vec3 rf_in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -rf_v3_dot(x, n), n); }
 

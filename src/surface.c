@@ -478,18 +478,10 @@ static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_ar
 /* The edge of A whose ends are both vertices of B, or -1. */
 static int shared_edge(const rf_triangle *A, const rf_triangle *B)
 {
-    int on[3];
-    for (int k = 0; k < 3; k++) {
-        rf_vec3 v = rf_tri_vertex(A, k);
-        on[k] = 0;
-        for (int j = 0; j < 3; j++) {
-            rf_vec3 w = rf_tri_vertex(B, j);
-            on[k] |= v.x == w.x && v.y == w.y && v.z == w.z;
-        }
-    }
     for (int k = 0; k < 3; k++)
-        if (on[k] && on[(k + 1) % 3])
-            return k;
+        for (int j = 0; j < 3; j++)
+            if (rf_same_feature(A, k | 4, B, j | 4))
+                return k;
     return -1;
 }
 
@@ -538,6 +530,16 @@ static void impact_on_face(rf_motion *m, int32_t to)
     rf_contact_resolve(m, &c);
 }
 
+/* The face across edge `edge` of face `from`, stepping over the edge's middle (-1:
+ * none). */
+static int32_t face_over_edge(const rf_terrain *t, int32_t from, int edge, const rf_face_edges *fe)
+{
+    const rf_triangle *F = &t->tri[from];
+    rf_vec3 mid = rf_v3_scale(rf_v3_add(rf_tri_vertex(F, edge), rf_tri_vertex(F, edge + 1)), 0.5);
+    int32_t to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[edge], -1.0));
+    return to == from ? -1 : to;
+}
+
 int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_edges *fe,
                       rf_vec3 q, rf_vec3 acc)
 {
@@ -548,14 +550,8 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
     if (rf_v3_hnorm(dir) < 1e-12)
         dir = rf_v3_scale(fe->m[edge], -1.0);
     int32_t to = rf_face_beyond(t, from, q, dir);
-    if (to == from) {
-        /* numerically still inside: step over the middle of the edge */
-        const rf_triangle *F = &t->tri[from];
-        rf_vec3 mid = rf_v3_scale(rf_v3_add(rf_tri_vertex(F, edge), rf_tri_vertex(F, edge + 1)), 0.5);
-        to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[edge], -1.0));
-        if (to == from)
-            to = -1;
-    }
+    if (to == from)
+        to = face_over_edge(t, from, edge, fe); /* numerically still inside */
     return to;
 }
 
@@ -1040,17 +1036,13 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
     double f0 = event_value(m, kind, ev, fe, c0, y);
     int start = f0 <= 0.0, reentry = 0;
     int found_later = guess > 0.0 && guess < h;
-    if (kind == EV_CONTACT && (guess == 0.0 ? f0 <= m->tol_len : start && found_later)) {
-        double rate = event_rate(m, f, kind, ev, fe, c0, y);
-        if (guess == 0.0)
-            start = start || rate < -RF_APPROACH_EPS; /* touching and approaching, as the
-                                                         search found it at the start */
-        else
-            reentry = rate > 0.0; /* found later, the rock moving out of its reach: the
-                                     re-entry, not the start */
-    } else if (kind == EV_EXIT && start && found_later && f0 >= -m->tol_len) {
-        /* on the edge at the start (a hair beyond it) and moving in: the exit the
-         * parabola found later, as exit_time has it, not the start */
+    if (kind == EV_CONTACT && guess == 0.0 && f0 <= m->tol_len) {
+        /* touching and approaching, as the search found it at the start */
+        start = start || event_rate(m, f, kind, ev, fe, c0, y) < -RF_APPROACH_EPS;
+    } else if (start && found_later &&
+               (kind == EV_CONTACT || (kind == EV_EXIT && f0 >= -m->tol_len))) {
+        /* found later, the rock moving out of the contact's reach or in over the edge
+         * (a hair beyond it): the re-entry or the exit the parabola found, not the start */
         reentry = event_rate(m, f, kind, ev, fe, c0, y) > 0.0;
     }
     if (start && !reentry) {
@@ -1240,28 +1232,26 @@ static int along(rf_vec3 x, rf_vec3 e1)
  * velocity into it), along which the rock moves on.  -1 when none.  Without it, the
  * rock left the face over that edge, was reflected and turned back into it, ever more
  * nearly along it, at every event in no time. */
-static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe)
+static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, rf_vec3 dir,
+                     rf_vec3 *L)
 {
     const rf_terrain *t = m->terrain;
     int32_t from = m->sup.tri[0];
     const rf_triangle *F = &t->tri[from];
-    double speed = rf_v3_norm(m->s.v);
-    rf_vec3 a = law_accel(f, speed > 0 ? rf_v3_scale(m->s.v, 1.0 / speed) : f->e1);
     for (int k = 0; k < 3; k++) {
         if (fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) > m->tol_len ||
-            rf_v3_dot(fe->m[k], m->s.v) > RF_APPROACH_EPS || !(rf_v3_dot(fe->m[k], a) < 0))
+            rf_v3_dot(fe->m[k], m->s.v) > RF_APPROACH_EPS ||
+            !(rf_v3_dot(fe->m[k], law_accel(f, dir)) < 0))
             continue;
         /* into it slower than the stay speed: the wall keeps it (as a face does) */
-        rf_vec3 va = rf_tri_vertex(F, k), vb = rf_tri_vertex(F, k + 1);
-        rf_vec3 L = rf_v3_unit(rf_v3_sub(vb, va));
-        if (rf_v3_norm(rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, L), L)) > m->v_stay)
+        *L = rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, k + 1), rf_tri_vertex(F, k)));
+        if (rf_v3_norm(rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, *L), *L)) > m->v_stay)
             continue;
-        rf_vec3 mid = rf_v3_scale(rf_v3_add(va, vb), 0.5);
-        int32_t to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[k], -1.0));
-        if (to < 0 || to == from)
+        int32_t to = face_over_edge(t, from, k, fe);
+        if (to < 0)
             continue;
         double gap;
-        rf_vec3 move = centre_lift_move(m, &m->terrain->tri[to], &gap);
+        rf_vec3 move = centre_lift_move(m, &t->tri[to], &gap);
         if (gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m))
             return k;
     }
@@ -1307,11 +1297,11 @@ static rf_surface_end face_step(rf_motion *m)
         dir = speed > 0 ? rf_v3_scale(m->s.v, 1.0 / speed) : f.e1;
         closed = f.G == 0.0 || along(m->s.v, f.e1);
     }
+    rf_vec3 L;
     if (m->centre && f.mode != LAW_SLIDE) {
-        int wall = wall_edge(m, &f, &fe);
+        int wall = wall_edge(m, &f, &fe, dir, &L);
         if (wall >= 0) {
             /* along the wall: the velocity's part along it, friction against it */
-            rf_vec3 L = rf_v3_unit(rf_v3_sub(rf_tri_vertex(T, wall + 1), rf_tri_vertex(T, wall)));
             double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f.gt, L);
             double e0 = rf_motion_energy(m);
             double vin = rf_v3_norm(rf_v3_madd(m->s.v, -s, L));
