@@ -262,10 +262,9 @@ static int open_run(const db_args *a, rf_store **s, int64_t *run)
     return EXIT_OK;
 }
 
-/* Shared by check and report: parses their arguments, opens the database and resolves
- * the run.  Returns EXIT_OK with *s open, or an exit status. */
-static int begin_db_command(const char *cmd, int argc, char **argv, db_args *a, int want_out,
-                            rf_store **s, int64_t *run)
+/* Shared by check and report: parses their arguments into *a.  Returns EXIT_OK or an
+ * exit status. */
+static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int want_out)
 {
     static const struct option opts[] = {{"run", required_argument, 0, 'r'},
                                          {"out", required_argument, 0, 'o'},
@@ -303,18 +302,20 @@ static int begin_db_command(const char *cmd, int argc, char **argv, db_args *a, 
         fprintf(stderr, "%s: error: cannot open results database: %s\n", a->db, strerror(errno));
         return EXIT_BAD_INPUT;
     }
-    return open_run(a, s, run);
+    return EXIT_OK;
 }
 
-/* Runs check or report: begin_db_command, then the command's body on the open database,
- * which is closed whatever the body returns. */
+/* Runs check or report: their arguments, the database and run opened, then the
+ * command's body on the open database, which is closed whatever the body returns. */
 static int db_command(const char *cmd, int argc, char **argv, int want_out,
                       int (*body)(const db_args *a, rf_store *s, int64_t run))
 {
     db_args a;
     rf_store *s;
     int64_t run;
-    int rc = begin_db_command(cmd, argc, argv, &a, want_out, &s, &run);
+    int rc = parse_db_args(cmd, argc, argv, &a, want_out);
+    if (!rc)
+        rc = open_run(&a, &s, &run);
     if (rc)
         return rc;
     rc = body(&a, s, run);

@@ -59,27 +59,22 @@ int rf_query_crossings(sqlite3 *db, int64_t measure_id, rf_crossing_row **rows, 
         return rf_query_db_error(db, err);
     sqlite3_bind_int64(st, 1, measure_id);
     size_t cap = 0;
-    int rc;
+    int rc, oom = 0;
     while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)rows, &cap, *n + 1, sizeof **rows)) {
-            sqlite3_finalize(st);
-            free(*rows);
-            *rows = NULL;
-            *n = 0;
-            return rf_error_set(err, "", 0, 0, "out of memory");
-        }
+        if ((oom = rf_grow((void **)rows, &cap, *n + 1, sizeof **rows)) != 0)
+            break;
         rf_crossing_row *x = &(*rows)[(*n)++];
         x->energy = rf_query_column_real(st, 0);
         x->height = rf_query_column_real(st, 1);
         x->outcome = rf_outcome_from_name((const char *)sqlite3_column_text(st, 2));
     }
     sqlite3_finalize(st);
-    if (rc == SQLITE_DONE)
+    if (!oom && rc == SQLITE_DONE)
         return 0;
     free(*rows);
     *rows = NULL;
     *n = 0;
-    return rf_query_db_error(db, err);
+    return oom ? rf_error_set(err, "", 0, 0, "out of memory") : rf_query_db_error(db, err);
 }
 
 /* The values of one field of the rows that have one (NULL in the database is NAN

@@ -571,8 +571,7 @@ static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, m
 /* A run's measures that the rules judge, read once for the evaluation and the
  * printout, with the project document parsed once for them. */
 typedef struct run_measures {
-    int found;       /* the run exists */
-    char *project;   /* runs.project */
+    char *project;   /* runs.project; NULL when the run does not exist */
     measure_row *m;
     size_t n;
 } run_measures;
@@ -599,7 +598,6 @@ static int read_run_measures(sqlite3 *db, int64_t run, const rf_rules *r, run_me
     sqlite3_bind_int64(runs, 1, run);
     if (sqlite3_step(runs) == SQLITE_ROW) {
         const char *project = (const char *)sqlite3_column_text(runs, 0);
-        L->found = 1;
         if (!(L->project = strdup(project ? project : ""))) {
             rf_error_set(err, "", 0, 0, "out of memory");
             goto done;
@@ -868,7 +866,7 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
 static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
                      FILE *out, rf_error *err)
 {
-    if (!L->found)
+    if (!L->project)
         return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
                             (long long)run);
     sqlite3_stmt *checks = NULL;
