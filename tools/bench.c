@@ -175,19 +175,24 @@ int main(int argc, char **argv)
      * its closed-form columns are the engine's in full contact). */
     static const double dts[] = {0.01, 0.003, 0.001, 0.0003};
     enum { NEXACT = 3, NFIXED = sizeof dts / sizeof dts[0], NROWS = NEXACT + NFIXED };
-    static const char *const exact_names[NEXACT] = {"exact, full contact", "exact, centre contact",
-                                                    "exact, point mass"};
+    static const struct {
+        const char *name;
+        rf_contact_kind contact;
+        rf_rock_model model;
+    } exact[NEXACT] = {{"exact, full contact", RF_CONTACT_FULL, RF_MODEL_SPHERE},
+                       {"exact, centre contact", RF_CONTACT_CENTRE, RF_MODEL_SPHERE},
+                       {"exact, point mass", RF_CONTACT_FULL, RF_MODEL_POINT}};
     row rows[NROWS];
     char names[NROWS][48];
     for (int i = 0; i < NROWS; i++) {
         memset(&rows[i], 0, sizeof rows[i]);
         rows[i].sim = p.sim;
         rows[i].sim.engine = i < NEXACT ? RF_ENGINE_EXACT : RF_ENGINE_FIXED_STEP;
-        rows[i].sim.contact = i == 0 || i == 2 ? RF_CONTACT_FULL : RF_CONTACT_CENTRE;
+        rows[i].sim.contact = RF_CONTACT_CENTRE;
         if (i < NEXACT) {
-            snprintf(names[i], sizeof names[i], "%s", exact_names[i]);
-            if (i == 2)
-                rows[i].sim.model = RF_MODEL_POINT;
+            snprintf(names[i], sizeof names[i], "%s", exact[i].name);
+            rows[i].sim.contact = exact[i].contact;
+            rows[i].sim.model = exact[i].model;
         } else {
             rows[i].sim.dt = dts[i - NEXACT];
             snprintf(names[i], sizeof names[i], "fixed dt=%g s, centre", dts[i - NEXACT]);
