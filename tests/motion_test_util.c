@@ -206,6 +206,23 @@ char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
     return buf;
 }
 
+char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri)
+{
+    size_t cap = 64 + ntri * 240, n = 0;
+    char *buf = malloc(cap);
+    n += (size_t)snprintf(buf + n, cap - n, "solid mesh\n");
+    for (size_t k = 0; k < ntri; k++) {
+        n += (size_t)snprintf(buf + n, cap - n, "facet normal 0 0 0\nouter loop\n");
+        for (int i = 0; i < 3; i++) {
+            rf_vec3 p = P[tri[k][i]];
+            n += (size_t)snprintf(buf + n, cap - n, "vertex %.17g %.17g %.17g\n", p.x, p.y, p.z);
+        }
+        n += (size_t)snprintf(buf + n, cap - n, "endloop\nendfacet\n");
+    }
+    snprintf(buf + n, cap - n, "endsolid mesh\n");
+    return buf;
+}
+
 void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void *ctx, double *y,
             int n, double T, long steps)
 {

@@ -35,6 +35,10 @@ void mt_mesh_text(rf_terrain *t, const char *name, const char *text, rf_surface 
 char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
                    double (*z)(int i, int j, void *), void *ctx);
 
+/* The text of an ascii STL of ntri triangles, triangle k with corners P[tri[k][0..2]];
+ * malloc'd. */
+char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri);
+
 rf_state mt_state(rf_vec3 p, rf_vec3 v);
 
 /* A plane falling along +x at theta, from height L tan(theta) at x = 0 to 0 at x = L,

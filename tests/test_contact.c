@@ -29,24 +29,21 @@ static double node_z(int i, int j, void *ctx)
  * grid is. */
 static char *mesh_text(const double *z)
 {
-    size_t cap = (size_t)(N - 1) * (N - 1) * 2 * 400 + 64, n = 0;
-    char *buf = malloc(cap);
-    n += (size_t)snprintf(buf + n, cap - n, "solid bumpy\n");
+    rf_vec3 P[N * N];
+    int tri[(N - 1) * (N - 1) * 2][3];
+    size_t nt = 0;
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            P[j * N + i] = rf_v3(i, j, z[j * N + i]);
     for (int j = 0; j + 1 < N; j++) {
         for (int i = 0; i + 1 < N; i++) {
-            int tri[2][3][2] = {{{i, j}, {i + 1, j}, {i + 1, j + 1}}, {{i, j}, {i + 1, j + 1}, {i, j + 1}}};
-            for (int k = 0; k < 2; k++) {
-                n += (size_t)snprintf(buf + n, cap - n, "facet normal 0 0 0\nouter loop\n");
-                for (int v = 0; v < 3; v++) {
-                    int x = tri[k][v][0], y = tri[k][v][1];
-                    n += (size_t)snprintf(buf + n, cap - n, "vertex %d %d %.17g\n", x, y, z[y * N + x]);
-                }
-                n += (size_t)snprintf(buf + n, cap - n, "endloop\nendfacet\n");
-            }
+            int a = j * N + i;
+            int t2[2][3] = {{a, a + 1, a + N + 1}, {a, a + N + 1, a + N}};
+            memcpy(tri[nt++], t2[0], sizeof t2[0]);
+            memcpy(tri[nt++], t2[1], sizeof t2[1]);
         }
     }
-    snprintf(buf + n, cap - n, "endsolid bumpy\n");
-    return buf;
+    return mt_stl_text(P, (const int(*)[3])tri, nt);
 }
 
 /* How far the rock is from penetrating the terrain at centre p (< 0: it penetrates):

@@ -75,19 +75,10 @@ static void v_gully(rf_terrain *t, double slope, double side, double L, double W
     rf_vec3 P[6] = {{0, -W, side * W},         {L, -W, -slope * L + side * W},
                     {0, 0, 0},                 {L, 0, -slope * L},
                     {0, W, side * W},          {L, W, -slope * L + side * W}};
-    int tris[4][3] = {{0, 1, 3}, {0, 3, 2}, {2, 3, 5}, {2, 5, 4}};
-    char buf[4096];
-    size_t n = (size_t)snprintf(buf, sizeof buf, "solid v\n");
-    for (int k = 0; k < 4; k++) {
-        n += (size_t)snprintf(buf + n, sizeof buf - n, "facet normal 0 0 0\nouter loop\n");
-        for (int i = 0; i < 3; i++) {
-            rf_vec3 p = P[tris[k][i]];
-            n += (size_t)snprintf(buf + n, sizeof buf - n, "vertex %.17g %.17g %.17g\n", p.x, p.y, p.z);
-        }
-        n += (size_t)snprintf(buf + n, sizeof buf - n, "endloop\nendfacet\n");
-    }
-    snprintf(buf + n, sizeof buf - n, "endsolid v\n");
+    static const int tris[4][3] = {{0, 1, 3}, {0, 3, 2}, {2, 3, 5}, {2, 5, 4}};
+    char *buf = mt_stl_text(P, tris, 4);
     mt_mesh_text(t, "v.stl", buf, s);
+    free(buf);
 }
 
 TEST(hard_frictionless_v_gully_energy)
