@@ -166,8 +166,7 @@ static int read_item(loader *L, const rf_ynode *n, size_t i, const item_list *li
 {
     char **name = item_name(list, array, i);
     snprintf(what, WHAT_SIZE, "%s item %zu", list->key, i + 1);
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, list->keys, what, L->err) || read_name(L, n, what, name))
+    if (rf_ydoc_mapping_of(&L->d, n, list->keys, what, L->err) || read_name(L, n, what, name))
         return -1;
     *count = i + 1;
     for (size_t j = 0; j < i; j++) {
@@ -353,8 +352,7 @@ static int read_profile(loader *L, const rf_ynode *n)
 {
     rf_terrain_spec *s = &L->p->terrain_spec;
     rf_ynode *points, *width;
-    if (rf_ydoc_mapping(&L->d, n, "'profile'", L->err) ||
-        rf_ydoc_check_keys(&L->d, n, profile_keys, "'profile'", L->err) ||
+    if (rf_ydoc_mapping_of(&L->d, n, profile_keys, "'profile'", L->err) ||
         rf_ydoc_require(&L->d, n, "points", "'profile'", &points, L->err) ||
         rf_ydoc_require(&L->d, n, "width", "'profile'", &width, L->err))
         return -1;
@@ -408,8 +406,7 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *wha
 static int read_terrain(loader *L, const rf_ynode *n)
 {
     rf_terrain_spec *s = &L->p->terrain_spec;
-    if (rf_ydoc_mapping(&L->d, n, "'terrain'", L->err) ||
-        rf_ydoc_check_keys(&L->d, n, terrain_keys, "'terrain'", L->err))
+    if (rf_ydoc_mapping_of(&L->d, n, terrain_keys, "'terrain'", L->err))
         return -1;
     rf_ynode *source = NULL;
     const char *source_key = NULL;
@@ -472,8 +469,7 @@ static int read_terrain(loader *L, const rf_ynode *n)
     rf_ynode *surface = rf_ydoc_get(&L->d, n, "surface");
     s->surface = base;
     if (surface) {
-        if (rf_ydoc_mapping(&L->d, surface, "'surface'", L->err) ||
-            rf_ydoc_check_keys(&L->d, surface, surface_keys, "'surface'", L->err) ||
+        if (rf_ydoc_mapping_of(&L->d, surface, surface_keys, "'surface'", L->err) ||
             read_surface(L, surface, &base, 0, &s->surface, &L->rolling_given))
             return -1;
     }
@@ -598,8 +594,7 @@ static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode
                                  m->name);
         return 0;
     }
-    if (rf_ydoc_mapping(&L->d, cap, "'capacity'", L->err) ||
-        rf_ydoc_check_keys(&L->d, cap, rf_limit_state_names, "'capacity'", L->err))
+    if (rf_ydoc_mapping_of(&L->d, cap, rf_limit_state_names, "'capacity'", L->err))
         return -1;
     if (rf_ydoc_map_size(cap) == 0)
         return rf_ydoc_error(&L->d, cap, L->err,
@@ -717,8 +712,7 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
 static int read_simulation(loader *L, const rf_ynode *n)
 {
     rf_simulation *s = &L->p->sim;
-    if (rf_ydoc_mapping(&L->d, n, "'simulation'", L->err) ||
-        rf_ydoc_check_keys(&L->d, n, simulation_keys, "'simulation'", L->err))
+    if (rf_ydoc_mapping_of(&L->d, n, simulation_keys, "'simulation'", L->err))
         return -1;
     int model = (int)s->model, engine = (int)s->engine, contact = (int)s->contact;
     long long paths = s->paths;
@@ -747,8 +741,7 @@ static int read_document(loader *L)
         return rf_error_set(L->err, L->d.file, 1, 1,
                             "the project file is empty; expected a mapping with 'name', "
                             "'terrain', 'rocks' and 'releases'");
-    if (rf_ydoc_mapping(&L->d, root, "the project file", L->err) ||
-        rf_ydoc_check_keys(&L->d, root, top_keys, "the project file", L->err))
+    if (rf_ydoc_mapping_of(&L->d, root, top_keys, "the project file", L->err))
         return -1;
 
     rf_ynode *terrain;
@@ -788,8 +781,7 @@ static int read_document(loader *L)
     if (sim && read_simulation(L, sim))
         return -1;
     rf_ynode *hazard = rf_ydoc_get(&L->d, root, "hazard");
-    if (hazard && (rf_ydoc_mapping(&L->d, hazard, "'hazard'", L->err) ||
-                   rf_ydoc_check_keys(&L->d, hazard, hazard_keys, "'hazard'", L->err) ||
+    if (hazard && (rf_ydoc_mapping_of(&L->d, hazard, hazard_keys, "'hazard'", L->err) ||
                    rf_ydoc_opt_number(&L->d, hazard, "cell", RF_YR_POSITIVE, &p->hazard_cell,
                                       L->err)))
         return -1;

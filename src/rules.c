@@ -179,8 +179,7 @@ static int read_kind_capacities(loader *L, rf_ynode *caps, int kind)
                                  "'sel_default' is given but no limit state of a barrier "
                                  "takes its capacity from 'sel'");
         rf_ynode *divisor;
-        if (rf_ydoc_mapping(&L->d, def, "'sel_default'", L->err) ||
-            rf_ydoc_check_keys(&L->d, def, divisor_keys, "'sel_default'", L->err) ||
+        if (rf_ydoc_mapping_of(&L->d, def, divisor_keys, "'sel_default'", L->err) ||
             rf_ydoc_require(&L->d, def, "mel_divided_by", "'sel_default'", &divisor, L->err) ||
             rf_ydoc_number(&L->d, divisor, "mel_divided_by", RF_YR_AT_LEAST(1.0),
                            &L->r->sel_divisor, L->err))
@@ -228,8 +227,7 @@ static int read_check(loader *L, rf_ynode *n, size_t i)
     rf_ynode *name, *value, *comparison, *threshold;
     const char *text;
     int v, cmp;
-    if (rf_ydoc_mapping(&L->d, n, what, L->err) ||
-        rf_ydoc_check_keys(&L->d, n, keys, what, L->err) ||
+    if (rf_ydoc_mapping_of(&L->d, n, keys, what, L->err) ||
         rf_ydoc_require(&L->d, n, "rule", what, &name, L->err) ||
         rf_ydoc_string(&L->d, name, "rule", &text, L->err))
         return -1;
@@ -290,8 +288,7 @@ static int read_rules(loader *L)
     rf_ynode *name;
     const char *text;
     int verdict = 1;
-    if (rf_ydoc_mapping(&L->d, root, "the rule file", L->err) ||
-        rf_ydoc_check_keys(&L->d, root, keys, "the rule file", L->err) ||
+    if (rf_ydoc_mapping_of(&L->d, root, keys, "the rule file", L->err) ||
         rf_ydoc_require(&L->d, root, "name", "the rule file", &name, L->err) ||
         rf_ydoc_string(&L->d, name, "name", &text, L->err))
         return -1;

@@ -307,6 +307,14 @@ static void join_names(const char *const *names, char *buf, size_t size)
     }
 }
 
+int rf_ydoc_mapping_of(rf_ydoc *d, const rf_ynode *n, const char *const *allowed,
+                       const char *what, rf_error *err)
+{
+    if (rf_ydoc_mapping(d, n, what, err))
+        return -1;
+    return rf_ydoc_check_keys(d, n, allowed, what, err);
+}
+
 int rf_ydoc_check_keys(rf_ydoc *d, const rf_ynode *map, const char *const *allowed,
                        const char *what, rf_error *err)
 {

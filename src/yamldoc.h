@@ -70,6 +70,9 @@ rf_ynode *rf_ydoc_get(rf_ydoc *d, const rf_ynode *map, const char *key);
  * allowed key is close to it. */
 int rf_ydoc_check_keys(rf_ydoc *d, const rf_ynode *map, const char *const *allowed,
                        const char *what, rf_error *err);
+/* rf_ydoc_mapping, then rf_ydoc_check_keys, with `what` naming it in both. */
+int rf_ydoc_mapping_of(rf_ydoc *d, const rf_ynode *n, const char *const *allowed,
+                       const char *what, rf_error *err);
 /* Value of a required key; when missing, an error at the mapping. */
 int rf_ydoc_require(rf_ydoc *d, const rf_ynode *map, const char *key, const char *what,
                     rf_ynode **out, rf_error *err);
