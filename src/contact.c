@@ -1326,6 +1326,73 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
     return best;
 }
 
+/* Widens [*lo, *hi] by the interval in which the vertical line through (x, y) meets
+ * the set within rho of triangle T (T swept by the ball: its two offset faces, the
+ * cylinders round its edges and the balls round its vertices; the set is convex, so
+ * the pieces' intervals make one). */
+static void vertical_overlap(const rf_triangle *T, double x, double y, double rho,
+                             double *lo, double *hi)
+{
+    double r2 = rho * rho;
+    for (int i = 0; i < 3; i++) {
+        rf_vec3 a = rf_tri_vertex(T, i), b = rf_tri_vertex(T, i + 1);
+        double ux = x - a.x, uy = y - a.y, u2 = ux * ux + uy * uy;
+        if (u2 <= r2) {
+            double h = sqrt(r2 - u2);
+            *lo = dmin(*lo, a.z - h);
+            *hi = dmax(*hi, a.z + h);
+        }
+        /* the cylinder: |w|^2 - (w.d)^2 / D = rho^2 for w = (ux, uy, s), quadratic in s */
+        rf_vec3 d = rf_v3_sub(b, a);
+        double H = d.x * d.x + d.y * d.y, D = H + d.z * d.z, ud = ux * d.x + uy * d.y;
+        if (!(H > 0))
+            continue;
+        double disc = ud * ud * d.z * d.z - H * (D * u2 - ud * ud - r2 * D);
+        if (!(disc >= 0))
+            continue;
+        double sq = sqrt(disc);
+        for (int k = -1; k <= 1; k += 2) {
+            double s = (ud * d.z + k * sq) / H, along = (ud + s * d.z) / D;
+            if (along >= 0 && along <= 1) {
+                *lo = dmin(*lo, a.z + s);
+                *hi = dmax(*hi, a.z + s);
+            }
+        }
+    }
+    if (fabs(T->n.z) > 1e-12) {
+        /* each offset face is met where the foot of the line's point lies in T */
+        rf_vec3 nu = T->n.z > 0 ? T->n : rf_v3_scale(T->n, -1.0);
+        double zp = (T->d - T->n.x * x - T->n.y * y) / T->n.z, dz = rho / nu.z;
+        if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp + dz), -rho, nu)))
+            *hi = dmax(*hi, zp + dz);
+        if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp - dz), rho, nu)))
+            *lo = dmin(*lo, zp - dz);
+    }
+}
+
+double rf_clear_height(rf_motion *m, rf_vec3 p)
+{
+    const rf_terrain *t = m->terrain;
+    double rho = m->rho, z = p.z;
+    size_t n = rf_gather(m, p.x - rho, p.y - rho, p.x + rho, p.y + rho);
+    /* the lowest z >= p.z outside every triangle's interval: raised past each interval
+     * it lies in until none is left (each pass clears at least one) */
+    for (size_t pass = 0; pass <= n; pass++) {
+        int moved = 0;
+        for (size_t k = 0; k < n; k++) {
+            double lo = INFINITY, hi = -INFINITY;
+            vertical_overlap(&t->tri[m->ws->cand[k]], p.x, p.y, rho, &lo, &hi);
+            if (lo < z && z < hi) {
+                z = hi;
+                moved = 1;
+            }
+        }
+        if (!moved)
+            break;
+    }
+    return z;
+}
+
 int32_t rf_face_beyond(const rf_terrain *t, int32_t from, rf_vec3 q, rf_vec3 dir)
 {
     double h = rf_v3_hnorm(dir);

@@ -223,12 +223,22 @@ int rf_motion_start(rf_motion *m)
             dist = (m->s.p.z - zs) * T->n.z;
         }
     } else {
-        /* a centre below the face under it is lifted onto it */
+        /* a sphere into the terrain (released in a hollow, or below the ground) is
+         * pushed out of the feature nearest its centre; when that leaves it in another
+         * one, it is raised on its vertical until it just touches the terrain */
         const rf_triangle *T = &t->tri[tri];
         double dp = rf_v3_dot(T->n, m->s.p) - T->d;
         if (dp < m->rho)
             m->s.p = rf_v3_madd(m->s.p, m->rho - dp, T->n);
         dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+        if (dist < m->rho - m->tol_len) {
+            m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
+            dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+        }
+        if (dist < m->rho - m->tol_len) {
+            m->s.p.z = rf_clear_height(m, m->s.p);
+            dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+        }
     }
     if (!(dist <= m->rho + START_TOUCH_TOL))
         return -1; /* in the air */
