@@ -395,6 +395,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     if (orient == 0.0)
         return;
     double sg = orient > 0 ? 1.0 : -1.0;
+    int crossing = 0; /* a flight moving in over an edge of the column at its start */
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         double ex = B.x - A.x, ey = B.y - A.y;
@@ -406,6 +407,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
+            crossing |= s->sp.n == 0 && t0 == 0.0 && fabs(alpha) <= tol;
         } else if (beta < 0) {
             hi = dmin(hi, (-tol - alpha) / beta);
         } else if (alpha < -tol) {
@@ -417,8 +419,12 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     double f_lo = f[0] + lo * (f[1] + lo * f[2]);
     double d_lo = f[1] + 2.0 * f[2] * lo;
     double t;
-    if (lo > t0 && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) {
-        t = lo; /* the centre moves over a face already within reach of its plane */
+    if ((lo > t0 && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) ||
+        (crossing && f_lo <= tol && d_lo < -RF_APPROACH_EPS)) {
+        /* the centre moves over a face already within reach of its plane (at the start
+         * of a flight, when it approaches the plane: a face that falls away from a
+         * flight off the column's border is left alone) */
+        t = lo;
     } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {
         return;
     }

@@ -242,8 +242,11 @@ int rf_motion_start(rf_motion *m)
     }
     if (!(dist <= m->rho + START_TOUCH_TOL))
         return -1; /* in the air */
+    double gap;
     if (m->point && t->tri[c.tri].n.z > 0)
         m->s.p.z = rf_triangle_z_at(&t->tri[c.tri], m->s.p.x, m->s.p.y);
+    else if (m->centre && dist < m->rho)
+        m->s.p = rf_v3_add(m->s.p, rf_centre_lift_move(m, &t->tri[c.tri], &gap));
     else if (c.kind == RF_FEAT_FACE)
         m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
     double vn = rf_v3_dot(m->s.v, c.n);

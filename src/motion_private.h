@@ -325,6 +325,12 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
  * face, an impact on it, a flight, or exited. */
 rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
                              rf_vec3 acc);
+/* Centre mode: the move that puts the centre onto face T's offset plane when it is
+ * closer to that plane than r by *gap > 0: vertical, so that it stays over the face
+ * (Eq. 6); on a face steeper than n.z = 0.2, where that would be over five times the
+ * gap, along the normal as far as the centre stays over the face's column, and
+ * vertical for the rest. */
+rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);
 /* Puts the rock onto face tri after a landing or at the start (velocity made tangent,

@@ -287,12 +287,7 @@ static void count_impact(rf_motion *m, double e0, double vin)
         m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
 }
 
-/* Centre mode: the move that puts the centre onto face T's offset plane when it is
- * closer to that plane than r by *gap > 0: vertical, so that it stays over the face
- * (Eq. 6); on a face steeper than n.z = 0.2, where that would be over five times the
- * gap, along the normal as far as the centre stays over the face's column, and
- * vertical for the rest. */
-static rf_vec3 centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap)
+rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap)
 {
     *gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
     if (!(*gap > 0))
@@ -320,7 +315,7 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
 {
     const rf_triangle *T = &m->terrain->tri[c->tri];
     double gap;
-    rf_vec3 move = centre_lift_move(m, T, &gap);
+    rf_vec3 move = rf_centre_lift_move(m, T, &gap);
     if (!(gap > 0))
         return 0;
     double cost = m->body->mass * RF_GRAVITY * move.z;
@@ -1251,7 +1246,7 @@ static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, r
         if (to < 0)
             continue;
         double gap;
-        rf_vec3 move = centre_lift_move(m, &t->tri[to], &gap);
+        rf_vec3 move = rf_centre_lift_move(m, &t->tri[to], &gap);
         if (gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m))
             return k;
     }

@@ -708,6 +708,20 @@ TEST(hard_replay_spheres_released_into_the_terrain_start_out)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
 }
 
+/* Centre contact (Eq. 6-7) counts only the face under the centre, whose offset plane
+ * can lie above the centre once it moves over the next column.  One sphere, released
+ * on a steep face, was put onto its offset plane along the normal, out of that face's
+ * column and under the next face's offset plane; another, rebounding off a face at the
+ * border of a higher column, flew into that column from its border.  Neither entry
+ * into a column was seen, and both fell through the terrain (by about 10 m).  The start
+ * now lifts the centre within its column, and a flight moving in over a column's
+ * border at its start meets that face at once. */
+TEST(hard_replay_centre_contact_stays_over_its_columns)
+{
+    replay_sphere_rests(1, 14, 69);
+    replay_sphere_rests(1, 14, 176);
+}
+
 /* A 4 t sphere jiggles in a pocket of faces, slower than stop_speed, every event
  * moving it a hair (no single face or crease holds it): it rests within a few dozen
  * events, where it ran into the event cap (200 000 events, 10 s of computing). */
