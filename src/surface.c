@@ -762,6 +762,8 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
     rf_vec3 du = rf_v3(0, 0, 0);
     if (f->mode == LAW_SLIDE) {
         du = law_slip_rate(f, dir);
+        if (wall >= 0)
+            du = rf_v3_scale(dir, rf_v3_dot(du, dir)); /* the wall's push changes no spin */
         double dus = rf_v3_dot(du, dir);
         if (dus < 0)
             consider(&ev, EV_SLIP, rf_v3_norm(u0) / -dus);
@@ -1227,6 +1229,17 @@ static int along(rf_vec3 x, rf_vec3 e1)
  * velocity into it), along which the rock moves on.  -1 when none.  Without it, the
  * rock left the face over that edge, was reflected and turned back into it, ever more
  * nearly along it, at every event in no time. */
+/* Centre mode: 1 when face `to` lies above the centre's reach and the rock cannot pay
+ * the lift onto it (centre_lift would reflect it). */
+static int is_wall(const rf_motion *m, int32_t to)
+{
+    if (to < 0)
+        return 0;
+    double gap;
+    rf_vec3 move = rf_centre_lift_move(m, &m->terrain->tri[to], &gap);
+    return gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m);
+}
+
 static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, rf_vec3 dir,
                      rf_vec3 *L)
 {
@@ -1242,15 +1255,24 @@ static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, r
         *L = rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, k + 1), rf_tri_vertex(F, k)));
         if (rf_v3_norm(rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, *L), *L)) > m->v_stay)
             continue;
-        int32_t to = face_over_edge(t, from, k, fe);
-        if (to < 0)
-            continue;
-        double gap;
-        rf_vec3 move = rf_centre_lift_move(m, &t->tri[to], &gap);
-        if (gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m))
+        if (is_wall(m, face_over_edge(t, from, k, fe)))
             return k;
     }
     return -1;
+}
+
+/* Centre mode: 1 when the wall slide along dir has the centre at the end of its wall,
+ * where it would enter a face that is a wall too: a corner. */
+static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf_vec3 dir)
+{
+    for (int k = 0; k < 3; k++) {
+        if (k == wall || fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) > m->tol_len ||
+            !(rf_v3_dot(fe->m[k], dir) < 0))
+            continue;
+        if (is_wall(m, rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir)))
+            return 1;
+    }
+    return 0;
 }
 
 static rf_surface_end face_step(rf_motion *m)
@@ -1293,7 +1315,7 @@ static rf_surface_end face_step(rf_motion *m)
         closed = f.G == 0.0 || along(m->s.v, f.e1);
     }
     rf_vec3 L;
-    if (m->centre && f.mode != LAW_SLIDE) {
+    if (m->centre) {
         int wall = wall_edge(m, &f, &fe, dir, &L);
         if (wall >= 0) {
             /* along the wall: the velocity's part along it, friction against it */
@@ -1301,11 +1323,37 @@ static rf_surface_end face_step(rf_motion *m)
             double e0 = rf_motion_energy(m);
             double vin = rf_v3_norm(rf_v3_madd(m->s.v, -s, L));
             m->s.v = rf_v3_scale(L, s);
+            dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
+            if (wall_corner(m, &fe, wall, dir)) {
+                /* moving into a corner of two walls: wedged there, it stops; it rests
+                 * when gravity presses it in, else it goes on from rest */
+                m->s.v = rf_v3(0, 0, 0);
+                m->s.w = rf_v3(0, 0, 0);
+                m->sup.rolling = 1;
+                count_impact(m, e0, vin + fabs(s));
+                return rf_v3_dot(f.gt, dir) >= 0 ? RF_SURF_REST : RF_SURF_CONTINUE;
+            }
+            if (f.mode == LAW_SLIDE) {
+                /* a slipping sphere: friction at its contact takes the slip across
+                 * the wall, whose push keeps the centre along it (the spin changes,
+                 * and energy is lost) */
+                u0 = rf_slip_of(m, T->n);
+                rf_vec3 mp = rf_v3_cross(T->n, L);
+                u0 = rf_v3_madd(u0, -rf_v3_dot(u0, mp), mp);
+                rf_set_spin(m, T->n, u0);
+                double ul = rf_v3_dot(u0, L);
+                count_impact(m, e0, vin);
+                if (fabs(ul) <= RF_SLIP_EPS) {
+                    m->sup.rolling = 1;
+                    rf_set_spin(m, T->n, rf_v3(0, 0, 0));
+                    return RF_SURF_CONTINUE;
+                }
+                return face_closed(m, &f, rf_v3_scale(L, ul < 0 ? -1.0 : 1.0), u0, &fe, 0, wall);
+            }
             count_impact(m, e0, vin);
             int stays = fabs(gl) <= f.c * f.gn;
             if (fabs(s) <= m->scene->sim->stop_speed && stays)
                 return RF_SURF_REST;
-            dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
             return face_closed(m, &f, dir, u0, &fe, stays, wall);
         }
     }

@@ -722,6 +722,25 @@ TEST(hard_replay_centre_contact_stays_over_its_columns)
     replay_sphere_rests(1, 14, 176);
 }
 
+/* Centre contact: a slipping sphere pressed against a column wall (a face beyond the
+ * column's edge whose offset plane the rock cannot pay the lift onto) left the face,
+ * was reflected and turned back into it at every event, in no time, as did a sphere
+ * sliding along a wall into a corner where the face ahead is a wall too; the rescue
+ * then moved the centre out of its column and it fell through the terrain.  The slip
+ * across the wall is now taken by friction (the spin changes, energy is lost) and the
+ * sphere slides along the wall; in a corner it stops. */
+TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
+{
+    static const struct {
+        unsigned long seed;
+        long it, k;
+    } slipping[] = {{1, 14, 235}, {1, 14, 91}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
+    for (size_t i = 0; i < sizeof slipping / sizeof *slipping; i++)
+        replay_sphere_rests(slipping[i].seed, slipping[i].it, slipping[i].k);
+    for (size_t i = 0; i < sizeof corner / sizeof *corner; i++)
+        replay_sphere_rests(corner[i].seed, corner[i].it, corner[i].k);
+}
+
 /* A 4 t sphere jiggles in a pocket of faces, slower than stop_speed, every event
  * moving it a hair (no single face or crease holds it): it rests within a few dozen
  * events, where it ran into the event cap (200 000 events, 10 s of computing). */
