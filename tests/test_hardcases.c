@@ -734,7 +734,7 @@ TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
     static const struct {
         unsigned long seed;
         long it, k;
-    } slipping[] = {{1, 14, 235}, {1, 14, 91}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
+    } slipping[] = {{1, 14, 235}, {1, 14, 91}, {9, 7, 191}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
     for (size_t i = 0; i < sizeof slipping / sizeof *slipping; i++)
         replay_sphere_rests(slipping[i].seed, slipping[i].it, slipping[i].k);
     for (size_t i = 0; i < sizeof corner / sizeof *corner; i++)
