@@ -225,19 +225,26 @@ int rf_motion_start(rf_motion *m)
     } else {
         /* a sphere into the terrain (released in a hollow, or below the ground) is
          * pushed out of the feature nearest its centre; when that leaves it in another
-         * one, it is raised on its vertical until it just touches the terrain */
+         * one or under the ground, it is raised on its vertical instead, until it just
+         * touches the terrain */
         const rf_triangle *T = &t->tri[tri];
         double dp = rf_v3_dot(T->n, m->s.p) - T->d;
         if (dp < m->rho)
             m->s.p = rf_v3_madd(m->s.p, m->rho - dp, T->n);
         dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
         if (dist < m->rho - m->tol_len) {
+            rf_vec3 p0 = m->s.p;
             m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
             dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
-        }
-        if (dist < m->rho - m->tol_len) {
-            m->s.p.z = rf_clear_height(m, m->s.p);
-            dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+            /* a push that leaves it in the terrain or puts it under the ground (clear
+             * of every feature, but below them) is not taken */
+            int32_t under = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+            if (dist < m->rho - m->tol_len || under < 0 ||
+                rf_v3_dot(t->tri[under].n, m->s.p) - t->tri[under].d < m->rho - m->tol_len) {
+                m->s.p = p0;
+                m->s.p.z = rf_clear_height(m, p0);
+                dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+            }
         }
     }
     if (!(dist <= m->rho + START_TOUCH_TOL))

@@ -697,13 +697,14 @@ TEST(hard_replay_spheres_stay_out)
  * under them, in a hollow or beside a rise): the start pushed them out of the nearest
  * feature only, or not at all when that was an edge or vertex, and the flight search,
  * which finds only contacts entered, let them fall through (to 35 m under the
- * ground).  They are now raised out first. */
+ * ground); one, under a steep edge, was pushed along that edge's normal to below the
+ * ground.  They are now raised out first. */
 TEST(hard_replay_spheres_released_into_the_terrain_start_out)
 {
     static const struct {
         unsigned long seed;
         long it, k;
-    } cases[] = {{1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}};
+    } cases[] = {{1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}, {96, 42, 92}};
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
 }
