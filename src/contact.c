@@ -395,7 +395,8 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     if (orient == 0.0)
         return;
     double sg = orient > 0 ? 1.0 : -1.0;
-    int crossing = 0; /* a flight moving in over an edge of the column at its start */
+    int at_start = s->sp.n == 0 && t0 == 0.0; /* a flight's start */
+    int crossing = 0; /* moving in over an edge of the column there */
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         double ex = B.x - A.x, ey = B.y - A.y;
@@ -407,7 +408,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
-            crossing |= s->sp.n == 0 && t0 == 0.0 && fabs(alpha) <= tol;
+            crossing |= at_start && fabs(alpha) <= tol;
         } else if (beta < 0) {
             hi = dmin(hi, (-tol - alpha) / beta);
         } else if (alpha < -tol) {

@@ -1223,12 +1223,6 @@ static int along(rf_vec3 x, rf_vec3 e1)
     return xl == 0.0 || rf_v3_norm(rf_v3_cross(x, e1)) <= 1e-12 * xl;
 }
 
-/* Centre mode: the edge of the support's column that the centre lies on and is pressed
- * against by the surface law, beyond which lies a face whose offset plane is above the
- * centre and which the rock cannot pay the lift onto: a wall (centre_lift reflects the
- * velocity into it), along which the rock moves on.  -1 when none.  Without it, the
- * rock left the face over that edge, was reflected and turned back into it, ever more
- * nearly along it, at every event in no time. */
 /* Centre mode: 1 when face `to` lies above the centre's reach and the rock cannot pay
  * the lift onto it (centre_lift would reflect it). */
 static int is_wall(const rf_motion *m, int32_t to)
@@ -1240,6 +1234,12 @@ static int is_wall(const rf_motion *m, int32_t to)
     return gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m);
 }
 
+/* Centre mode: the edge of the support's column that the centre lies on and is pressed
+ * against by the surface law, beyond which lies a face whose offset plane is above the
+ * centre and which the rock cannot pay the lift onto: a wall (centre_lift reflects the
+ * velocity into it), along which the rock moves on.  -1 when none.  Without it, the
+ * rock left the face over that edge, was reflected and turned back into it, ever more
+ * nearly along it, at every event in no time. */
 static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, rf_vec3 dir,
                      rf_vec3 *L)
 {
@@ -1265,14 +1265,57 @@ static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, r
  * where it would enter a face that is a wall too: a corner. */
 static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf_vec3 dir)
 {
-    for (int k = 0; k < 3; k++) {
-        if (k == wall || fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) > m->tol_len ||
-            !(rf_v3_dot(fe->m[k], dir) < 0))
-            continue;
-        if (is_wall(m, rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir)))
-            return 1;
+    int at_end = 0; /* on another edge of the column, moving out over it */
+    for (int k = 0; k < 3; k++)
+        at_end |= k != wall && fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) <= m->tol_len &&
+                  rf_v3_dot(fe->m[k], dir) < 0;
+    return at_end && is_wall(m, rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir));
+}
+
+/* Centre mode: the rock on its face moves along the wall at column edge `wall`
+ * (direction L): the velocity's part along it (the rest counts as an impact), friction
+ * against it; a slipping sphere's slip across the wall is taken by friction at its
+ * contact, the wall's push keeping the centre along it (the spin changes, and energy
+ * is lost); in a corner of two walls it stops. */
+static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_edges *fe,
+                                int wall, rf_vec3 L)
+{
+    double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f->gt, L);
+    double e0 = rf_motion_energy(m);
+    double vin = rf_v3_norm(rf_v3_madd(m->s.v, -s, L));
+    m->s.v = rf_v3_scale(L, s);
+    rf_vec3 dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
+    if (wall_corner(m, fe, wall, dir)) {
+        /* wedged in the corner, it stops; it rests when gravity presses it in, else it
+         * goes on from rest */
+        m->s.v = rf_v3(0, 0, 0);
+        m->s.w = rf_v3(0, 0, 0);
+        m->sup.rolling = 1;
+        count_impact(m, e0, vin + fabs(s));
+        return rf_v3_dot(f->gt, dir) >= 0 ? RF_SURF_REST : RF_SURF_CONTINUE;
     }
-    return 0;
+    int slide = f->mode == LAW_SLIDE;
+    rf_vec3 u = rf_v3(0, 0, 0);
+    if (slide) {
+        rf_vec3 mp = rf_v3_cross(f->n, L);
+        u = rf_slip_of(m, f->n);
+        u = rf_v3_madd(u, -rf_v3_dot(u, mp), mp);
+        rf_set_spin(m, f->n, u);
+    }
+    count_impact(m, e0, vin);
+    if (slide) {
+        double ul = rf_v3_dot(u, L);
+        if (fabs(ul) <= RF_SLIP_EPS) {
+            m->sup.rolling = 1;
+            rf_set_spin(m, f->n, rf_v3(0, 0, 0));
+            return RF_SURF_CONTINUE;
+        }
+        return face_closed(m, f, rf_v3_scale(L, ul < 0 ? -1.0 : 1.0), u, fe, 0, wall);
+    }
+    int stays = fabs(gl) <= f->c * f->gn;
+    if (fabs(s) <= m->scene->sim->stop_speed && stays)
+        return RF_SURF_REST;
+    return face_closed(m, f, dir, u, fe, stays, wall);
 }
 
 static rf_surface_end face_step(rf_motion *m)
@@ -1315,48 +1358,9 @@ static rf_surface_end face_step(rf_motion *m)
         closed = f.G == 0.0 || along(m->s.v, f.e1);
     }
     rf_vec3 L;
-    if (m->centre) {
-        int wall = wall_edge(m, &f, &fe, dir, &L);
-        if (wall >= 0) {
-            /* along the wall: the velocity's part along it, friction against it */
-            double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f.gt, L);
-            double e0 = rf_motion_energy(m);
-            double vin = rf_v3_norm(rf_v3_madd(m->s.v, -s, L));
-            m->s.v = rf_v3_scale(L, s);
-            dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
-            if (wall_corner(m, &fe, wall, dir)) {
-                /* moving into a corner of two walls: wedged there, it stops; it rests
-                 * when gravity presses it in, else it goes on from rest */
-                m->s.v = rf_v3(0, 0, 0);
-                m->s.w = rf_v3(0, 0, 0);
-                m->sup.rolling = 1;
-                count_impact(m, e0, vin + fabs(s));
-                return rf_v3_dot(f.gt, dir) >= 0 ? RF_SURF_REST : RF_SURF_CONTINUE;
-            }
-            if (f.mode == LAW_SLIDE) {
-                /* a slipping sphere: friction at its contact takes the slip across
-                 * the wall, whose push keeps the centre along it (the spin changes,
-                 * and energy is lost) */
-                u0 = rf_slip_of(m, T->n);
-                rf_vec3 mp = rf_v3_cross(T->n, L);
-                u0 = rf_v3_madd(u0, -rf_v3_dot(u0, mp), mp);
-                rf_set_spin(m, T->n, u0);
-                double ul = rf_v3_dot(u0, L);
-                count_impact(m, e0, vin);
-                if (fabs(ul) <= RF_SLIP_EPS) {
-                    m->sup.rolling = 1;
-                    rf_set_spin(m, T->n, rf_v3(0, 0, 0));
-                    return RF_SURF_CONTINUE;
-                }
-                return face_closed(m, &f, rf_v3_scale(L, ul < 0 ? -1.0 : 1.0), u0, &fe, 0, wall);
-            }
-            count_impact(m, e0, vin);
-            int stays = fabs(gl) <= f.c * f.gn;
-            if (fabs(s) <= m->scene->sim->stop_speed && stays)
-                return RF_SURF_REST;
-            return face_closed(m, &f, dir, u0, &fe, stays, wall);
-        }
-    }
+    int wall = m->centre ? wall_edge(m, &f, &fe, dir, &L) : -1;
+    if (wall >= 0)
+        return wall_step(m, &f, &fe, wall, L);
     if (closed)
         return face_closed(m, &f, dir, u0, &fe, holds, -1);
     return face_path(m, &f, u0, &fe, holds);
