@@ -1751,6 +1751,7 @@ static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, lon
 typedef struct measure_found {
     rf_measure_stats stats;
     double share; /* % within serviceability, not overtopped; NAN when not defined */
+    char figure[64]; /* its energy figure's file */
 } measure_found;
 
 /* The share of the crossings with an energy within `capacity` that are not
@@ -1802,9 +1803,8 @@ static int section_measures(report *r, long *npass, long *nfail)
         c->share = !is_control(m) && isfinite(service) && s->n
                        ? 100.0 * share_within(x, nx, service)
                        : NAN;
-        char file[64];
-        snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
-        int failed = s->n > 0 && figure_measure(r, m, x, nx, file);
+        snprintf(c->figure, sizeof c->figure, "measure-%ld-energy.svg", m->idx);
+        int failed = s->n > 0 && figure_measure(r, m, x, nx, c->figure);
         free(x);
         if (failed) {
             free(mc);
@@ -1874,12 +1874,11 @@ static int section_measures(report *r, long *npass, long *nfail)
             fputs("<p>No rock crossed this measure.</p>\n", f);
             continue;
         }
-        char file[64], cap[600];
-        snprintf(file, sizeof file, "measure-%ld-energy.svg", m->idx);
+        char cap[600];
         snprintf(cap, sizeof cap,
                  "Energy of the rocks crossing %s by outcome, with its capacities (dashed)",
                  m->name);
-        figure_html(f, file, cap);
+        figure_html(f, mc[k].figure, cap);
         if (!is_control(m) && measure_classifications(r, m)) {
             status = -1;
             break;

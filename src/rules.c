@@ -530,6 +530,7 @@ typedef struct measure_row {
     rf_measure_kind kind;
     int importance;
     double capacity[RF_N_LIMIT_STATES];
+    long n_icpt; /* interceptions, as print_run reads them */
 } measure_row;
 
 /* The measures of a run that the rules judge, in the columns read_measure_row reads. */
@@ -579,6 +580,7 @@ static void run_measures_free(run_measures *L)
         free(L->m[i].name);
     free(L->m);
     free(L->project);
+    memset(L, 0, sizeof *L);
 }
 
 static int read_run_measures(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L,
@@ -749,21 +751,23 @@ done:
     return status;
 }
 
-static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
-                     FILE *out, rf_error *err);
+static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L, FILE *out,
+                     rf_error *err);
 
 int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
                       rf_error *err)
 {
     long failed = 0;
     run_measures L;
-    if (read_run_measures(db, run, r, &L, err))
-        return -1;
+    memset(&L, 0, sizeof L);
     int status = -1;
     if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK) {
         db_error(db, "evaluating the rules", err);
     } else {
-        status = evaluate(db, run, r, &L, &failed, err);
+        /* the run's measures are read in the transaction that writes their checks */
+        status = read_run_measures(db, run, r, &L, err);
+        if (status == 0)
+            status = evaluate(db, run, r, &L, &failed, err);
         if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
             status = db_error(db, "committing the checks", err);
         if (status != 0 && !sqlite3_get_autocommit(db))
@@ -860,19 +864,14 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
     return 0;
 }
 
-static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
-                     FILE *out, rf_error *err)
+static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L, FILE *out,
+                     rf_error *err)
 {
     if (!L->project)
         return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
                             (long long)run);
     sqlite3_stmt *checks = NULL;
-    long *n = calloc(L->n + 1, sizeof *n); /* interceptions per measure */
     int status = -1;
-    if (!n) {
-        rf_error_set(err, "", 0, 0, "out of memory");
-        goto done;
-    }
     if (prepare(db, "SELECT count(*), coalesce(sum(NOT passed), 0) FROM checks"
                     " WHERE run_id = ?1",
                 &checks, err))
@@ -882,11 +881,11 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
     fprintf(out, "%-16s %-10s %-14s", "measure", "kind", "importance");
     rf_query_print_stats_header(out);
     for (size_t i = 0; i < L->n; i++) {
-        const measure_row *m = &L->m[i];
+        measure_row *m = &L->m[i];
         rf_measure_stats st;
         if (rf_query_measure_stats(db, m->id, &st, err))
             goto done;
-        n[i] = st.n;
+        m->n_icpt = st.n;
         fprintf(out, "%-16s %-10s %-14s", m->name, rf_measure_kind_name(m->kind),
                 rf_importance_name(m->importance));
         rf_query_print_stats(out, &st);
@@ -898,7 +897,7 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
         fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
                 rf_importance_name(m->importance));
         print_capacities(r, m, out);
-        if ((n[i] > 0 && print_states(db, r, m, n[i], out, err)) ||
+        if ((m->n_icpt > 0 && print_states(db, r, m, m->n_icpt, out, err)) ||
             print_checks(db, r, m, out, err))
             goto done;
     }
@@ -913,7 +912,6 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
     }
     status = 0;
 done:
-    free(n);
     sqlite3_finalize(checks);
     return status;
 }

@@ -1,10 +1,10 @@
 /* db_test_util.c - single values read from a results database in the tests. */
 #include "db_test_util.h"
 
-#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 
+#include "query.h"
 #include "test.h"
 
 /* The query's statement stepped to its first row. */
@@ -36,7 +36,7 @@ double dbt_real(sqlite3 *db, const char *fmt, ...)
     va_start(ap, fmt);
     sqlite3_stmt *st = first_row(db, fmt, ap);
     va_end(ap);
-    double v = sqlite3_column_type(st, 0) == SQLITE_NULL ? NAN : sqlite3_column_double(st, 0);
+    double v = rf_query_column_real(st, 0);
     sqlite3_finalize(st);
     return v;
 }

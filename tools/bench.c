@@ -175,6 +175,7 @@ int main(int argc, char **argv)
      * its closed-form columns are the engine's in full contact). */
     static const double dts[] = {0.01, 0.003, 0.001, 0.0003};
     enum { NEXACT = 3, NFIXED = sizeof dts / sizeof dts[0], NROWS = NEXACT + NFIXED };
+    enum { CENTRE = 1 }; /* the exact row in the fixed-step rows' setting (centre contact) */
     static const struct {
         const char *name;
         rf_contact_kind contact;
@@ -188,12 +189,12 @@ int main(int argc, char **argv)
         memset(&rows[i], 0, sizeof rows[i]);
         rows[i].sim = p.sim;
         rows[i].sim.engine = i < NEXACT ? RF_ENGINE_EXACT : RF_ENGINE_FIXED_STEP;
-        rows[i].sim.contact = RF_CONTACT_CENTRE;
         if (i < NEXACT) {
             snprintf(names[i], sizeof names[i], "%s", exact[i].name);
             rows[i].sim.contact = exact[i].contact;
             rows[i].sim.model = exact[i].model;
         } else {
+            rows[i].sim.contact = exact[CENTRE].contact;
             rows[i].sim.dt = dts[i - NEXACT];
             snprintf(names[i], sizeof names[i], "fixed dt=%g s, centre", dts[i - NEXACT]);
         }
@@ -209,7 +210,7 @@ int main(int argc, char **argv)
     memset(&noise, 0, sizeof noise);
     for (int i = 0; i < NROWS; i++) {
         row *r = &rows[i];
-        const stats *rf = &ref[i < NEXACT ? i : 1];
+        const stats *rf = &ref[i < NEXACT ? i : CENTRE];
         fprintf(stderr, "%s ...\n", r->name);
         r->per_s = throughput(&p, &r->sim);
         for (int k = 0; k < RF_N_CLOSED_FORMS; k++)
@@ -223,7 +224,7 @@ int main(int argc, char **argv)
         r->err_energy_p95 = rel_err(st.energy_p95, rf->energy_p95);
         r->err_road_mean = rel_err(st.road_mean, rf->road_mean);
         r->err_road_p95 = rel_err(st.road_p95, rf->road_p95);
-        if (i == 1)
+        if (i == CENTRE)
             noise = st;
     }
 
@@ -236,8 +237,8 @@ int main(int argc, char **argv)
            "energy %.1e - differences below about twice these are not significant.\n\n",
            path, p.terrain.ntri, p.releases[0].name, p.rocks[p.releases[0].rock].mass,
            p.sim.model == RF_MODEL_SPHERE ? "sphere" : "point", N_STATS, N_REFERENCE,
-           ref[1].runout_mean, ref[1].road_mean, ref[1].road_p95, ref[1].energy_mean,
-           ref[1].energy_p95, N_STATS, noise.runout_se / noise.runout_mean,
+           ref[CENTRE].runout_mean, ref[CENTRE].road_mean, ref[CENTRE].road_p95,
+           ref[CENTRE].energy_mean, ref[CENTRE].energy_p95, N_STATS, noise.runout_se / noise.runout_mean,
            noise.road_se / noise.road_mean, noise.energy_se / noise.energy_mean);
     printf("| engine | traj/s |");
     for (int k = 0; k < RF_N_CLOSED_FORMS; k++)
@@ -258,7 +259,7 @@ int main(int argc, char **argv)
     printf("\n");
     /* Every fixed-step row has a larger worst closed-form error than the exact engine
      * (centre contact): the ratio of throughputs at that larger error. */
-    const row *ex = &rows[1];
+    const row *ex = &rows[CENTRE];
     double exact_worst = worst_closed(ex);
     for (int i = NEXACT; i < NROWS; i++) {
         const row *r = &rows[i];
