@@ -426,6 +426,44 @@ TEST(motion_body_and_energy)
     ENSURE_REL(rf_kinetic_energy(&p, v, w), 0.5 * 2385.0 * rf_v3_norm2(v), 1e-14);
 }
 
+/* A release's `height` is that of the rock's lowest point above the ground: a point
+ * mass starts on the ground (at height 0) or `height` above it; a sphere touches the
+ * face under the release point, or is `height` higher, its centre r off that face. */
+TEST(motion_release_puts_the_lowest_point_at_the_release_height)
+{
+    rf_project p;
+    rf_error err;
+    ENSURE(rf_project_load("projects/noto/noto-3.1-no-trees.yaml", &p, &err) == 0);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    ENSURE(rng);
+    const double heights[] = {0.0, 1.5};
+    for (int h = 0; h < 2; h++) {
+        p.releases[0].height = heights[h];
+        p.releases[0].jitter = 2.0;
+        for (int k = 0; k < 20; k++) {
+            gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
+            rf_body pt = rf_release_body(&p, 0, RF_MODEL_POINT);
+            rf_state s = rf_release_start(&p, 0, &pt, rng);
+            double zg;
+            int32_t tri = rf_terrain_height(&p.terrain, s.p.x, s.p.y, &zg);
+            ENSURE(tri >= 0);
+            ENSURE_MSG(fabs(s.p.z - heights[h] - zg) < 1e-9,
+                       "point mass %d starts %.6f m above the ground, not %g", k, s.p.z - zg,
+                       heights[h]);
+
+            gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
+            rf_body sp = rf_release_body(&p, 0, RF_MODEL_SPHERE);
+            rf_state ss = rf_release_start(&p, 0, &sp, rng);
+            rf_vec3 n = p.terrain.tri[tri].n;
+            ENSURE_MSG(fabs(rf_v3_dot(rf_v3_sub(ss.p, rf_v3(s.p.x, s.p.y, zg)), n) -
+                            sp.radius - heights[h] * n.z) < 1e-9,
+                       "sphere %d: centre not r + height above the face", k);
+        }
+    }
+    gsl_rng_free(rng);
+    rf_project_free(&p);
+}
+
 TEST(motion_draw_truncated)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
