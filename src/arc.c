@@ -258,3 +258,29 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
     }
     return n;
 }
+
+int rf_poly_sinks(const double *c, int deg, double t0, double t1, double lo, double hi,
+                  double *t)
+{
+    while (deg > 0 && c[deg] == 0.0)
+        deg--;
+    if (!(t1 > t0) || deg == 0)
+        return 0;
+    double pts[5];
+    int np = 0;
+    pts[np++] = t0;
+    np += critical_points(c, deg, t0, t1, pts + 1);
+    pts[np++] = t1;
+    /* P is monotone between its critical points: the ends of each piece tell which
+     * bound it leaves by first */
+    for (int i = 1; i < np; i++) {
+        double pb = rf_poly_eval(c, deg, pts[i]);
+        if (pb > hi)
+            return 0;
+        if (pb < lo) {
+            *t = level_root(c, deg, pts[i - 1], pts[i], lo);
+            return 1;
+        }
+    }
+    return 0;
+}

@@ -263,6 +263,14 @@ static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, 
         if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol && d1 <= slope && d2 < -4 * rho * 1e-9) {
             roots[0] = w0;
             n = 1;
+        } else if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol &&
+                   rf_poly_sinks(c, 4, w0, w1, -RF_TOUCH_BAND * tol, tol, &roots[0])) {
+            /* touching, and going in deeper than the touch band before it comes clear:
+             * met where it is a touch band deep, as a slow crossing is.  Neither a
+             * tangent path that curves in by a cubic term (12/59/51 sank 0.47 r into a
+             * face past the edge it left tangent to) nor one that moves apart by a hair
+             * and then curves in (43/59/138, 0.73 r) rises above the touch band first */
+            n = 1;
         } else if (p0 < -RF_TOUCH_BAND * tol && d1 < -slope) {
             /* already within reach of it (a penetration below what the path points
              * show, left where a pocket held the rock) and going deeper: met at once,

@@ -123,6 +123,10 @@ void rf_quadratic_range(const double c[3], double t0, double t1, double *lo, dou
  * returns their number. */
 int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
                     double slope_eps, double *roots);
+/* P (deg <= 4) starting within [lo, hi] at t0: 1 and in *t the time it first falls to
+ * lo, when it does so on [t0, t1] before rising above hi; 0 otherwise. */
+int rf_poly_sinks(const double *c, int deg, double t0, double t1, double lo, double hi,
+                  double *t);
 
 /* ---- the run-time context of one trajectory --------------------------------------- */
 typedef enum rf_feature { RF_FEAT_FACE, RF_FEAT_EDGE, RF_FEAT_VERTEX } rf_feature;

@@ -124,3 +124,30 @@ TEST(arc_quartic_entry_after_a_hair_going_deep)
     double graze[5] = {5e-10, 0, -1e-3, 0, 250};
     ENSURE(rf_poly_entries(graze, 4, 0.0, 2e-3, tol, slope, roots) == 0);
 }
+
+/* A start a hair below zero (within the touch band) that never rises above zero: no
+ * entry for rf_poly_entries, which looks for crossings from above, but a sink for
+ * rf_poly_sinks once it is a touch band deep, unless it comes clear first. */
+TEST(arc_quartic_sinks_from_a_touch)
+{
+    const double tol = 1e-9, band = RF_TOUCH_BAND * tol;
+    double roots[3], t = -1.0;
+    /* -4e-14 + 2e-13 t + 2e-4 t^2 - 8 t^3 + 24 t^4: tangent at second order, cubic in */
+    double tangent[5] = {-4e-14, 2e-13, 2e-4, -8, 24};
+    ENSURE(rf_poly_entries(tangent, 4, 0.0, 0.4, tol, 1e-7, roots) == 0);
+    ENSURE(rf_poly_sinks(tangent, 4, 0.0, 0.4, -band, tol, &t) == 1);
+    ENSURE(t > 2.5e-5 && t < 0.1);
+    ENSURE(fabs(rf_poly_eval(tangent, 4, t) + band) < 1e-3 * band);
+    /* -1e-11 + 4.5e-6 t - 3.85 t^2: moving apart by a hair, then in */
+    double apart[5] = {-1e-11, 4.5e-6, -3.85, 0, 0};
+    ENSURE(rf_poly_entries(apart, 2, 0.0, 0.5, tol, 1e-7, roots) == 0);
+    ENSURE(rf_poly_sinks(apart, 2, 0.0, 0.5, -band, tol, &t) == 1);
+    ENSURE_REL(t, (4.5e-6 + sqrt(4.5e-6 * 4.5e-6 + 4 * 3.85 * (band - 1e-11))) / (2 * 3.85), 1e-9);
+    /* moving apart clearly first (above tol), then in: not a sink (an entry) */
+    double clear[5] = {-1e-11, 1e-3, -3.85, 0, 0};
+    ENSURE(rf_poly_sinks(clear, 2, 0.0, 0.5, -band, tol, &t) == 0);
+    ENSURE(rf_poly_entries(clear, 2, 0.0, 0.5, tol, 1e-7, roots) == 1);
+    /* staying within the band: no sink */
+    double graze[5] = {-1e-11, 0, -1e-9, 0, 0};
+    ENSURE(rf_poly_sinks(graze, 2, 0.0, 0.5, -band, tol, &t) == 0);
+}

@@ -688,6 +688,14 @@ TEST(hard_replay_spheres_stay_out)
          * not: the step was taken whole, and with it a face the search had found later
          * in it (sank to 0.035 r) */
         {28, 59, 215},
+        /* touching an edge with the path tangent to it up to second order, curving in
+         * by its cubic term: a 540 kg sphere flying off over the edge it touched, and
+         * into the face beyond it (sank to 0.47 r) */
+        {12, 59, 51},
+        /* touching an edge and moving apart from it by a few um/s, then curving in
+         * hard: an 8 t sphere starting on a steep face in a pocket passed through the
+         * edge, never having been clear of it (sank to 0.73 r, then fell through) */
+        {43, 59, 138},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
