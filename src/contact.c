@@ -383,8 +383,12 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
     return 0;
 }
 
-/* Centre mode (Eq. 6-7): contact while the centre is over the triangle and within rho
- * of its plane.  The centre's horizontal path is taken as straight (flight). */
+/* Centre mode (Eq. 6-7) and the point mass (rho 0): contact while the centre is over
+ * the triangle and within rho of its plane, the window over the triangle found exactly
+ * from its edges' columns.  A point mass was tested as a sphere's face, at one time
+ * from the gathered window's start: one falling along a column's border, a hair under
+ * a steep face's plane, lay outside the face along its normal there and fell through
+ * it.  The centre's horizontal path is taken as straight (flight). */
 static void test_centre(search *s, int32_t idx, double t0, double t1)
 {
     const rf_triangle *T = &s->m->terrain->tri[idx];
@@ -455,7 +459,8 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
         t1 = s->best;
     if (!(t1 >= t0))
         return 0;
-    if (m->centre) {
+    if (m->centre || m->point) {
+        /* the face under the centre; a point mass is its own centre */
         test_centre(s, idx, t0, t1);
         return 0;
     }
@@ -471,8 +476,7 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
         rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t_face), -rho, T->n);
         /* a sphere's contact point may lie a hair outside, across an edge on the
          * support's plane, which is not tested (a sphere in a concave corner) */
-        if (rho > 0 ? inside_closed(T, q) || inside_margin(T, q) >= -1e-6 * rho
-                    : inside_margin(T, q) >= -tol) {
+        if (inside_closed(T, q) || inside_margin(T, q) >= -1e-6 * rho) {
             int skip = s->nskip > 0 && skipped(s, idx, RF_FEAT_FACE, 0);
             if (t_face < s->best && !skip)
                 take(s, t_face, idx, RF_FEAT_FACE, 0, q);
@@ -480,8 +484,6 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
                 return 0; /* nothing of this triangle is met before its plane */
         }
     }
-    if (rho <= 0.0)
-        return 0;
     /* edges and vertices: only once the plane is within reach */
     *w0 = t0;
     if (f0 > tol) {

@@ -804,6 +804,22 @@ TEST(hard_replay_point_leaving_a_face_it_moves_into_stays_on)
     replay_ends(1, 9, 111, RF_MODEL_POINT, RF_END_REST);
 }
 
+/* Point masses creeping at a grid node in a pit, hopping off one face and falling along
+ * a column's border a hair under a steep face's plane: that face was tested as a
+ * sphere's, at one time from the start of the window the flight's gathering gave it,
+ * where the point, projected along the normal, lay just outside it.  They fell through
+ * the terrain (by up to 60 m).  A point mass now meets the face under it over the exact
+ * window of its column, as in centre contact, and rests. */
+TEST(hard_replay_point_masses_along_a_column_border_rest)
+{
+    static const struct {
+        unsigned long seed;
+        long it, k;
+    } cases[] = {{10, 46, 210}, {20, 50, 65}, {29, 3, 55}, {61, 2, 103}, {94, 45, 298}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        replay_ends(cases[i].seed, cases[i].it, cases[i].k, RF_MODEL_POINT, RF_END_REST);
+}
+
 /* A 62 t sphere rolling along a convex edge of its face, its velocity almost along the
  * edge: it left the face over that edge, met the edge at once curving in, rolled over
  * it back onto the face it had just left, left it again, and so on in no time until
