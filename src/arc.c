@@ -171,6 +171,17 @@ static int critical_points(const double *c, int deg, double t0, double t1, doubl
     return n;
 }
 
+/* Ends of the pieces of [t0, t1] on which P is monotone: t0, P's critical points
+ * inside, t1; their number. */
+static int monotone_pieces(const double *c, int deg, double t0, double t1, double pts[5])
+{
+    int np = 0;
+    pts[np++] = t0;
+    np += critical_points(c, deg, t0, t1, pts + 1);
+    pts[np++] = t1;
+    return np;
+}
+
 /* 1 when the quartic with Bernstein coefficients b[0 .. 4] over an interval stays
  * above level there: it is a convex combination of them.  Otherwise the halves are
  * tried, down to `depth` more halvings (de Casteljau at the middle). */
@@ -230,10 +241,7 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
     if (deg == 0)
         return 0;
     double pts[5];
-    int np = 0;
-    pts[np++] = t0;
-    np += critical_points(c, deg, t0, t1, pts + 1);
-    pts[np++] = t1;
+    int np = monotone_pieces(c, deg, t0, t1, pts);
     int n = 0;
     double pa = p0;
     double deep = RF_TOUCH_BAND * tol;
@@ -267,12 +275,8 @@ int rf_poly_sinks(const double *c, int deg, double t0, double t1, double lo, dou
     if (!(t1 > t0) || deg == 0)
         return 0;
     double pts[5];
-    int np = 0;
-    pts[np++] = t0;
-    np += critical_points(c, deg, t0, t1, pts + 1);
-    pts[np++] = t1;
-    /* P is monotone between its critical points: the ends of each piece tell which
-     * bound it leaves by first */
+    int np = monotone_pieces(c, deg, t0, t1, pts);
+    /* the ends of each monotone piece tell which bound P leaves by first */
     for (int i = 1; i < np; i++) {
         double pb = rf_poly_eval(c, deg, pts[i]);
         if (pb > hi)
