@@ -260,11 +260,11 @@ static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, 
         double p0 = rf_poly_eval(c, 4, w0);
         double d1 = c[1] + w0 * (2 * c[2] + w0 * (3 * c[3] + w0 * 4 * c[4]));
         double d2 = 2 * c[2] + w0 * (6 * c[3] + w0 * 12 * c[4]);
-        if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol && d1 <= slope && d2 < -4 * rho * 1e-9) {
+        int touching = p0 <= tol && p0 >= -RF_TOUCH_BAND * tol;
+        if (touching && d1 <= slope && d2 < -4 * rho * 1e-9) {
             roots[0] = w0;
             n = 1;
-        } else if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol &&
-                   rf_poly_sinks(c, 4, w0, w1, -RF_TOUCH_BAND * tol, tol, &roots[0])) {
+        } else if (touching && rf_poly_sinks(c, 4, w0, w1, -RF_TOUCH_BAND * tol, tol, &roots[0])) {
             /* touching, and going in deeper than the touch band before it comes clear:
              * met where it is a touch band deep, as a slow crossing is.  Neither a
              * tangent path that curves in by a cubic term (12/59/51 sank 0.47 r into a
@@ -460,7 +460,8 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
     if (!(t1 >= t0))
         return 0;
     if (m->centre || m->point) {
-        /* the face under the centre; a point mass is its own centre */
+        /* the face under the centre; a point mass is its own centre.  Below, rho > 0:
+         * a sphere in full contact (the only rock the surface phase searches for) */
         test_centre(s, idx, t0, t1);
         return 0;
     }

@@ -71,8 +71,8 @@ rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b,
     rf_vec3 n = tri >= 0 ? t->tri[tri].n : rf_v3(0, 0, 1);
     rf_state s;
     memset(&s, 0, sizeof s);
-    /* The lowest point of the rock `height` above the ground: a sphere's centre is r
-       off the face, a point mass's is the point itself. */
+    /* `height` above the ground, a sphere touching the face there (its centre r off
+     * it along the normal), a point mass on it (the point itself). */
     s.p = rf_v3_madd(rf_v3(x, y, z), rf_body_contact_radius(b), n);
     s.p.z += rel->height;
     s.v = rel->velocity;

@@ -150,4 +150,12 @@ TEST(arc_quartic_sinks_from_a_touch)
     /* staying within the band: no sink */
     double graze[5] = {-1e-11, 0, -1e-9, 0, 0};
     ENSURE(rf_poly_sinks(graze, 2, 0.0, 0.5, -band, tol, &t) == 0);
+    /* a quartic whose top coefficients vanish (an edge along the path's plane) is its
+     * lower degree; an empty window sinks nowhere */
+    t = -1.0;
+    ENSURE(rf_poly_sinks(apart, 4, 0.0, 0.5, -band, tol, &t) == 1);
+    ENSURE_REL(t, (4.5e-6 + sqrt(4.5e-6 * 4.5e-6 + 4 * 3.85 * (band - 1e-11))) / (2 * 3.85), 1e-9);
+    ENSURE(rf_poly_sinks(apart, 4, 0.2, 0.2, -band, tol, &t) == 0);
+    double flat[5] = {-1e-11, 0, 0, 0, 0};
+    ENSURE(rf_poly_sinks(flat, 4, 0.0, 0.5, -band, tol, &t) == 0);
 }
