@@ -192,10 +192,10 @@ static const char views_sql[] =
     "  CASE WHEN checks = 0 THEN 'unchecked' WHEN checks_failed > 0 THEN 'fail'\n"
     "       ELSE 'pass' END AS verdict\n"
     "FROM (SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
-    "        (SELECT count(*) FROM checks k WHERE k.run_id = r.id) AS checks,\n"
-    "        (SELECT count(*) FROM checks k WHERE k.run_id = r.id AND k.passed = 0)\n"
-    "          AS checks_failed\n"
-    "      FROM runs r);\n";
+    "        coalesce(k.n, 0) AS checks, coalesce(k.failed, 0) AS checks_failed\n"
+    "      FROM runs r\n"
+    "      LEFT JOIN (SELECT run_id, count(*) AS n, sum(passed = 0) AS failed\n"
+    "                 FROM checks GROUP BY run_id) k ON k.run_id = r.id);\n";
 
 #define RF_NOW_SQL "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
 

@@ -482,6 +482,12 @@ typedef struct replay {
     unsigned long seed;
 } replay;
 
+/* A replayed scene's name: its seed, its index and the trajectory's index. */
+typedef struct replay_id {
+    unsigned long seed;
+    long it, k;
+} replay_id;
+
 /* The heights of a replayed scene's grid, drawn from g node by node. */
 typedef struct replay_grid {
     gsl_rng *g;
@@ -578,6 +584,17 @@ static void ensure_ends_above(const replay *rp, const mt_run *r, unsigned long s
                    k, zh - end.z);
 }
 
+/* The checks every replay ends with - no energy gained at an impact, not ending under
+ * the terrain - and its clean-up. */
+static void replay_finish(replay *rp, mt_run *r, unsigned long seed, long it, long k)
+{
+    ENSURE_MSG(r->energy_gain_kj <= 1e-9 * (1.0 + r->rec.max_energy_kj),
+               "scene %lu/%ld/%ld: energy gain", seed, it, k);
+    ensure_ends_above(rp, r, seed, it, k);
+    mt_run_free(r);
+    rf_terrain_free(&rp->t);
+}
+
 /* A full-contact sphere of the replay never comes closer to the terrain than 0.99 r at
  * a path point after its start, gains no energy at an impact and does not end under
  * the terrain. */
@@ -589,11 +606,7 @@ static void replay_sphere_stays_out(unsigned long seed, long it, long k)
     mt_run r;
     double worst = replay_run(&rp, &r);
     ENSURE_MSG(worst >= 0.99, "scene %lu/%ld/%ld: penetrates to %.3f r", seed, it, k, worst);
-    ENSURE_MSG(r.energy_gain_kj <= 1e-9 * (1.0 + r.rec.max_energy_kj), "scene %lu/%ld/%ld: energy gain",
-               seed, it, k);
-    ensure_ends_above(&rp, &r, seed, it, k);
-    mt_run_free(&r);
-    rf_terrain_free(&rp.t);
+    replay_finish(&rp, &r, seed, it, k);
 }
 
 /* A rock of the exact engine in the replay ends for `reason` within 2 000 events,
@@ -608,11 +621,7 @@ static void replay_ends(unsigned long seed, long it, long k, rf_rock_model model
     ENSURE_MSG((int)r.rec.reason == reason, "reason %d after %zu points", (int)r.rec.reason,
                r.npoints);
     ENSURE_MSG(r.npoints < 2000, "%zu points", r.npoints);
-    ENSURE_MSG(r.energy_gain_kj <= 1e-9 * (1.0 + r.rec.max_energy_kj), "scene %lu/%ld/%ld: energy gain",
-               seed, it, k);
-    ensure_ends_above(&rp, &r, seed, it, k);
-    mt_run_free(&r);
-    rf_terrain_free(&rp.t);
+    replay_finish(&rp, &r, seed, it, k);
 }
 
 static void replay_sphere_rests(unsigned long seed, long it, long k)
@@ -623,10 +632,7 @@ static void replay_sphere_rests(unsigned long seed, long it, long k)
 /* Full-contact spheres that went into the terrain; each now stays out. */
 TEST(hard_replay_spheres_stay_out)
 {
-    static const struct {
-        unsigned long seed;
-        long it, k;
-    } cases[] = {
+    static const replay_id cases[] = {
         /* in a crease, a face whose vertices each lie below one or the other of the
          * crease's planes but which rises above both between them (sank to 0.06 r) */
         {2, 8, 85},
@@ -709,10 +715,7 @@ TEST(hard_replay_spheres_stay_out)
  * ground.  They are now raised out first. */
 TEST(hard_replay_spheres_released_into_the_terrain_start_out)
 {
-    static const struct {
-        unsigned long seed;
-        long it, k;
-    } cases[] = {{1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}, {96, 42, 92}};
+    static const replay_id cases[] = {{1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}, {96, 42, 92}};
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
 }
@@ -740,10 +743,7 @@ TEST(hard_replay_centre_contact_stays_over_its_columns)
  * sphere slides along the wall; in a corner it stops. */
 TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
 {
-    static const struct {
-        unsigned long seed;
-        long it, k;
-    } slipping[] = {{1, 14, 235}, {1, 14, 91}, {9, 7, 191}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
+    static const replay_id slipping[] = {{1, 14, 235}, {1, 14, 91}, {9, 7, 191}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
     for (size_t i = 0; i < sizeof slipping / sizeof *slipping; i++)
         replay_sphere_rests(slipping[i].seed, slipping[i].it, slipping[i].k);
     for (size_t i = 0; i < sizeof corner / sizeof *corner; i++)
@@ -786,10 +786,7 @@ TEST(hard_replay_point_along_a_shallow_valley_line_goes_on)
  * events).  They now roll along that wall, and rest. */
 TEST(hard_replay_centre_contact_along_a_wall_rests)
 {
-    static const struct {
-        unsigned long seed;
-        long it, k;
-    } cases[] = {{43, 52, 136}, {93, 40, 245}, {94, 3, 253}};
+    static const replay_id cases[] = {{43, 52, 136}, {93, 40, 245}, {94, 3, 253}};
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_sphere_rests(cases[i].seed, cases[i].it, cases[i].k);
 }
@@ -812,10 +809,7 @@ TEST(hard_replay_point_leaving_a_face_it_moves_into_stays_on)
  * window of its column, as in centre contact, and rests. */
 TEST(hard_replay_point_masses_along_a_column_border_rest)
 {
-    static const struct {
-        unsigned long seed;
-        long it, k;
-    } cases[] = {{10, 46, 210}, {20, 50, 65}, {29, 3, 55}, {61, 2, 103}, {94, 45, 298}};
+    static const replay_id cases[] = {{10, 46, 210}, {20, 50, 65}, {29, 3, 55}, {61, 2, 103}, {94, 45, 298}};
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
         replay_ends(cases[i].seed, cases[i].it, cases[i].k, RF_MODEL_POINT, RF_END_REST);
 }

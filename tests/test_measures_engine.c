@@ -583,12 +583,9 @@ static sqlite3 *open_db(const char *path)
 
 TEST(measures_engine_montecarlo_database)
 {
-    char yaml[600], db[600];
-    snprintf(yaml, sizeof yaml, "%s/measures.yaml", rf_test_tmpdir());
-    snprintf(db, sizeof db, "%s/results.db", rf_test_tmpdir());
-    FILE *f = fopen(yaml, "w");
-    ENSURE(f != NULL);
-    fputs("name: measures-e2e\n"
+    const char *db = rf_test_path("results.db");
+    const char *yaml = rf_test_write("measures.yaml",
+          "name: measures-e2e\n"
           "seed: 2385\n"
           "terrain:\n"
           "  profile:\n"
@@ -612,9 +609,7 @@ TEST(measures_engine_montecarlo_database)
           "    height: 4.85\n"
           "    capacity: {serviceability: 1200, restorability: 2400, ultimate: 3850}\n"
           "  - {name: road, kind: control, line: [[230.5, -5], [230.5, 45]], importance: usual}\n"
-          "simulation: {model: sphere, stop_speed: 0.1, max_time: 120, paths: 2}\n",
-          f);
-    fclose(f);
+          "simulation: {model: sphere, stop_speed: 0.1, max_time: 120, paths: 2}\n");
 
     rf_project p;
     rf_error err;

@@ -92,9 +92,9 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
     memset(&sink, 0, sizeof sink);
     sink.ctx = &rp;
     sink.interception = on_crossing;
+    rf_body body = rf_release_body(p, 0, sim->model); /* in the row's model */
     for (long k = 0; k < n; k++) {
         gsl_rng_set(rng, rf_trajectory_seed(p->seed, 0, first + k));
-        rf_body body = rf_release_body(p, 0, sim->model); /* in the row's model */
         rf_state s0 = rf_release_start(p, 0, &body, rng);
         rf_trajectory_record rec;
         rp.speed = NAN;
@@ -125,26 +125,26 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
     rf_workspace_free(ws);
 }
 
-/* Trajectories to time for one throughput measurement on one thread: doubled from 16
- * until a run takes at least MIN_TIMING_S. */
-static long timing_count(const rf_project *p, const rf_simulation *sim)
-{
-    long n = 16;
-    for (;;) {
-        double t0 = now_s();
-        run_slope(p, sim, 0, n, NULL);
-        if (now_s() - t0 >= MIN_TIMING_S)
-            return n;
-        n *= 2;
-    }
-}
-
-/* Trajectories per second on one thread of the first n trajectories. */
-static double throughput(const rf_project *p, const rf_simulation *sim, long n)
+/* Seconds one thread takes for the first n trajectories of a row's setting. */
+static double run_seconds(const rf_project *p, const rf_simulation *sim, long n)
 {
     double t0 = now_s();
     run_slope(p, sim, 0, n, NULL);
-    return (double)n / (now_s() - t0);
+    return now_s() - t0;
+}
+
+/* Trajectories to time for one throughput measurement: doubled from 16 until a run
+ * takes at least MIN_TIMING_S; *per_s receives that run's trajectories per second (the
+ * first round). */
+static long timing_count(const rf_project *p, const rf_simulation *sim, double *per_s)
+{
+    for (long n = 16;; n *= 2) {
+        double t = run_seconds(p, sim, n);
+        if (t >= MIN_TIMING_S) {
+            *per_s = (double)n / t;
+            return n;
+        }
+    }
 }
 
 static double rel_err(double a, double b) { return fabs(a - b) / fabs(b); }
@@ -237,14 +237,13 @@ int main(int argc, char **argv)
     /* Throughput: TIMING_ROUNDS rounds over all rows, each row's fastest round kept, so
      * that a slow spell of a shared machine does not fall on one row alone. */
     long ntime[NROWS];
-    for (int i = 0; i < NROWS; i++) {
-        fprintf(stderr, "timing: %s ...\n", rows[i].name);
-        ntime[i] = timing_count(&p, &rows[i].sim);
-    }
-    for (int round = 0; round < TIMING_ROUNDS; round++) {
-        fprintf(stderr, "timing round %d of %d ...\n", round + 1, TIMING_ROUNDS);
+    fprintf(stderr, "timing round 1 of %d ...\n", TIMING_ROUNDS);
+    for (int i = 0; i < NROWS; i++)
+        ntime[i] = timing_count(&p, &rows[i].sim, &rows[i].per_s);
+    for (int round = 2; round <= TIMING_ROUNDS; round++) {
+        fprintf(stderr, "timing round %d of %d ...\n", round, TIMING_ROUNDS);
         for (int i = 0; i < NROWS; i++)
-            rows[i].per_s = fmax(rows[i].per_s, throughput(&p, &rows[i].sim, ntime[i]));
+            rows[i].per_s = fmax(rows[i].per_s, ntime[i] / run_seconds(&p, &rows[i].sim, ntime[i]));
     }
 
     printf("Example slope %s (%zu triangles), release %s, %g kg, model %s; one thread.\n"
