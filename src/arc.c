@@ -182,6 +182,25 @@ static int monotone_pieces(const double *c, int deg, double t0, double t1, doubl
     return np;
 }
 
+/* P starting within [lo, hi] at pts[0]: 1 and in *t the time it first falls to lo,
+ * when it does so before rising above hi; 0 otherwise.  pts[0 .. np-1] are the ends of
+ * P's monotone pieces, pv (NULL: evaluated here) P's values there: the ends of each
+ * piece tell which bound P leaves by first. */
+static int first_below(const double *c, int deg, const double *pts, const double *pv, int np,
+                       double lo, double hi, double *t)
+{
+    for (int i = 1; i < np; i++) {
+        double pb = pv ? pv[i] : rf_poly_eval(c, deg, pts[i]);
+        if (pb > hi)
+            return 0;
+        if (pb < lo) {
+            *t = level_root(c, deg, pts[i - 1], pts[i], lo);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* 1 when the quartic with Bernstein coefficients b[0 .. 4] over an interval stays
  * above level there: it is a convex combination of them.  Otherwise the halves are
  * tried, down to `depth` more halvings (de Casteljau at the middle). */
@@ -220,8 +239,8 @@ static int quartic_stays_above(const double c[5], double t0, double t1, double l
     return bernstein4_above(b, level + 1e-14 * size, 2);
 }
 
-int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
-                    double slope_eps, double *roots)
+static int poly_entries(const double *c, int deg, double t0, double t1, double tol,
+                        double slope_eps, double curve_eps, double *roots)
 {
     while (deg > 0 && c[deg] == 0.0)
         deg--;
@@ -242,12 +261,13 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
         return 0;
     double pts[5];
     int np = monotone_pieces(c, deg, t0, t1, pts);
+    double pv[5];
     int n = 0;
     double pa = p0;
     double deep = RF_TOUCH_BAND * tol;
     for (int i = 0; i + 1 < np && n < 3; i++) {
         double a = pts[i], b = pts[i + 1];
-        double pb = rf_poly_eval(c, deg, b);
+        double pb = pv[i + 1] = rf_poly_eval(c, deg, b);
         if (pa > 0.0 && pb <= 0.0) {
             /* falling through 0 after having been clear (above tol); after a smaller
              * rise only when approaching clearly faster than a graze (a hop of a hair:
@@ -264,7 +284,45 @@ int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
         }
         pa = pb;
     }
-    return n;
+    if (n > 0 || !(curve_eps >= 0) || !(t1 > t0))
+        return n;
+    /* a contact's start rules, where no entry was found */
+    if (p0 <= tol && p0 >= -deep) {
+        double d2 = 2 * c[2] + t0 * (6 * c[3] + t0 * 12 * c[4]);
+        if (dp0 <= slope_eps && d2 < -curve_eps) {
+            /* touching at the start, not moving apart, and curving in (as a face's
+             * path tangent at the start, as when a sphere rolls out of a crease over a
+             * ridge): met there, else it would pass into the feature unseen */
+            roots[0] = t0;
+            return 1;
+        }
+        /* touching, and going in deeper than the touch band before it comes clear:
+         * met where it is a touch band deep, as a slow crossing is.  Neither a tangent
+         * path that curves in by a cubic term (12/59/51 sank 0.47 r into a face past the
+         * edge it left tangent to) nor one that moves apart by a hair and then curves
+         * in (43/59/138, 0.73 r) rises above the touch band first */
+        return first_below(c, deg, pts, pv, np, -deep, tol, roots);
+    }
+    if (p0 < -deep && dp0 < -slope_eps) {
+        /* already within reach of it (a penetration below what the path points show,
+         * left where a pocket held the rock) and going deeper: met at once, so that it
+         * does not grow */
+        roots[0] = t0;
+        return 1;
+    }
+    return 0;
+}
+
+int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
+                    double slope_eps, double *roots)
+{
+    return poly_entries(c, deg, t0, t1, tol, slope_eps, -1.0, roots);
+}
+
+int rf_poly_contact_entries(const double *c, double t0, double t1, double tol, double slope_eps,
+                            double curve_eps, double *roots)
+{
+    return poly_entries(c, 4, t0, t1, tol, slope_eps, curve_eps, roots);
 }
 
 int rf_poly_sinks(const double *c, int deg, double t0, double t1, double lo, double hi,
@@ -276,15 +334,5 @@ int rf_poly_sinks(const double *c, int deg, double t0, double t1, double lo, dou
         return 0;
     double pts[5];
     int np = monotone_pieces(c, deg, t0, t1, pts);
-    /* the ends of each monotone piece tell which bound P leaves by first */
-    for (int i = 1; i < np; i++) {
-        double pb = rf_poly_eval(c, deg, pts[i]);
-        if (pb > hi)
-            return 0;
-        if (pb < lo) {
-            *t = level_root(c, deg, pts[i - 1], pts[i], lo);
-            return 1;
-        }
-    }
-    return 0;
+    return first_below(c, deg, pts, NULL, np, lo, hi, t);
 }

@@ -189,9 +189,8 @@ typedef struct search {
  * which the start rule of the quartic passes over).  A vertex is passed over when it
  * is below any; an edge only when both its ends are below the same plane: between ends
  * below different planes of a crease its points can lie above both. */
-static unsigned vertex_out(const search *s, rf_vec3 v)
+static unsigned vertex_out(const support_planes *sp, rf_vec3 v)
 {
-    const support_planes *sp = &s->sp;
     unsigned bits = 0;
     for (int k = 0; k < sp->n; k++)
         if (rf_v3_dot(sp->nrm[k], v) - sp->d[k] <= sp->tol)
@@ -242,7 +241,7 @@ static int stays_beyond(rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1, d
 
 /* Entering roots over [w0, w1] of |W + V t + H t^2|^2 = rho^2 (the centre's distance
  * from a vertex, or from an edge's line with W, V, H across the edge): a quartic, not
- * solved when the distance stays beyond reach. */
+ * solved when the distance stays beyond reach, with a contact's start rules. */
 static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1,
                    double roots[3])
 {
@@ -252,34 +251,7 @@ static int entries(const search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, 
     double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
                    rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
     double tol = 2 * rho * s->m->tol_len, slope = 2 * rho * RF_APPROACH_EPS;
-    int n = rf_poly_entries(c, 4, w0, w1, tol, slope, roots);
-    if (n == 0 && w1 > w0) {
-        /* touching at the start, not moving apart, and curving in (as a face's path
-         * tangent at the start, as when a sphere rolls out of a crease over a ridge):
-         * met there, else it would pass into the feature unseen */
-        double p0 = rf_poly_eval(c, 4, w0);
-        double d1 = c[1] + w0 * (2 * c[2] + w0 * (3 * c[3] + w0 * 4 * c[4]));
-        double d2 = 2 * c[2] + w0 * (6 * c[3] + w0 * 12 * c[4]);
-        int touching = p0 <= tol && p0 >= -RF_TOUCH_BAND * tol;
-        if (touching && d1 <= slope && d2 < -4 * rho * 1e-9) {
-            roots[0] = w0;
-            n = 1;
-        } else if (touching && rf_poly_sinks(c, 4, w0, w1, -RF_TOUCH_BAND * tol, tol, &roots[0])) {
-            /* touching, and going in deeper than the touch band before it comes clear:
-             * met where it is a touch band deep, as a slow crossing is.  Neither a
-             * tangent path that curves in by a cubic term (12/59/51 sank 0.47 r into a
-             * face past the edge it left tangent to) nor one that moves apart by a hair
-             * and then curves in (43/59/138, 0.73 r) rises above the touch band first */
-            n = 1;
-        } else if (p0 < -RF_TOUCH_BAND * tol && d1 < -slope) {
-            /* already within reach of it (a penetration below what the path points
-             * show, left where a pocket held the rock) and going deeper: met at once,
-             * so that it does not grow */
-            roots[0] = w0;
-            n = 1;
-        }
-    }
-    return n;
+    return rf_poly_contact_entries(c, w0, w1, tol, slope, 4 * rho * 1e-9, roots);
 }
 
 /* Edge from va to vb against the centre over [w0, w1]. */
@@ -297,9 +269,7 @@ static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, do
     const rf_arc *arc = s->arc;
     rf_vec3 w0v = rf_v3_sub(arc->p, va), v = arc->v, h = rf_v3_scale(arc->a, 0.5);
     /* components perpendicular to the edge */
-    rf_vec3 W = rf_v3_madd(w0v, -rf_v3_dot(w0v, e), e);
-    rf_vec3 V = rf_v3_madd(v, -rf_v3_dot(v, e), e);
-    rf_vec3 H = rf_v3_madd(h, -rf_v3_dot(h, e), e);
+    rf_vec3 W = rf_in_plane(w0v, e), V = rf_in_plane(v, e), H = rf_in_plane(h, e);
     double roots[3];
     int n = entries(s, W, V, H, w0, w1, roots);
     for (int k = 0; k < n; k++) {
@@ -511,7 +481,7 @@ static void test_edges(search *s, int32_t idx, double w0, double t1)
     double reach = m->rho + m->tol_len;
     if (box_box_dist2(blo, bhi, tlo, thi) > reach * reach)
         return;
-    unsigned x[3] = {vertex_out(s, T->a), vertex_out(s, T->b), vertex_out(s, T->c)};
+    unsigned x[3] = {vertex_out(&s->sp, T->a), vertex_out(&s->sp, T->b), vertex_out(&s->sp, T->c)};
     unsigned live = edge_live(m->ws, idx);
     for (int k = 0; k < 3; k++) {
         rf_vec3 va = rf_tri_vertex(T, k), vb = rf_tri_vertex(T, k + 1);
@@ -704,14 +674,14 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
                 for (int i = 0; i < 2; i++) {
                     int v = i ? k1 : k;
                     if (xv[v] < 0)
-                        xv[v] = (int)vertex_out(s, q[i]);
+                        xv[v] = (int)vertex_out(&s->sp, q[i]);
                 }
                 if (!(xv[k] & xv[k1]))
                     test_feature(s, idx, k, q, 2, w0, tb, blo, bhi);
             }
             if (feat_first(ws, vk[k], idx, k)) {
                 if (xv[k] < 0)
-                    xv[k] = (int)vertex_out(s, q[0]);
+                    xv[k] = (int)vertex_out(&s->sp, q[0]);
                 if (!xv[k])
                     test_feature(s, idx, k, q, 1, w0, tb, blo, bhi);
             }
@@ -975,12 +945,12 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
  * point between them can lie above both.) */
 static int vertices_below(const support_planes *sp, const rf_triangle *T)
 {
-    for (int k = 0; k < sp->n; k++)
-        if (rf_v3_dot(sp->nrm[k], T->a) - sp->d[k] <= sp->tol &&
-            rf_v3_dot(sp->nrm[k], T->b) - sp->d[k] <= sp->tol &&
-            rf_v3_dot(sp->nrm[k], T->c) - sp->d[k] <= sp->tol)
-            return 1;
-    return 0;
+    unsigned x = vertex_out(sp, T->a);
+    if (x)
+        x &= vertex_out(sp, T->b);
+    if (x)
+        x &= vertex_out(sp, T->c);
+    return x != 0;
 }
 
 static inline float float_down(double x)

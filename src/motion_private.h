@@ -123,6 +123,13 @@ void rf_quadratic_range(const double c[3], double t0, double t1, double *lo, dou
  * returns their number. */
 int rf_poly_entries(const double *c, int deg, double t0, double t1, double tol,
                     double slope_eps, double *roots);
+/* As rf_poly_entries for a quartic, the distance of a contact (an edge's or a vertex's),
+ * with its start rules where no entry is found: touching (-RF_TOUCH_BAND tol <= P(t0)
+ * <= tol), not moving apart (P'(t0) <= slope_eps) and curving in (P''(t0) < -curve_eps):
+ * t0; touching and falling below the touch band before rising above tol: where it is
+ * the band deep; deeper than the band and approaching: t0.  One root at most then. */
+int rf_poly_contact_entries(const double *c, double t0, double t1, double tol, double slope_eps,
+                            double curve_eps, double *roots);
 /* P (deg <= 4) starting within [lo, hi] at t0: 1 and in *t the time it first falls to
  * lo, when it does so on [t0, t1] before rising above hi; 0 otherwise. */
 int rf_poly_sinks(const double *c, int deg, double t0, double t1, double lo, double hi,
