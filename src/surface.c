@@ -435,6 +435,18 @@ static void edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges 
     }
 }
 
+/* 1 when p lies on edge k's line (within the length tolerance). */
+static int on_edge(const rf_motion *m, const rf_face_edges *fe, int k, rf_vec3 p)
+{
+    return fabs(rf_v3_dot(fe->m[k], p) - fe->o[k]) <= m->tol_len;
+}
+
+/* Unit vector along edge k of F, from vertex k to vertex k + 1. */
+static rf_vec3 edge_dir(const rf_triangle *F, int k)
+{
+    return rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, k + 1), rf_tri_vertex(F, k)));
+}
+
 /* First time in [0, T] the contact point of the arc leaves the face, not over edge
  * `skip` (-1: none); T when it does not.  *edge receives the edge. */
 static double exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_arc *arc, double T,
@@ -570,7 +582,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         }
         /* the crease goes on between the other face and the next one, or ends (also
          * over the terrain's edge): carry on on the other face */
-        if (to >= 0 && m->point && try_crease(m, other, to) == 0)
+        if (m->point && try_crease(m, other, to) == 0)
             return RF_SURF_CONTINUE; /* a point moves on along the valley line */
         m->sup.n = 1;
         m->sup.tri[0] = other;
@@ -604,7 +616,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
-    rf_vec3 e = rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, edge + 1), rf_tri_vertex(F, edge)));
+    rf_vec3 e = edge_dir(F, edge);
     rf_vec3 vp = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, e), e);
     if (rf_v3_norm2(vp) >= m->rho * G_ACC * F->n.z) {
         go_flight(m, from); /* fast enough to fly off the edge */
@@ -669,7 +681,7 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n)
     /* or the slip law lets no slip grow from zero (|g_t| <= K mu g_n, the demand
      * without the resistance): where the two laws disagree (uphill, see docs/engine.md)
      * the sphere rolls on instead of switching between them at every instant */
-    return rf_v3_norm(need) <= cap || rf_v3_norm(f.gt) * (1.0 - k) <= cap;
+    return rf_v3_norm(need) <= cap || f.G * (1.0 - k) <= cap;
 }
 
 /* ---- closed-form segments ------------------------------------------------------------ */
@@ -801,11 +813,13 @@ typedef struct seg_path {
     const face_dyn *f;
     rf_hodograph h;
     rf_vec3 v0, u0; /* the slipping sphere: v = v0 + (1 - 1/K) g_t t + (u - u0) / K */
+    double iK, b;   /* 1 / K, 1 - 1 / K */
 } seg_path;
 
 static void path_init(seg_path *P, const face_dyn *f, rf_vec3 v0, rf_vec3 u0)
 {
     P->f = f, P->v0 = v0, P->u0 = u0;
+    P->iK = 1.0 / f->K, P->b = 1.0 - 1.0 / f->K;
     if (f->mode == LAW_SLIDE)
         rf_hodograph_init(&P->h, u0, f->n, f->e1, f->G, f->K * f->mu * f->gn);
     else
@@ -845,10 +859,10 @@ static double path_at(const seg_path *P, double lam, double *y)
         y_set(y, x, w, rf_v3(0, 0, 0));
         return t;
     }
-    double b = 1.0 - 1.0 / f->K;
-    rf_vec3 v = rf_v3_add(rf_v3_madd(P->v0, b * t, f->gt), rf_v3_scale(rf_v3_sub(w, P->u0), 1.0 / f->K));
+    double b = P->b;
+    rf_vec3 v = rf_v3_add(rf_v3_madd(P->v0, b * t, f->gt), rf_v3_scale(rf_v3_sub(w, P->u0), P->iK));
     rf_vec3 c = rf_v3_add(rf_v3_madd(rf_v3_scale(P->v0, t), 0.5 * b * t * t, f->gt),
-                          rf_v3_scale(rf_v3_madd(x, -t, P->u0), 1.0 / f->K));
+                          rf_v3_scale(rf_v3_madd(x, -t, P->u0), P->iK));
     y_set(y, c, v, w);
     return t;
 }
@@ -968,16 +982,11 @@ static double event_rate(rf_motion *m, const face_dyn *f, ev_kind kind, const se
  * there; -1 when it does not (the step's parabola was only close). */
 static double locate_bracket(rf_motion *m, ev_kind kind, const seg_event *ev,
                              const rf_face_edges *fe, rf_vec3 c0, seg_step *st,
-                             const double *y, double guess, double *ye)
+                             double flo, double guess, double *ye)
 {
     double h = st->h;
     double tmp[9];
     double llo = st->la, lo = 0.0, lhi = st->lb, hi = h;
-    double flo = event_value(m, kind, ev, fe, c0, y);
-    if (flo <= 0.0) {
-        memcpy(ye, y, 9 * sizeof *ye);
-        return 0.0;
-    }
     double fhi = 1.0;
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
@@ -1080,7 +1089,7 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
         step_at(st, guess, ye);
         return guess;
     }
-    return locate_bracket(m, kind, ev, fe, c0, st, y, guess, ye);
+    return locate_bracket(m, kind, ev, fe, c0, st, f0, guess, ye);
 }
 
 static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe,
@@ -1162,15 +1171,15 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
             }
             if (!m->point && !m->centre) {
                 rf_contact con;
-                double tl = ev.kind == EV_NONE ? hs : rf_fmin(hs, ev.t + 0.1 * hs);
+                double tl = rf_fmin(hs, ev.t + 0.1 * hs);
                 if (rf_contact_search_near(m, &arc, tl, &ex, skip, nskip, &con) && con.t <= ev.t) {
                     ev.kind = EV_CONTACT, ev.t = con.t, ev.con = con;
                     guess = con.t;
                 }
             }
             /* scene events on the step's parabola, before any terrain event */
-            ts = rf_scene_horizon(m, &arc, ev.kind != EV_NONE ? ev.t : hs);
-            if (m->scene_pending && ts < (ev.kind != EV_NONE ? ev.t : hs)) {
+            ts = rf_scene_horizon(m, &arc, ev.t);
+            if (m->scene_pending && ts < ev.t) {
                 ev.kind = EV_SCENE, ev.t = ts;
             } else {
                 m->scene_pending = 0;
@@ -1246,14 +1255,15 @@ static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, r
     const rf_terrain *t = m->terrain;
     int32_t from = m->sup.tri[0];
     const rf_triangle *F = &t->tri[from];
+    rf_vec3 a = law_accel(f, dir);
     for (int k = 0; k < 3; k++) {
-        if (fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) > m->tol_len ||
+        if (!on_edge(m, fe, k, m->s.p) ||
             rf_v3_dot(fe->m[k], m->s.v) > RF_APPROACH_EPS ||
-            !(rf_v3_dot(fe->m[k], law_accel(f, dir)) < 0))
+            !(rf_v3_dot(fe->m[k], a) < 0))
             continue;
         /* into it slower than the stay speed: the wall keeps it (as a face does) */
-        *L = rf_v3_unit(rf_v3_sub(rf_tri_vertex(F, k + 1), rf_tri_vertex(F, k)));
-        if (rf_v3_norm(rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, *L), *L)) > m->v_stay)
+        *L = edge_dir(F, k);
+        if (rf_v3_norm(rf_in_plane(m->s.v, *L)) > m->v_stay)
             continue;
         if (is_wall(m, face_over_edge(t, from, k, fe)))
             return k;
@@ -1267,7 +1277,7 @@ static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf
 {
     int at_end = 0; /* on another edge of the column, moving out over it */
     for (int k = 0; k < 3; k++)
-        at_end |= k != wall && fabs(rf_v3_dot(fe->m[k], m->s.p) - fe->o[k]) <= m->tol_len &&
+        at_end |= k != wall && on_edge(m, fe, k, m->s.p) &&
                   rf_v3_dot(fe->m[k], dir) < 0;
     return at_end && is_wall(m, rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir));
 }
@@ -1282,7 +1292,7 @@ static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_e
 {
     double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f->gt, L);
     double e0 = rf_motion_energy(m);
-    double vin = rf_v3_norm(rf_v3_madd(m->s.v, -s, L));
+    double vin = rf_v3_norm(rf_in_plane(m->s.v, L));
     m->s.v = rf_v3_scale(L, s);
     rf_vec3 dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
     if (wall_corner(m, fe, wall, dir)) {
@@ -1297,9 +1307,7 @@ static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_e
     int slide = f->mode == LAW_SLIDE;
     rf_vec3 u = rf_v3(0, 0, 0);
     if (slide) {
-        rf_vec3 mp = rf_v3_cross(f->n, L);
-        u = rf_slip_of(m, f->n);
-        u = rf_v3_madd(u, -rf_v3_dot(u, mp), mp);
+        u = rf_in_plane(rf_slip_of(m, f->n), rf_v3_cross(f->n, L));
         rf_set_spin(m, f->n, u);
     }
     count_impact(m, e0, vin);
