@@ -371,7 +371,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     rf_quadratic_range(f, t0, t1, &fmin, &fmax);
     if (fmin > tol)
         return;
-    double lo = t0, hi = t1;
+    double lo = t0, hi = t1, in = t0; /* in: the centre half the tolerance outside */
     rf_vec3 P[3] = {T->a, T->b, T->c};
     double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
     if (orient == 0.0)
@@ -390,7 +390,8 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
-            crossing |= at_start && fabs(alpha) <= tol;
+            in = dmax(in, (-0.5 * tol - alpha) / beta);
+            crossing |= at_start && fabs(alpha) <= tol && beta > RF_APPROACH_EPS;
         } else if (beta < 0) {
             hi = dmin(hi, (-tol - alpha) / beta);
         } else if (alpha < -tol) {
@@ -402,12 +403,14 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     double f_lo = f[0] + lo * (f[1] + lo * f[2]);
     double d_lo = f[1] + 2.0 * f[2] * lo;
     double t;
-    if ((lo > t0 && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) ||
-        (crossing && f_lo <= tol && d_lo < -RF_APPROACH_EPS)) {
+    if ((lo > t0 || crossing) && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) {
         /* the centre moves over a face already within reach of its plane (at the start
          * of a flight, when it approaches the plane: a face that falls away from a
-         * flight off the column's border is left alone) */
-        t = lo;
+         * flight off the column's border is left alone); met where the centre is half the
+         * tolerance outside the column's edge: at the tolerance, rounding put it beyond
+         * the edge for the face's surface phase, which left the face at once (on the
+         * edge, it was met at once again after a reflection off a wall there) */
+        t = dmin(dmax(lo, in), hi);
     } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {
         return;
     }

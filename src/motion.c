@@ -277,9 +277,23 @@ static void unstall(rf_motion *m)
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
-        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
-        if (dp < m->rho + m->tol_len)
+        double dp = rf_v3_dot(T->n, m->s.p) - T->d, gap;
+        if (m->centre && m->scene->sim->engine == RF_ENGINE_EXACT) {
+            /* onto the offset plane of the column now under the centre, as a centre
+             * moving over a column is lifted; wedged among walls it cannot pay the
+             * lift onto, it is stopped there.  Pushed along the normal, it could end
+             * under the next column's plane (and fall through the terrain).  (The
+             * fixed-step engine keeps the push: stopped, its steps stalled again
+             * until the rescues ran out.) */
+            rf_vec3 move = rf_centre_lift_move(m, T, &gap);
+            if (gap > 0 && !rf_centre_pay_lift(m, move)) {
+                m->s.p = rf_v3_add(m->s.p, move);
+                m->s.v = rf_v3(0, 0, 0);
+                m->s.w = rf_v3(0, 0, 0);
+            }
+        } else if (dp < m->rho + m->tol_len) {
             m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
+        }
         double vn = rf_v3_dot(m->s.v, T->n);
         if (vn < 0)
             m->s.v = rf_v3_madd(m->s.v, -vn, T->n);

@@ -306,6 +306,19 @@ rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *ga
     return rf_v3_madd(rf_v3(0, 0, (*gap - along) / T->n.z), along, T->n);
 }
 
+int rf_centre_pay_lift(rf_motion *m, rf_vec3 move)
+{
+    double cost = m->body->mass * RF_GRAVITY * move.z;
+    double ke = rf_motion_energy(m);
+    if (!(ke > cost))
+        return 0;
+    double s = sqrt((ke - cost) / ke);
+    m->s.v = rf_v3_scale(m->s.v, s);
+    m->s.w = rf_v3_scale(m->s.w, s);
+    m->s.p = rf_v3_add(m->s.p, move);
+    return 1;
+}
+
 /* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
  * over a face whose plane it is already closer to than r.  It is lifted onto that
  * face's offset plane, and the lift is paid from the kinetic energy; when the rock
@@ -316,17 +329,8 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     const rf_triangle *T = &m->terrain->tri[c->tri];
     double gap;
     rf_vec3 move = rf_centre_lift_move(m, T, &gap);
-    if (!(gap > 0))
+    if (!(gap > 0) || rf_centre_pay_lift(m, move))
         return 0;
-    double cost = m->body->mass * RF_GRAVITY * move.z;
-    double ke = rf_motion_energy(m);
-    if (ke > cost) {
-        double s = sqrt((ke - cost) / ke);
-        m->s.v = rf_v3_scale(m->s.v, s);
-        m->s.w = rf_v3_scale(m->s.w, s);
-        m->s.p = rf_v3_add(m->s.p, move);
-        return 0;
-    }
     /* the border of the face's column the centre is crossing: nearest to it among
      * those it moves in through */
     rf_face_edges fe;
@@ -691,7 +695,7 @@ typedef struct seg_event {
     double t;
     int edge, slot;
     rf_contact con;
-    double level; /* EV_REST, EV_ZERO: the speed it falls to */
+    double level; /* EV_REST, EV_ZERO: the speed it falls to; EV_EXIT: how far beyond the edge */
 } seg_event;
 
 static void consider(seg_event *ev, ev_kind kind, double t)
@@ -934,8 +938,8 @@ static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const
 {
     rf_vec3 c = rf_v3_add(c0, y_c(y));
     switch (kind) {
-    case EV_EXIT:
-        return rf_v3_dot(fe->m[ev->edge], c) - fe->o[ev->edge];
+    case EV_EXIT: /* level: how far beyond the edge it counts (0, or the tolerance) */
+        return rf_v3_dot(fe->m[ev->edge], c) - fe->o[ev->edge] + ev->level;
     case EV_REST:
     case EV_ZERO:
         return rf_v3_norm2(y_v(y)) - ev->level * ev->level;
@@ -1052,6 +1056,17 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
         reentry = event_rate(m, f, kind, ev, fe, c0, y) > 0.0;
     }
     if (start && !reentry) {
+        if (kind == EV_EXIT && !found_later && f0 >= -m->tol_len &&
+            event_rate(m, f, kind, ev, fe, c0, y) > 0.0) {
+            /* a hair beyond the edge (within the tolerance, as exit_time takes it) but
+             * moving in, and beyond it by more at the step's end, where the step's
+             * parabola saw no crossing: the exit where the path is the tolerance
+             * beyond the edge.  Taken at the start, the rock left a face it was moving
+             * into, which the flight leaves out, and fell through it. */
+            seg_event beyond = *ev;
+            beyond.level = m->tol_len;
+            return locate_bracket(m, kind, &beyond, fe, c0, st, f0 + m->tol_len, guess, ye);
+        }
         memcpy(ye, y, 9 * sizeof *ye);
         return 0.0;
     }
@@ -1311,14 +1326,23 @@ static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_e
         rf_set_spin(m, f->n, u);
     }
     count_impact(m, e0, vin);
+    face_dyn roll;
     if (slide) {
         double ul = rf_v3_dot(u, L);
-        if (fabs(ul) <= RF_SLIP_EPS) {
-            m->sup.rolling = 1;
-            rf_set_spin(m, f->n, rf_v3(0, 0, 0));
-            return RF_SURF_CONTINUE;
-        }
-        return face_closed(m, f, rf_v3_scale(L, ul < 0 ? -1.0 : 1.0), u, fe, 0, wall);
+        if (fabs(ul) > RF_SLIP_EPS)
+            return face_closed(m, f, rf_v3_scale(L, ul < 0 ? -1.0 : 1.0), u, fe, 0, wall);
+        /* no slip along the wall: one grows from zero when gravity along it exceeds
+         * what friction holds (|g_l| > K mu g_n, as rf_roll_holds on a face), else it
+         * rolls along the wall.  Returning to roll from here (the face's own test, with
+         * the part of gravity across the wall, slides it again) went back and forth
+         * between the two laws at every event, in no time. */
+        if (fabs(gl) > f->K * f->mu * f->gn)
+            return face_closed(m, f, rf_v3_scale(L, gl < 0 ? -1.0 : 1.0), u, fe, 0, wall);
+        m->sup.rolling = 1;
+        rf_set_spin(m, f->n, rf_v3(0, 0, 0));
+        face_setup(m, f->n, &roll);
+        f = &roll;
+        u = rf_v3(0, 0, 0);
     }
     int stays = fabs(gl) <= f->c * f->gn;
     if (fabs(s) <= m->scene->sim->stop_speed && stays)

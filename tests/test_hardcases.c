@@ -629,6 +629,36 @@ static void replay_sphere_rests(unsigned long seed, long it, long k)
     replay_ends(seed, it, k, RF_MODEL_SPHERE, RF_END_REST);
 }
 
+/* The most path points in a row within a nanosecond of the one before: 16 events
+ * without progress in time (RF_STALL_EVENTS) is a stall, which the engine rescues. */
+static size_t longest_stall(const mt_run *r)
+{
+    size_t best = 0, run = 0;
+    for (size_t i = 1; i < r->npoints; i++) {
+        run = r->points[i].t_s - r->points[i - 1].t_s < 1e-9 ? run + 1 : 0;
+        if (run > best)
+            best = run;
+    }
+    return best;
+}
+
+/* As replay_sphere_rests (a centre-contact sphere), and without a stall: the engine
+ * never had to rescue it. */
+static void replay_centre_rests_unstalled(unsigned long seed, long it, long k)
+{
+    replay rp;
+    replay_scene(seed, it, k, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.contact == RF_CONTACT_CENTRE &&
+           rp.sim.engine == RF_ENGINE_EXACT);
+    mt_run r;
+    replay_run(&rp, &r);
+    ENSURE_MSG(r.rec.reason == RF_END_REST, "scene %lu/%ld/%ld: reason %d", seed, it, k,
+               (int)r.rec.reason);
+    size_t stall = longest_stall(&r);
+    ENSURE_MSG(stall < 16, "scene %lu/%ld/%ld: %zu events in no time", seed, it, k, stall);
+    replay_finish(&rp, &r, seed, it, k);
+}
+
 /* Full-contact spheres that went into the terrain; each now stays out. */
 TEST(hard_replay_spheres_stay_out)
 {
@@ -748,6 +778,60 @@ TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
         replay_sphere_rests(slipping[i].seed, slipping[i].it, slipping[i].k);
     for (size_t i = 0; i < sizeof corner / sizeof *corner; i++)
         replay_sphere_rests(corner[i].seed, corner[i].it, corner[i].k);
+}
+
+/* Centre contact: spheres on a face whose column they are moving into, their centre
+ * a hair outside its edge.  The flight's search met the column at the length
+ * tolerance before its edge, which rounding put beyond it for the face's surface phase
+ * (52/24/178); an exit the step's parabola did not see, from a start a hair beyond the
+ * edge, moving in, was not looked for (40/16/109).  Either way the exit was taken at
+ * once, and the rock flew off the face it was moving into, which the flight leaves
+ * out, and fell through it (by 4 to 30 m).  The search now meets a column half the
+ * tolerance before its edge, and the exit is found where the path leaves the face. */
+TEST(hard_replay_centre_contact_moving_into_its_face_stays_on)
+{
+    static const replay_id cases[] = {{40, 16, 109}, {52, 24, 178}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        replay_centre_rests_unstalled(cases[i].seed, cases[i].it, cases[i].k);
+}
+
+/* Centre contact: a flight that starts on a column's edge under that face's offset
+ * plane, moving in over the edge but away from the plane, was not met by that face
+ * and fell through it (48/57/241).  Entering a column under its offset plane is now a
+ * contact whichever way the path moves relative to the plane, as later in a flight;
+ * a path along the edge (slower across it than RF_APPROACH_EPS, 27/20/149) is not
+ * entering: meeting the face at once at every event, it ran out of rescues. */
+TEST(hard_replay_centre_contact_flight_into_a_column_under_its_plane_meets_it)
+{
+    replay_centre_rests_unstalled(48, 57, 241);
+    replay_sphere_rests(27, 20, 149);
+}
+
+/* Centre contact: spheres rolling along a wall on a face too steep for rolling (the
+ * part of gravity across the wall counted): they slid, had no slip along the wall and
+ * so rolled again, in no time, until the rescue moved them out of their column and
+ * they fell through the terrain (14 m, 85/11/252).  Along a wall the part of gravity
+ * along it decides: the sphere rolls on along it, or slides with a slip growing from
+ * zero. */
+TEST(hard_replay_centre_contact_rolling_along_a_wall_on_a_steep_face_rests)
+{
+    static const replay_id cases[] = {{85, 11, 252}, {33, 39, 211}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        replay_centre_rests_unstalled(cases[i].seed, cases[i].it, cases[i].k);
+}
+
+/* Centre contact: spheres wedged at a corner of columns among walls, leaving a face and
+ * being put back onto it, or reflected off one wall into the next, in no time.  The
+ * rescue moved them for a microsecond and pushed them out along the normal of the face
+ * then under them, which left them under the next column's offset plane, and they fell
+ * through the terrain (by 5 to 40 m; every one of 40 falls sampled from the random
+ * scenes went this way).  The rescue now lifts the centre onto its column's offset
+ * plane, paid from the kinetic energy, and stops a rock that cannot pay it; all rest. */
+TEST(hard_replay_centre_contact_rescued_in_a_corner_stays_over_its_column)
+{
+    static const replay_id cases[] = {{24, 41, 89}, {5, 28, 45}, {55, 57, 28}, {40, 27, 237}};
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
+        replay_sphere_rests(cases[i].seed, cases[i].it, cases[i].k);
 }
 
 /* A 4 t sphere jiggles in a pocket of faces, slower than stop_speed, every event
