@@ -659,6 +659,13 @@ static void replay_centre_rests_unstalled(unsigned long seed, long it, long k)
     replay_finish(&rp, &r, seed, it, k);
 }
 
+/* Runs check on each of n replayed scenes. */
+static void replay_each(const replay_id *cases, size_t n, void (*check)(unsigned long, long, long))
+{
+    for (size_t i = 0; i < n; i++)
+        check(cases[i].seed, cases[i].it, cases[i].k);
+}
+
 /* Full-contact spheres that went into the terrain; each now stays out. */
 TEST(hard_replay_spheres_stay_out)
 {
@@ -733,8 +740,7 @@ TEST(hard_replay_spheres_stay_out)
          * edge, never having been clear of it (sank to 0.73 r, then fell through) */
         {43, 59, 138},
     };
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
+    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_stays_out);
 }
 
 /* Spheres released overlapping the terrain (their centre r above the ground point
@@ -746,8 +752,7 @@ TEST(hard_replay_spheres_stay_out)
 TEST(hard_replay_spheres_released_into_the_terrain_start_out)
 {
     static const replay_id cases[] = {{1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}, {96, 42, 92}};
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        replay_sphere_stays_out(cases[i].seed, cases[i].it, cases[i].k);
+    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_stays_out);
 }
 
 /* Centre contact (Eq. 6-7) counts only the face under the centre, whose offset plane
@@ -774,10 +779,8 @@ TEST(hard_replay_centre_contact_stays_over_its_columns)
 TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
 {
     static const replay_id slipping[] = {{1, 14, 235}, {1, 14, 91}, {9, 7, 191}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
-    for (size_t i = 0; i < sizeof slipping / sizeof *slipping; i++)
-        replay_sphere_rests(slipping[i].seed, slipping[i].it, slipping[i].k);
-    for (size_t i = 0; i < sizeof corner / sizeof *corner; i++)
-        replay_sphere_rests(corner[i].seed, corner[i].it, corner[i].k);
+    replay_each(slipping, sizeof slipping / sizeof *slipping, replay_sphere_rests);
+    replay_each(corner, sizeof corner / sizeof *corner, replay_sphere_rests);
 }
 
 /* Centre contact: spheres on a face whose column they are moving into, their centre
@@ -791,8 +794,7 @@ TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
 TEST(hard_replay_centre_contact_moving_into_its_face_stays_on)
 {
     static const replay_id cases[] = {{40, 16, 109}, {52, 24, 178}};
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        replay_centre_rests_unstalled(cases[i].seed, cases[i].it, cases[i].k);
+    replay_each(cases, sizeof cases / sizeof *cases, replay_centre_rests_unstalled);
 }
 
 /* Centre contact: a flight that starts on a column's edge under that face's offset
@@ -816,8 +818,7 @@ TEST(hard_replay_centre_contact_flight_into_a_column_under_its_plane_meets_it)
 TEST(hard_replay_centre_contact_rolling_along_a_wall_on_a_steep_face_rests)
 {
     static const replay_id cases[] = {{85, 11, 252}, {33, 39, 211}};
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        replay_centre_rests_unstalled(cases[i].seed, cases[i].it, cases[i].k);
+    replay_each(cases, sizeof cases / sizeof *cases, replay_centre_rests_unstalled);
 }
 
 /* Centre contact: spheres wedged at a corner of columns among walls, leaving a face and
@@ -830,8 +831,7 @@ TEST(hard_replay_centre_contact_rolling_along_a_wall_on_a_steep_face_rests)
 TEST(hard_replay_centre_contact_rescued_in_a_corner_stays_over_its_column)
 {
     static const replay_id cases[] = {{24, 41, 89}, {5, 28, 45}, {55, 57, 28}, {40, 27, 237}};
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        replay_sphere_rests(cases[i].seed, cases[i].it, cases[i].k);
+    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
 }
 
 /* A 4 t sphere jiggles in a pocket of faces, slower than stop_speed, every event
@@ -871,8 +871,7 @@ TEST(hard_replay_point_along_a_shallow_valley_line_goes_on)
 TEST(hard_replay_centre_contact_along_a_wall_rests)
 {
     static const replay_id cases[] = {{43, 52, 136}, {93, 40, 245}, {94, 3, 253}};
-    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++)
-        replay_sphere_rests(cases[i].seed, cases[i].it, cases[i].k);
+    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
 }
 
 /* A point mass landing on one wall of a narrow gully exactly on its thalweg, moving a
