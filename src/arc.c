@@ -253,7 +253,8 @@ static int poly_entries(const double *c, int deg, double t0, double t1, double t
         derivative(c, deg, d);
     double p0 = rf_poly_eval(c, deg, t0);
     double dp0 = deg >= 1 ? rf_poly_eval(d, deg - 1, t0) : 0.0;
-    if (p0 <= tol && p0 >= -RF_TOUCH_BAND * tol && dp0 < -slope_eps) {
+    double deep = RF_TOUCH_BAND * tol;
+    if (p0 <= tol && p0 >= -deep && dp0 < -slope_eps) {
         roots[0] = t0; /* touching and approaching */
         return 1;
     }
@@ -264,7 +265,6 @@ static int poly_entries(const double *c, int deg, double t0, double t1, double t
     double pv[5];
     int n = 0;
     double pa = p0;
-    double deep = RF_TOUCH_BAND * tol;
     for (int i = 0; i + 1 < np && n < 3; i++) {
         double a = pts[i], b = pts[i + 1];
         double pb = pv[i + 1] = rf_poly_eval(c, deg, b);

@@ -410,7 +410,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
          * tolerance outside the column's edge: at the tolerance, rounding put it beyond
          * the edge for the face's surface phase, which left the face at once (on the
          * edge, it was met at once again after a reflection off a wall there) */
-        t = dmin(dmax(lo, in), hi);
+        t = dmin(in, hi); /* in >= lo: the same edges, half the tolerance further in */
     } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {
         return;
     }

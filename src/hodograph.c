@@ -82,8 +82,6 @@ double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x
     return t;
 }
 
-double rf_hodograph_end(const rf_hodograph *h) { return h->tend; }
-
 double rf_hodograph_lambda(const rf_hodograph *h, double t, double lo, double hi, double guess)
 {
     if (hi == INFINITY && t >= h->tend)

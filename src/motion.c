@@ -277,8 +277,9 @@ static void unstall(rf_motion *m)
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
-        double dp = rf_v3_dot(T->n, m->s.p) - T->d, gap;
+        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
         if (m->centre && m->scene->sim->engine == RF_ENGINE_EXACT) {
+            double gap;
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted; wedged among walls it cannot pay the
              * lift onto, it is stopped there.  Pushed along the normal, it could end

@@ -102,8 +102,6 @@ void rf_hodograph_init(rf_hodograph *h, rf_vec3 w0, rf_vec3 n, rf_vec3 e1, doubl
 double rf_hodograph_time(const rf_hodograph *h, double lam, double *speed);
 /* w and x (the integral of w over time from lambda = 0) at lambda; returns its time. */
 double rf_hodograph_at(const rf_hodograph *h, double lam, rf_vec3 *w, rf_vec3 *x);
-/* Time at which w vanishes (B > A), INFINITY when it never does. */
-double rf_hodograph_end(const rf_hodograph *h);
 /* The lambda in [lo, hi] (hi may be INFINITY) at which the time is t, t(lo) <= t <= t(hi),
  * by Newton's method from guess. */
 double rf_hodograph_lambda(const rf_hodograph *h, double t, double lo, double hi, double guess);

@@ -1328,21 +1328,20 @@ static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_e
     count_impact(m, e0, vin);
     face_dyn roll;
     if (slide) {
+        /* it slides along the wall the way it slips; with no slip along it, one grows
+         * from zero when gravity along it exceeds what friction holds (|g_l| > K mu
+         * g_n, as rf_roll_holds on a face), else it rolls along the wall.  Returning to
+         * roll from here (the face's own test, with the part of gravity across the
+         * wall, slides it again) went back and forth between the two laws at every
+         * event, in no time. */
         double ul = rf_v3_dot(u, L);
-        if (fabs(ul) > RF_SLIP_EPS)
-            return face_closed(m, f, rf_v3_scale(L, ul < 0 ? -1.0 : 1.0), u, fe, 0, wall);
-        /* no slip along the wall: one grows from zero when gravity along it exceeds
-         * what friction holds (|g_l| > K mu g_n, as rf_roll_holds on a face), else it
-         * rolls along the wall.  Returning to roll from here (the face's own test, with
-         * the part of gravity across the wall, slides it again) went back and forth
-         * between the two laws at every event, in no time. */
-        if (fabs(gl) > f->K * f->mu * f->gn)
-            return face_closed(m, f, rf_v3_scale(L, gl < 0 ? -1.0 : 1.0), u, fe, 0, wall);
+        double way = fabs(ul) > RF_SLIP_EPS ? ul : (fabs(gl) > f->K * f->mu * f->gn ? gl : 0.0);
+        if (way != 0.0)
+            return face_closed(m, f, rf_v3_scale(L, way < 0 ? -1.0 : 1.0), u, fe, 0, wall);
         m->sup.rolling = 1;
         rf_set_spin(m, f->n, rf_v3(0, 0, 0));
         face_setup(m, f->n, &roll);
-        f = &roll;
-        u = rf_v3(0, 0, 0);
+        f = &roll; /* rolling, face_closed takes no slip */
     }
     int stays = fabs(gl) <= f->c * f->gn;
     if (fabs(s) <= m->scene->sim->stop_speed && stays)

@@ -46,7 +46,7 @@ static void against_rk4(double A, double k, double w0l, double psi0, double frac
     rf_vec3 w0 = rf_v3_add(rf_v3_scale(e1, w0l * cos(psi0)), rf_v3_scale(e2, w0l * sin(psi0)));
     rf_hodograph h;
     rf_hodograph_init(&h, w0, n, e1, A, k * A);
-    double tend = rf_hodograph_end(&h);
+    double tend = h.tend;
     ENSURE(k > 1.0 ? tend < INFINITY : tend == INFINITY);
     double T = frac > 0 ? frac * tend : 1.7;
     double lam = rf_hodograph_lambda(&h, T, 0.0, INFINITY, 0.0);
@@ -100,7 +100,7 @@ TEST(hodograph_stops_exactly_at_its_end)
     plane(&n, &e1, &e2);
     rf_hodograph h;
     rf_hodograph_init(&h, rf_v3_add(rf_v3_scale(e1, 1.5), rf_v3_scale(e2, -2.0)), n, e1, 2.0, 3.0);
-    double tend = rf_hodograph_end(&h);
+    double tend = h.tend;
     rf_vec3 w, x, wl, xl;
     ENSURE(rf_hodograph_at(&h, INFINITY, &w, &x) == tend);
     ENSURE(rf_v3_norm(w) == 0.0);
