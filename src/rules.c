@@ -530,7 +530,6 @@ typedef struct measure_row {
     rf_measure_kind kind;
     int importance;
     double capacity[RF_N_LIMIT_STATES];
-    long n_icpt; /* interceptions, as print_run reads them */
 } measure_row;
 
 /* The measures of a run that the rules judge, in the columns read_measure_row reads. */
@@ -751,8 +750,8 @@ done:
     return status;
 }
 
-static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L, FILE *out,
-                     rf_error *err);
+static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
+                     long failed, FILE *out, rf_error *err);
 
 int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
                       rf_error *err)
@@ -774,7 +773,7 @@ int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, lo
             sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
     }
     if (status == 0 && out)
-        status = print_run(db, run, r, &L, out, err);
+        status = print_run(db, run, r, &L, failed, out, err);
     if (n_failed)
         *n_failed = status == 0 ? failed : 0;
     run_measures_free(&L);
@@ -797,8 +796,10 @@ static void print_capacities(const rf_rules *r, const measure_row *m, FILE *out)
     fprintf(out, "%s\n", any ? "" : " none");
 }
 
-static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, long n,
-                        FILE *out, rf_error *err)
+/* The shares of the measure's interceptions in each limit state (one classification
+ * each); nothing without interceptions. */
+static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, FILE *out,
+                        rf_error *err)
 {
     sqlite3_stmt *st;
     if (prepare(db,
@@ -809,6 +810,7 @@ static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, lo
         return -1;
     sqlite3_bind_int64(st, 1, m->id);
     long counts[RF_N_LIMIT_STATES + 3] = {0}; /* states, beyond, overtopped, unknown */
+    long n = 0;
     while (sqlite3_step(st) == SQLITE_ROW) {
         const char *name = (const char *)sqlite3_column_text(st, 0);
         long c = (long)sqlite3_column_int64(st, 1);
@@ -819,8 +821,11 @@ static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, lo
                 slot = i < 0 ? r->nstates + 1 : i;
         }
         counts[slot] += c;
+        n += c;
     }
     sqlite3_finalize(st);
+    if (n == 0)
+        return 0;
     fprintf(out, "  limit states:");
     int shown = 0;
     for (int i = 0; i <= r->nstates + 2; i++) {
@@ -832,7 +837,7 @@ static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, lo
         if ((i == r->nstates + 2 || no_capacity) && counts[i] == 0)
             continue;
         fprintf(out, "%s %s %.1f %%", shown++ ? "," : "", name,
-                n > 0 ? 100.0 * (double)counts[i] / (double)n : 0.0);
+                100.0 * (double)counts[i] / (double)n);
     }
     fprintf(out, "\n");
     return 0;
@@ -864,28 +869,23 @@ static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
     return 0;
 }
 
-static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L, FILE *out,
-                     rf_error *err)
+/* The run's measures, their limit states and checks, and the verdict (failed of the
+ * checks evaluate has just written, nchecks per measure). */
+static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
+                     long failed, FILE *out, rf_error *err)
 {
     if (!L->project)
         return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
                             (long long)run);
-    sqlite3_stmt *checks = NULL;
-    int status = -1;
-    if (prepare(db, "SELECT count(*), coalesce(sum(NOT passed), 0) FROM checks"
-                    " WHERE run_id = ?1",
-                &checks, err))
-        goto done;
     fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run, L->project,
             r->path, r->name);
     fprintf(out, "%-16s %-10s %-14s", "measure", "kind", "importance");
     rf_query_print_stats_header(out);
     for (size_t i = 0; i < L->n; i++) {
-        measure_row *m = &L->m[i];
+        const measure_row *m = &L->m[i];
         rf_measure_stats st;
         if (rf_query_measure_stats(db, m->id, &st, err))
-            goto done;
-        m->n_icpt = st.n;
+            return -1;
         fprintf(out, "%-16s %-10s %-14s", m->name, rf_measure_kind_name(m->kind),
                 rf_importance_name(m->importance));
         rf_query_print_stats(out, &st);
@@ -897,21 +897,13 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *
         fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
                 rf_importance_name(m->importance));
         print_capacities(r, m, out);
-        if ((m->n_icpt > 0 && print_states(db, r, m, m->n_icpt, out, err)) ||
-            print_checks(db, r, m, out, err))
-            goto done;
+        if (print_states(db, r, m, out, err) || print_checks(db, r, m, out, err))
+            return -1;
     }
-    sqlite3_bind_int64(checks, 1, run);
-    if (sqlite3_step(checks) == SQLITE_ROW) {
-        long nc = (long)sqlite3_column_int64(checks, 0);
-        long failed = (long)sqlite3_column_int64(checks, 1);
-        if (failed)
-            fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, nc);
-        else
-            fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
-    }
-    status = 0;
-done:
-    sqlite3_finalize(checks);
-    return status;
+    long nc = (long)(L->n * r->nchecks);
+    if (failed)
+        fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, nc);
+    else
+        fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
+    return 0;
 }

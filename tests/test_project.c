@@ -135,7 +135,7 @@ TEST(project_defaults)
 
 TEST(project_barrier_and_rolling_defaults)
 {
-    char dir[512], path[600], grid[600];
+    char dir[512], grid[600];
     snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
     char cwd[256];
     ENSURE(getcwd(cwd, sizeof cwd));
@@ -156,9 +156,8 @@ TEST(project_barrier_and_rolling_defaults)
              "  - {name: B, kind: barrier, line: [[0, 5], [40, 5]], height: 3, mel: 2385}\n"
              "  - {name: road, kind: control, line: [[0, 1], [40, 1]], behaviour: collect}\n",
              grid);
-    snprintf(path, sizeof path, "%s", rf_test_write("p.yaml", text));
     rf_project p;
-    ENSURE(load_ok(path, &p));
+    ENSURE(load_ok(rf_test_write("p.yaml", text), &p));
     /* An absolute terrain path stays as it is. */
     ENSURE(!strcmp(p.terrain_spec.files[0], grid));
     ENSURE(!strcmp(p.dir, dir));
@@ -307,11 +306,8 @@ TEST(project_mesh_and_profile)
 /* Paths in a project are relative to the project file, not to the working directory. */
 TEST(project_paths_relative_to_file)
 {
-    char dir[512], sub[600], path[700], text[1024];
-    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
-    snprintf(sub, sizeof sub, "%s/terrain", dir);
-    char mk[700];
-    snprintf(mk, sizeof mk, "mkdir -p '%s'", sub);
+    char mk[700], text[1024];
+    snprintf(mk, sizeof mk, "mkdir -p '%s'", rf_test_path("terrain"));
     ENSURE(system(mk) == 0);
     char *grid = rf_test_read_text(DATA "grid5.asc");
     ENSURE(grid);
@@ -321,14 +317,10 @@ TEST(project_paths_relative_to_file)
     snprintf(text, sizeof text,
              "name: rel\nterrain: {dem: terrain/g.asc}\nrocks: [{name: r, mass: 1}]\n"
              "releases: [{name: A, point: [35, 5], rock: r}]\nrules: rules.yaml\n");
-    snprintf(path, sizeof path, "%s", rf_test_write("project.yaml", text));
     rf_project p;
-    ENSURE(load_ok(path, &p));
-    char want[700];
-    snprintf(want, sizeof want, "%s/terrain/g.asc", dir);
-    ENSURE(!strcmp(p.terrain_spec.files[0], want));
-    snprintf(want, sizeof want, "%s/rules.yaml", dir);
-    ENSURE(!strcmp(p.rules_path, want));
+    ENSURE(load_ok(rf_test_write("project.yaml", text), &p));
+    ENSURE(!strcmp(p.terrain_spec.files[0], rf_test_path("terrain/g.asc")));
+    ENSURE(!strcmp(p.rules_path, rf_test_path("rules.yaml")));
     ENSURE(!strcmp(p.yaml_text, text));
     rf_project_free(&p);
 }
