@@ -27,13 +27,15 @@
 
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
-/* First time in [0, T] at which the centre p + v t leaves the column (INFINITY when
- * it does not); *edge receives the edge crossed. */
+/* First time in [0, T] at which the centre p + v t leaves the column, not over edge
+ * `skip` (-1: none; INFINITY when it does not); *edge receives the edge crossed. */
 static double column_exit(const rf_motion *m, const rf_face_edges *c, rf_vec3 p, rf_vec3 v, double T,
-                          int *edge)
+                          int skip, int *edge)
 {
     double best = INFINITY, tol = m->tol_len;
     for (int k = 0; k < 3; k++) {
+        if (k == skip)
+            continue;
         double e0 = rf_v3_dot(c->m[k], p) - c->o[k], e1 = rf_v3_dot(c->m[k], v);
         double t = INFINITY;
         if (e0 < -tol && (e1 <= RF_APPROACH_EPS || e0 + T * e1 <= tol))
@@ -78,71 +80,14 @@ static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h)
     return scene;
 }
 
-/* Eq. 6-7 along a flight step's straight piece p + v t, t in [0, T], for face idx, as
- * the exact engine tests it: the centre moves over the face's column already within
- * reach of its plane, or it reaches the plane while over the column.  Returns the
- * time, or INFINITY. */
-static double centre_contact(const rf_motion *m, int32_t idx, rf_vec3 p, rf_vec3 v, double T)
-{
-    const rf_triangle *Tr = &m->terrain->tri[idx];
-    const double tol = m->tol_len;
-    rf_face_edges col;
-    rf_column_edges(Tr, &col);
-    double lo = 0.0, hi = T;
-    for (int k = 0; k < 3; k++) {
-        double alpha = rf_v3_dot(col.m[k], p) - col.o[k], beta = rf_v3_dot(col.m[k], v);
-        if (beta > 0)
-            lo = fmax(lo, (-tol - alpha) / beta);
-        else if (beta < 0)
-            hi = fmin(hi, (-tol - alpha) / beta);
-        else if (alpha < -tol)
-            return INFINITY;
-    }
-    if (!(lo <= hi))
-        return INFINITY;
-    double f0 = rf_v3_dot(Tr->n, p) - Tr->d - m->rho, f1 = rf_v3_dot(Tr->n, v);
-    double flo = f0 + lo * f1;
-    if (lo > 0 && (flo < -tol || (flo <= tol && f1 < -RF_APPROACH_EPS)))
-        return lo; /* the centre moves over a face already within reach of its plane */
-    if (!(f1 < -RF_APPROACH_EPS))
-        return INFINITY;
-    if (flo <= tol)
-        return flo >= -RF_TOUCH_BAND * tol ? lo : INFINITY; /* touching and approaching */
-    double x = -f0 / f1;
-    return x > lo && x <= hi ? x : INFINITY;
-}
-
-/* The first centre contact along the piece over [0, T] (faces in flight_ex ignored). */
+/* The first contact along the step's straight piece p + v t over [0, T], found as the
+ * exact engine finds a flight's (Eq. 6-7: the centre moves over a column already
+ * within reach of its plane, or reaches the plane over the column); the face flown
+ * off (flight_ex) is left out. */
 static int piece_contact(rf_motion *m, rf_vec3 p, rf_vec3 v, double T, rf_contact *c)
 {
-    rf_vec3 q = rf_v3_madd(p, T, v);
-    const double pad = 1e-6;
-    size_t n = rf_gather(m, fmin(p.x, q.x) - pad, fmin(p.y, q.y) - pad, fmax(p.x, q.x) + pad,
-                         fmax(p.y, q.y) + pad);
-    double best = INFINITY;
-    int32_t hit = -1;
-    for (size_t k = 0; k < n; k++) {
-        int32_t idx = m->ws->cand[k];
-        int skip = 0;
-        for (int j = 0; j < m->flight_ex.n; j++)
-            skip |= m->flight_ex.tri[j] == idx;
-        if (skip)
-            continue;
-        double t = centre_contact(m, idx, p, v, T);
-        if (t < best)
-            best = t, hit = idx;
-    }
-    if (hit < 0)
-        return 0;
-    const rf_triangle *Tr = &m->terrain->tri[hit];
-    rf_vec3 at = rf_v3_madd(p, best, v);
-    memset(c, 0, sizeof *c);
-    c->t = best;
-    c->tri = hit;
-    c->kind = RF_FEAT_FACE;
-    c->n = Tr->n;
-    c->point = rf_v3_madd(at, -(rf_v3_dot(Tr->n, at) - Tr->d), Tr->n);
-    return 1;
+    rf_arc piece = {p, v, rf_v3(0, 0, 0)};
+    return rf_contact_search(m, &piece, T, m->flight_ex.n ? &m->flight_ex : NULL, c) && c->t <= T;
 }
 
 static int flight_step(rf_motion *m, double h)
@@ -187,12 +132,20 @@ static int flight_step(rf_motion *m, double h)
     return out ? RF_END_EXITED : -1;
 }
 
-/* *fresh: the first step after an event, where a segment of the exact engine starts;
- * whether a rolling sphere can keep rolling is decided there. */
-static int face_step(rf_motion *m, double h, int *fresh)
+/* What the steps on a face carry from one to the next: whether the step is the first
+ * after an event, where a segment of the exact engine starts (whether a rolling sphere
+ * can keep rolling is decided there), and the wall the rock moves along since it met
+ * one (centre mode: the column edge, -1 for none, and the way along it). */
+typedef struct face_run {
+    int fresh;
+    int wall;
+    rf_vec3 dir;
+} face_run;
+
+static int face_step(rf_motion *m, double h, face_run *run)
 {
-    int seg_start = *fresh;
-    *fresh = 1;
+    int seg_start = run->fresh;
+    run->fresh = 1;
     int32_t tri = m->sup.tri[0];
     const rf_triangle *T = &m->terrain->tri[tri];
     rf_vec3 n = T->n;
@@ -215,9 +168,19 @@ static int face_step(rf_motion *m, double h, int *fresh)
     double speed = rf_v3_norm(m->s.v);
     if (speed <= m->scene->sim->stop_speed && (m->point || m->sup.rolling) && rf_surface_holds(m))
         return RF_END_REST;
+    if (seg_start)
+        run->wall = -1;
     int slide = !m->point && !m->sup.rolling;
     rf_vec3 du;
-    rf_vec3 a = rf_surface_accel(m, n, m->s.v, u, &du);
+    rf_vec3 a;
+    if (run->wall >= 0) {
+        /* along the wall: the law along it, the wall taking the rest */
+        a = rf_surface_accel(m, n, run->dir, run->dir, &du);
+        a = rf_v3_scale(run->dir, rf_v3_dot(a, run->dir));
+        du = rf_v3_scale(run->dir, rf_v3_dot(du, run->dir));
+    } else {
+        a = rf_surface_accel(m, n, m->s.v, u, &du);
+    }
     /* a slipping sphere's step ends where the slip vanishes; it can only vanish where
      * friction K mu g_n exceeds the gravity component g_t, else it turns down the
      * fall line and grows */
@@ -225,7 +188,9 @@ static int face_step(rf_motion *m, double h, int *fresh)
     int slip_end = 0, can_stick = 0;
     if (slide) {
         double K = rf_slip_factor(m->body, m->rho);
-        can_stick = K * m->sup.mu * RF_GRAVITY * n.z > RF_GRAVITY * sqrt(fmax(0.0, 1.0 - n.z * n.z));
+        /* along a wall the slip ends where it vanishes, and the wall is met anew */
+        can_stick = run->wall >= 0 ||
+                    K * m->sup.mu * RF_GRAVITY * n.z > RF_GRAVITY * sqrt(fmax(0.0, 1.0 - n.z * n.z));
         double ul = rf_v3_norm(u);
         double dus = ul > 0 ? rf_v3_dot(du, u) / ul : 0.0;
         if (can_stick && ul > 0 && dus < 0 && ul <= -dus * hs) {
@@ -251,14 +216,33 @@ static int face_step(rf_motion *m, double h, int *fresh)
     rf_face_edges col;
     rf_column_edges(T, &col);
     int edge = 0;
-    double tx = column_exit(m, &col, m->s.p, ve, hs, &edge);
+    double tx = column_exit(m, &col, m->s.p, ve, hs, run->wall, &edge);
     double te = tx < hs ? tx : hs;
     int scene = advance_piece(m, ve, te, hs);
     if (!m->point)
         rf_set_spin(m, n, rf_v3_add(u, rf_v3_scale(rf_v3_sub(u1, u), hs > 0 ? te / hs : 1.0)));
     if (scene)
         return rf_scene_event(m);
+    if (tx == 0.0 && m->centre) {
+        /* the step would leave over an edge the centre lies on at once: when a wall
+         * lies beyond, the rock meets it (a reflection off it, turned back out by the
+         * next step's velocity, ended every step there in no time) */
+        int end = rf_wall_meet(m, edge, &run->wall, &run->dir);
+        if (end == RF_SURF_REST)
+            return RF_END_REST;
+        if (end >= 0 || run->wall >= 0) {
+            rf_motion_event(m);
+            run->fresh = end >= 0;
+            return -1;
+        }
+    }
     if (tx <= hs) {
+        /* the piece crossed the edge with the step's velocity; when the velocity of
+         * its time does not leave over it (along the edge), the rock leaves with the
+         * step's velocity (else it flew back over the face it left, below its plane) */
+        if (rf_v3_dot(col.m[edge], m->s.v) >= -RF_APPROACH_EPS &&
+            rf_v3_dot(col.m[edge], ve) < -RF_APPROACH_EPS)
+            m->s.v = ve;
         int end = leave_face(m, edge, &col, a);
         rf_motion_event(m);
         return end;
@@ -273,7 +257,7 @@ static int face_step(rf_motion *m, double h, int *fresh)
             m->s.w = rf_v3(0, 0, 0);
         rf_motion_event(m);
     } else {
-        *fresh = 0;
+        run->fresh = 0;
     }
     return -1;
 }
@@ -303,7 +287,7 @@ static int crease_step(rf_motion *m, double h)
     for (int k2 = 0; k2 < 2; k2++) {
         rf_column_edges(k2 == 0 ? A : B, &col[k2]);
         int e2 = 0;
-        double t2 = column_exit(m, &col[k2], m->s.p, ve, h, &e2);
+        double t2 = column_exit(m, &col[k2], m->s.p, ve, h, -1, &e2);
         if (t2 < tx)
             tx = t2, edge = e2, slot = k2;
     }
@@ -351,25 +335,31 @@ int rf_simulate_fixed_step(rf_motion *m)
     int end = rf_motion_start(m);
     if (end >= 0)
         return end;
-    int fresh = 1;
+    face_run run = {1, -1, {0, 0, 0}};
     m->stall_t = m->s.t;
+    m->creep_p = m->s.p;
+    long marked = m->marked;
     /* the steps max_time takes and as many events as the exact engine may meet */
     double budget = ceil((m->t_end - m->s.t) / dt) + RF_MAX_EVENTS;
     long cap = budget < 1e15 ? (long)budget : (long)1e15;
     for (;;) {
         if (m->s.t >= m->t_end || ++m->events > cap)
             return RF_END_MAX_TIME;
-        end = rf_progress(m, 0);
+        /* a slow rock's creep counts the steps that ended at an event, as the exact
+         * engine counts its events (a point mass on a frictionless pit went on
+         * around its vertex until max_time) */
+        end = rf_progress(m, m->marked != marked);
+        marked = m->marked;
         if (end == RF_RESCUED)
-            fresh = 1;
+            run.fresh = 1;
         else if (end >= 0)
             return end;
         double h = fmin(dt, m->t_end - m->s.t);
         if (m->sup.n == 1) {
-            end = face_step(m, h, &fresh);
+            end = face_step(m, h, &run);
         } else {
             end = m->sup.n == 0 ? flight_step(m, h) : crease_step(m, h);
-            fresh = 1;
+            run.fresh = 1;
         }
         if (end >= 0)
             return end;

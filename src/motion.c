@@ -144,6 +144,7 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
 
 void rf_motion_event(rf_motion *m)
 {
+    m->marked++;
     double e = note_energy(m);
     const rf_sink *sk = m->sink;
     if (!sk)
@@ -278,7 +279,7 @@ static void unstall(rf_motion *m)
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
         double dp = rf_v3_dot(T->n, m->s.p) - T->d;
-        if (m->centre && m->scene->sim->engine == RF_ENGINE_EXACT) {
+        if (m->centre) {
             double gap;
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted; wedged among walls it cannot pay the

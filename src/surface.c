@@ -93,20 +93,21 @@ static rf_vec3 law_slip_rate(const face_dyn *f, rf_vec3 udir)
 }
 
 
+/* The direction the laws act along: the slip's for a slipping sphere, else the
+ * velocity's; the fall line when it is zero. */
+static rf_vec3 law_dir(const face_dyn *f, rf_vec3 v, rf_vec3 u)
+{
+    rf_vec3 x = f->mode == LAW_SLIDE ? u : v;
+    double xl = rf_v3_norm(x);
+    return xl > 0 ? rf_v3_scale(x, 1.0 / xl) : f->e1;
+}
+
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du)
 {
     face_dyn f;
     face_setup(m, n, &f);
-    rf_vec3 dir;
-    if (f.mode == LAW_SLIDE) {
-        double ul = rf_v3_norm(u);
-        dir = ul > 0 ? rf_v3_scale(u, 1.0 / ul) : f.e1;
-        *du = law_slip_rate(&f, dir);
-    } else {
-        double vl = rf_v3_norm(v);
-        dir = vl > 0 ? rf_v3_scale(v, 1.0 / vl) : f.e1;
-        *du = rf_v3(0, 0, 0);
-    }
+    rf_vec3 dir = law_dir(&f, v, u);
+    *du = f.mode == LAW_SLIDE ? law_slip_rate(&f, dir) : rf_v3(0, 0, 0);
     return law_accel(&f, dir);
 }
 
@@ -1297,36 +1298,39 @@ static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf
     return at_end && is_wall(m, rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir));
 }
 
-/* Centre mode: the rock on its face moves along the wall at column edge `wall`
- * (direction L): the velocity's part along it (the rest counts as an impact), friction
- * against it; a slipping sphere's slip across the wall is taken by friction at its
- * contact, the wall's push keeping the centre along it (the spin changes, and energy
- * is lost); in a corner of two walls it stops. */
-static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_edges *fe,
-                                int wall, rf_vec3 L)
+/* Centre mode: the rock on its face meets the wall at column edge `wall` (direction
+ * L): it keeps the velocity's part along it (the rest counts as an impact); a slipping
+ * sphere's slip across the wall is taken by friction at its contact, the wall's push
+ * keeping the centre along it (the spin changes, and energy is lost); in a corner of
+ * two walls it stops.  Returns RF_SURF_REST, or RF_SURF_CONTINUE when it stopped in a
+ * corner and goes on from rest; else -1: it moves along the wall in direction *dir
+ * with the slip *u, under the law *f (set up anew when it rolls), and *stays tells
+ * whether friction holds it there. */
+static int wall_meet(rf_motion *m, face_dyn *f, const rf_face_edges *fe, int wall, rf_vec3 L,
+                     rf_vec3 *dir, rf_vec3 *u, int *stays)
 {
     double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f->gt, L);
     double e0 = rf_motion_energy(m);
     double vin = rf_v3_norm(rf_in_plane(m->s.v, L));
     m->s.v = rf_v3_scale(L, s);
-    rf_vec3 dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
-    if (wall_corner(m, fe, wall, dir)) {
+    *dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
+    *u = rf_v3(0, 0, 0);
+    *stays = 0;
+    if (wall_corner(m, fe, wall, *dir)) {
         /* wedged in the corner, it stops; it rests when gravity presses it in, else it
          * goes on from rest */
         m->s.v = rf_v3(0, 0, 0);
         m->s.w = rf_v3(0, 0, 0);
         m->sup.rolling = 1;
         count_impact(m, e0, vin + fabs(s));
-        return rf_v3_dot(f->gt, dir) >= 0 ? RF_SURF_REST : RF_SURF_CONTINUE;
+        return rf_v3_dot(f->gt, *dir) >= 0 ? RF_SURF_REST : RF_SURF_CONTINUE;
     }
     int slide = f->mode == LAW_SLIDE;
-    rf_vec3 u = rf_v3(0, 0, 0);
     if (slide) {
-        u = rf_in_plane(rf_slip_of(m, f->n), rf_v3_cross(f->n, L));
-        rf_set_spin(m, f->n, u);
+        *u = rf_in_plane(rf_slip_of(m, f->n), rf_v3_cross(f->n, L));
+        rf_set_spin(m, f->n, *u);
     }
     count_impact(m, e0, vin);
-    face_dyn roll;
     if (slide) {
         /* it slides along the wall the way it slips; with no slip along it, one grows
          * from zero when gravity along it exceeds what friction holds (|g_l| > K mu
@@ -1334,19 +1338,58 @@ static rf_surface_end wall_step(rf_motion *m, const face_dyn *f, const rf_face_e
          * roll from here (the face's own test, with the part of gravity across the
          * wall, slides it again) went back and forth between the two laws at every
          * event, in no time. */
-        double ul = rf_v3_dot(u, L);
+        double ul = rf_v3_dot(*u, L);
         double way = fabs(ul) > RF_SLIP_EPS ? ul : (fabs(gl) > f->K * f->mu * f->gn ? gl : 0.0);
-        if (way != 0.0)
-            return face_closed(m, f, rf_v3_scale(L, way < 0 ? -1.0 : 1.0), u, fe, 0, wall);
+        if (way != 0.0) {
+            *dir = rf_v3_scale(L, way < 0 ? -1.0 : 1.0);
+            return -1;
+        }
         m->sup.rolling = 1;
-        rf_set_spin(m, f->n, rf_v3(0, 0, 0));
-        face_setup(m, f->n, &roll);
-        f = &roll; /* rolling, face_closed takes no slip */
+        *u = rf_v3(0, 0, 0);
+        rf_set_spin(m, f->n, *u);
+        face_setup(m, f->n, f); /* rolling: no slip */
     }
-    int stays = fabs(gl) <= f->c * f->gn;
-    if (fabs(s) <= m->scene->sim->stop_speed && stays)
+    *stays = fabs(gl) <= f->c * f->gn;
+    if (fabs(s) <= m->scene->sim->stop_speed && *stays)
         return RF_SURF_REST;
+    return -1;
+}
+
+/* Centre mode: the rock moves along the wall at column edge `wall` (wall_meet), with
+ * the part of the law's acceleration along it. */
+static rf_surface_end wall_step(rf_motion *m, face_dyn *f, const rf_face_edges *fe, int wall,
+                                rf_vec3 L)
+{
+    rf_vec3 dir, u;
+    int stays;
+    int end = wall_meet(m, f, fe, wall, L, &dir, &u, &stays);
+    if (end >= 0)
+        return (rf_surface_end)end;
     return face_closed(m, f, dir, u, fe, stays, wall);
+}
+
+int rf_wall_meet(rf_motion *m, int edge, int *wall, rf_vec3 *dir)
+{
+    *wall = -1;
+    if (!m->centre || m->sup.n != 1)
+        return -1;
+    int32_t from = m->sup.tri[0];
+    const rf_triangle *T = &m->terrain->tri[from];
+    face_dyn f;
+    face_setup(m, T->n, &f);
+    rf_vec3 u = m->point || m->sup.rolling ? rf_v3(0, 0, 0) : rf_slip_of(m, T->n);
+    rf_face_edges fe;
+    edges_setup(m, T, &fe);
+    /* the face the rock would enter there (rf_leave_face), which at a vertex need not
+     * be the one over the edge's middle */
+    rf_vec3 acc = law_accel(&f, law_dir(&f, m->s.v, u));
+    if (!on_edge(m, &fe, edge, m->s.p) || !is_wall(m, rf_face_after(m, from, edge, &fe, m->s.p, acc)))
+        return -1;
+    int stays;
+    int end = wall_meet(m, &f, &fe, edge, edge_dir(T, edge), dir, &u, &stays);
+    if (end < 0)
+        *wall = edge;
+    return end;
 }
 
 static rf_surface_end face_step(rf_motion *m)
@@ -1378,16 +1421,8 @@ static rf_surface_end face_step(rf_motion *m)
         return RF_SURF_REST;
     rf_face_edges fe;
     edges_setup(m, T, &fe);
-    rf_vec3 dir;
-    int closed;
-    if (f.mode == LAW_SLIDE) {
-        double ul = rf_v3_norm(u0);
-        dir = ul > 0 ? rf_v3_scale(u0, 1.0 / ul) : f.e1;
-        closed = f.G == 0.0 || along(u0, f.e1);
-    } else {
-        dir = speed > 0 ? rf_v3_scale(m->s.v, 1.0 / speed) : f.e1;
-        closed = f.G == 0.0 || along(m->s.v, f.e1);
-    }
+    rf_vec3 dir = law_dir(&f, m->s.v, u0);
+    int closed = f.G == 0.0 || along(f.mode == LAW_SLIDE ? u0 : m->s.v, f.e1);
     rf_vec3 L;
     int wall = m->centre ? wall_edge(m, &f, &fe, dir, &L) : -1;
     if (wall >= 0)
