@@ -284,9 +284,8 @@ static void unstall(rf_motion *m)
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted; wedged among walls it cannot pay the
              * lift onto, it is stopped there.  Pushed along the normal, it could end
-             * under the next column's plane (and fall through the terrain).  (The
-             * fixed-step engine keeps the push: stopped, its steps stalled again
-             * until the rescues ran out.) */
+             * under the next column's plane (and fall through the terrain), in
+             * either engine. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_centre_pay_lift(m, move)) {
                 m->s.p = rf_v3_add(m->s.p, move);
