@@ -14,7 +14,9 @@
  *            the crease's line law), the slip integrated alongside for a slipping
  *            sphere.  A step ends early where the centre leaves its face's column (the
  *            exact engine's face exit: same plane, convex edge, concave edge, or off
- *            the terrain), or where the slip vanishes.
+ *            the terrain), or where the slip vanishes.  A step that would leave at
+ *            once over an edge into a wall (centre mode: a face it cannot pay the lift
+ *            onto) meets the wall as the exact engine does, and moves along it.
  *
  * Rest, rolling against slipping, coefficient draws and the stay threshold are those
  * of the exact engine, so the trajectories converge to it as dt -> 0 (first order);
@@ -22,8 +24,6 @@
 #include "motion_private.h"
 
 #include <math.h>
-#include <string.h>
-
 
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
