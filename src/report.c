@@ -1751,8 +1751,13 @@ static int checks_table(report *r, FILE *f, int64_t measure_id, long *npass, lon
 typedef struct measure_found {
     rf_measure_stats stats;
     double share; /* % within serviceability, not overtopped; NAN when not defined */
-    char figure[64]; /* its energy figure's file */
 } measure_found;
+
+/* The file of a measure's energy figure. */
+static void measure_figure_file(const rep_measure *m, char *file, size_t n)
+{
+    snprintf(file, n, "measure-%ld-energy.svg", m->idx);
+}
 
 /* The share of the crossings with an energy within `capacity` that are not
  * overtopped, counted as SQL's avg(energy_kj <= capacity AND outcome <> 'overtopped'):
@@ -1792,19 +1797,18 @@ static int section_measures(report *r, long *npass, long *nfail)
         measure_found *c = &mc[k];
         rf_crossing_row *x = NULL;
         size_t nx = 0;
-        if (rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
-            rf_measure_stats_of(x, nx, &c->stats, r->err)) {
-            free(x);
-            free(mc);
-            return -1;
-        }
         const rf_measure_stats *s = &c->stats;
         double service = isfinite(m->cap[RF_SERVICEABILITY]) ? m->cap[RF_SERVICEABILITY] : m->sel;
-        c->share = !is_control(m) && isfinite(service) && s->n
-                       ? 100.0 * share_within(x, nx, service)
-                       : NAN;
-        snprintf(c->figure, sizeof c->figure, "measure-%ld-energy.svg", m->idx);
-        int failed = s->n > 0 && figure_measure(r, m, x, nx, c->figure);
+        int failed = rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
+                     rf_measure_stats_of(x, nx, &c->stats, r->err);
+        if (!failed) {
+            c->share = !is_control(m) && isfinite(service) && s->n
+                           ? 100.0 * share_within(x, nx, service)
+                           : NAN;
+            char file[64];
+            measure_figure_file(m, file, sizeof file);
+            failed = s->n > 0 && figure_measure(r, m, x, nx, file);
+        }
         free(x);
         if (failed) {
             free(mc);
@@ -1878,7 +1882,9 @@ static int section_measures(report *r, long *npass, long *nfail)
         snprintf(cap, sizeof cap,
                  "Energy of the rocks crossing %s by outcome, with its capacities (dashed)",
                  m->name);
-        figure_html(f, mc[k].figure, cap);
+        char file[64];
+        measure_figure_file(m, file, sizeof file);
+        figure_html(f, file, cap);
         if (!is_control(m) && measure_classifications(r, m)) {
             status = -1;
             break;
