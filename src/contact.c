@@ -214,12 +214,10 @@ static int skipped(const search *s, int32_t idx, rf_feature kind, int index)
     return 0;
 }
 
-/* The earliest contact so far (an edge or vertex in s->skip is passed over here, a face
- * by test_face). */
+/* The earliest contact so far (features in s->skip are passed over by their tests,
+ * before any root is sought). */
 static void take(search *s, double t, int32_t idx, rf_feature kind, int index, rf_vec3 point)
 {
-    if (s->nskip > 0 && kind != RF_FEAT_FACE && skipped(s, idx, kind, index))
-        return;
     s->best = t;
     s->found = 1;
     s->c->t = t;
@@ -261,7 +259,8 @@ static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, do
     double reach = s->m->rho + s->m->tol_len;
     rf_vec3 elo = rf_v3(dmin(va.x, vb.x), dmin(va.y, vb.y), dmin(va.z, vb.z));
     rf_vec3 ehi = rf_v3(dmax(va.x, vb.x), dmax(va.y, vb.y), dmax(va.z, vb.z));
-    if (box_box_dist2(blo, bhi, elo, ehi) > reach * reach)
+    if (box_box_dist2(blo, bhi, elo, ehi) > reach * reach ||
+        (s->nskip > 0 && skipped(s, idx, RF_FEAT_EDGE, ei)))
         return;
     rf_vec3 e = rf_v3_sub(vb, va);
     double len = rf_v3_norm(e);
@@ -289,7 +288,8 @@ static void test_vertex(search *s, int32_t idx, int vi, rf_vec3 q, double w0, do
                         rf_vec3 blo, rf_vec3 bhi)
 {
     double reach = s->m->rho + s->m->tol_len;
-    if (box_point_dist2(blo, bhi, q) > reach * reach)
+    if (box_point_dist2(blo, bhi, q) > reach * reach ||
+        (s->nskip > 0 && skipped(s, idx, RF_FEAT_VERTEX, vi)))
         return;
     const rf_arc *arc = s->arc;
     rf_vec3 W = rf_v3_sub(arc->p, q), V = arc->v, H = rf_v3_scale(arc->a, 0.5);

@@ -227,7 +227,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
         /* the step would leave over an edge the centre lies on at once: when a wall
          * lies beyond, the rock meets it (a reflection off it, turned back out by the
          * next step's velocity, ended every step there in no time) */
-        int end = rf_wall_meet(m, edge, &run->wall, &run->dir);
+        int end = rf_wall_meet(m, &col, edge, &run->wall, &run->dir);
         if (end == RF_SURF_REST)
             return RF_END_REST;
         if (end >= 0 || run->wall >= 0) {

@@ -346,13 +346,13 @@ rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *ga
 int rf_centre_pay_lift(rf_motion *m, rf_vec3 move);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);
-/* Centre mode, a rock on one face on edge `edge` of its column, which the
+/* Centre mode, a rock on one face on edge `edge` of its column (col: its edges), which the
  * fixed-step engine's step would leave over at once: when the face it would enter
  * there is one it cannot pay the lift onto (a wall), it meets the wall as the exact
  * engine's segments do.  Returns RF_SURF_REST, or RF_SURF_CONTINUE when it stopped in
  * a corner of two walls; else -1, with *wall the column edge it moves along (-1: no
  * wall) and *dir the way it moves. */
-int rf_wall_meet(rf_motion *m, int edge, int *wall, rf_vec3 *dir);
+int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf_vec3 *dir);
 /* Puts the rock onto face tri after a landing or at the start (velocity made tangent,
  * coefficients drawn when the zone changes, rolling when the slip vanishes). */
 void rf_surface_enter(rf_motion *m, int32_t tri);

@@ -307,9 +307,15 @@ rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *ga
     return rf_v3_madd(rf_v3(0, 0, (*gap - along) / T->n.z), along, T->n);
 }
 
+/* The potential energy (J) a lift by `move` costs. */
+static double lift_cost(const rf_motion *m, rf_vec3 move)
+{
+    return m->body->mass * RF_GRAVITY * move.z;
+}
+
 int rf_centre_pay_lift(rf_motion *m, rf_vec3 move)
 {
-    double cost = m->body->mass * RF_GRAVITY * move.z;
+    double cost = lift_cost(m, move);
     double ke = rf_motion_energy(m);
     if (!(ke > cost))
         return 0;
@@ -818,13 +824,13 @@ typedef struct seg_path {
     const face_dyn *f;
     rf_hodograph h;
     rf_vec3 v0, u0; /* the slipping sphere: v = v0 + (1 - 1/K) g_t t + (u - u0) / K */
-    double iK, b;   /* 1 / K, 1 - 1 / K */
+    double iK;      /* 1 / K */
 } seg_path;
 
 static void path_init(seg_path *P, const face_dyn *f, rf_vec3 v0, rf_vec3 u0)
 {
     P->f = f, P->v0 = v0, P->u0 = u0;
-    P->iK = 1.0 / f->K, P->b = 1.0 - 1.0 / f->K;
+    P->iK = 1.0 / f->K;
     if (f->mode == LAW_SLIDE)
         rf_hodograph_init(&P->h, u0, f->n, f->e1, f->G, f->K * f->mu * f->gn);
     else
@@ -864,7 +870,7 @@ static double path_at(const seg_path *P, double lam, double *y)
         y_set(y, x, w, rf_v3(0, 0, 0));
         return t;
     }
-    double b = P->b;
+    double b = 1.0 - P->iK;
     rf_vec3 v = rf_v3_add(rf_v3_madd(P->v0, b * t, f->gt), rf_v3_scale(rf_v3_sub(w, P->u0), P->iK));
     rf_vec3 c = rf_v3_add(rf_v3_madd(rf_v3_scale(P->v0, t), 0.5 * b * t * t, f->gt),
                           rf_v3_scale(rf_v3_madd(x, -t, P->u0), P->iK));
@@ -1256,7 +1262,7 @@ static int is_wall(const rf_motion *m, int32_t to)
         return 0;
     double gap;
     rf_vec3 move = rf_centre_lift_move(m, &m->terrain->tri[to], &gap);
-    return gap > m->tol_len && m->body->mass * RF_GRAVITY * move.z >= rf_motion_energy(m);
+    return gap > m->tol_len && lift_cost(m, move) >= rf_motion_energy(m);
 }
 
 /* Centre mode: the edge of the support's column that the centre lies on and is pressed
@@ -1271,11 +1277,10 @@ static int wall_edge(rf_motion *m, const face_dyn *f, const rf_face_edges *fe, r
     const rf_terrain *t = m->terrain;
     int32_t from = m->sup.tri[0];
     const rf_triangle *F = &t->tri[from];
-    rf_vec3 a = law_accel(f, dir);
     for (int k = 0; k < 3; k++) {
         if (!on_edge(m, fe, k, m->s.p) ||
             rf_v3_dot(fe->m[k], m->s.v) > RF_APPROACH_EPS ||
-            !(rf_v3_dot(fe->m[k], a) < 0))
+            !(rf_v3_dot(fe->m[k], law_accel(f, dir)) < 0))
             continue;
         /* into it slower than the stay speed: the wall keeps it (as a face does) */
         *L = edge_dir(F, k);
@@ -1368,25 +1373,21 @@ static rf_surface_end wall_step(rf_motion *m, face_dyn *f, const rf_face_edges *
     return face_closed(m, f, dir, u, fe, stays, wall);
 }
 
-int rf_wall_meet(rf_motion *m, int edge, int *wall, rf_vec3 *dir)
+int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf_vec3 *dir)
 {
     *wall = -1;
-    if (!m->centre || m->sup.n != 1)
-        return -1;
     int32_t from = m->sup.tri[0];
     const rf_triangle *T = &m->terrain->tri[from];
     face_dyn f;
     face_setup(m, T->n, &f);
-    rf_vec3 u = m->point || m->sup.rolling ? rf_v3(0, 0, 0) : rf_slip_of(m, T->n);
-    rf_face_edges fe;
-    edges_setup(m, T, &fe);
+    rf_vec3 u = m->sup.rolling ? rf_v3(0, 0, 0) : rf_slip_of(m, T->n);
     /* the face the rock would enter there (rf_leave_face), which at a vertex need not
      * be the one over the edge's middle */
     rf_vec3 acc = law_accel(&f, law_dir(&f, m->s.v, u));
-    if (!on_edge(m, &fe, edge, m->s.p) || !is_wall(m, rf_face_after(m, from, edge, &fe, m->s.p, acc)))
+    if (!on_edge(m, col, edge, m->s.p) || !is_wall(m, rf_face_after(m, from, edge, col, m->s.p, acc)))
         return -1;
     int stays;
-    int end = wall_meet(m, &f, &fe, edge, edge_dir(T, edge), dir, &u, &stays);
+    int end = wall_meet(m, &f, col, edge, edge_dir(T, edge), dir, &u, &stays);
     if (end < 0)
         *wall = edge;
     return end;
