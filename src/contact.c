@@ -358,8 +358,9 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
  * from its edges' columns.  A point mass was tested as a sphere's face, at one time
  * from the gathered window's start: one falling along a column's border, a hair under
  * a steep face's plane, lay outside the face along its normal there and fell through
- * it.  The centre's horizontal path is taken as straight (flight). */
-static void test_centre(search *s, int32_t idx, double t0, double t1)
+ * it.  The centre's horizontal path is taken as straight (flight).  `left`: the face
+ * flown off, met only once the centre moves over its column again. */
+static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
 {
     const rf_triangle *T = &s->m->terrain->tri[idx];
     const rf_arc *arc = s->arc;
@@ -378,7 +379,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         return;
     double sg = orient > 0 ? 1.0 : -1.0;
     int at_start = s->sp.n == 0 && t0 == 0.0; /* a flight's start */
-    int crossing = 0; /* moving in over an edge of the column there */
+    int moves_in = 0, moves_out = 0; /* on the column's border: in over an edge, out over one */
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         double ex = B.x - A.x, ey = B.y - A.y;
@@ -388,10 +389,11 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
         /* inward distance of the centre: alpha + beta t */
         double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
+        if (fabs(alpha) <= tol)
+            moves_in |= beta > 0, moves_out |= beta < 0;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
             in = dmax(in, (-0.5 * tol - alpha) / beta);
-            crossing |= at_start && fabs(alpha) <= tol && beta > RF_APPROACH_EPS;
         } else if (beta < 0) {
             hi = dmin(hi, (-tol - alpha) / beta);
         } else if (alpha < -tol) {
@@ -400,6 +402,9 @@ static void test_centre(search *s, int32_t idx, double t0, double t1)
     }
     if (!(lo <= hi))
         return;
+    int crossing = at_start && moves_in && !moves_out; /* moving in from its border there */
+    if (left && !(lo > t0 || crossing))
+        return; /* the face flown off, over or on its column and not moving in */
     double f_lo = f[0] + lo * (f[1] + lo * f[2]);
     double d_lo = f[1] + 2.0 * f[2] * lo;
     double t;
@@ -435,7 +440,7 @@ static int test_face(search *s, int32_t idx, double t0, double t1, double *w0)
     if (m->centre || m->point) {
         /* the face under the centre; a point mass is its own centre.  Below, rho > 0:
          * a sphere in full contact (the only rock the surface phase searches for) */
-        test_centre(s, idx, t0, t1);
+        test_centre(s, idx, t0, t1, 0);
         return 0;
     }
     double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - rho, rf_v3_dot(T->n, arc->v),
@@ -799,9 +804,13 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
             continue;
         }
         if (excluded_tri(s->ex, idx)) {
-            /* the face flown off: not its face, but its edges and vertices, which the
-             * rock can come down on (one on the grid's border has no other holder) */
-            if (m->rho > 0 && !m->centre)
+            /* the face flown off: for a sphere, not its face, but its edges and
+             * vertices, which the rock can come down on (one on the grid's border has
+             * no other holder); for a centre, the face once it moves over its column
+             * again (off a vertex, it can clip a corner of the next column first) */
+            if (m->centre || m->point)
+                test_centre(s, idx, tl, th, 1);
+            else if (m->rho > 0)
                 pend_push(s, idx, tl, T, &npend);
             continue;
         }
@@ -853,7 +862,9 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
              * in a surface segment those of the face just left over an edge (the
              * support faces were dropped before), which a path on the other face of
              * a crease that ended can curve back into */
-            if (m->rho > 0 && !m->centre)
+            if (m->centre || m->point)
+                test_centre(s, idx, ta, tb, 1);
+            else if (m->rho > 0)
                 pend_push(s, idx, ta, tb, &npend);
             continue;
         }

@@ -226,7 +226,12 @@ static int face_step(rf_motion *m, double h, face_run *run)
     if (tx == 0.0 && m->centre) {
         /* the step would leave over an edge the centre lies on at once: when a wall
          * lies beyond, the rock meets it (a reflection off it, turned back out by the
-         * next step's velocity, ended every step there in no time) */
+         * next step's velocity, ended every step there in no time).  Out of a run
+         * along another wall, it is in their corner: it meets the wall with the step's
+         * velocity, which the corner stops (with its own, moving out of the corner
+         * along the first wall, it went from one wall to the other at every step) */
+        if (run->wall >= 0 && edge != run->wall)
+            m->s.v = ve;
         int end = rf_wall_meet(m, &col, edge, &run->wall, &run->dir);
         if (end == RF_SURF_REST)
             return RF_END_REST;

@@ -343,22 +343,33 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     rf_face_edges fe;
     rf_column_edges(T, &fe);
     rf_vec3 P[3] = {T->a, T->b, T->c};
-    double best = INFINITY;
+    double best = INFINITY, side[3];
     rf_vec3 in = rf_v3(0, 0, 0);
     for (int k = 0; k < 3; k++) {
         rf_vec3 mk = fe.m[k];
-        if (!(rf_v3_dot(m->s.v, mk) > 0))
-            continue;
-        double e = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
-        if (e < best)
-            best = e, in = mk;
+        side[k] = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
+        if (rf_v3_dot(m->s.v, mk) > 0 && side[k] < best)
+            best = side[k], in = mk;
     }
     double vin = rf_v3_dot(m->s.v, in);
     const rf_surface *sf = &m->terrain->zones[T->zone].surface;
     double e = rf_draw_truncated(m->rng, sf->restitution, 0.0, 1.0);
     double e0 = rf_motion_energy(m);
-    if (vin > 0)
-        m->s.v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
+    if (vin > 0) {
+        rf_vec3 v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
+        /* at a corner of the column, a reflection off one edge that leaves the rock
+         * moving in over the other (along the first: it ran on between two walls,
+         * under both) takes the whole horizontal velocity instead, which leaves the
+         * corner */
+        for (int k = 0; k < 3; k++) {
+            if (fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS) {
+                v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
+                vin = rf_v3_hnorm(m->s.v);
+                break;
+            }
+        }
+        m->s.v = v;
+    }
     count_impact(m, e0, vin);
     return 1;
 }

@@ -801,12 +801,51 @@ TEST(hard_replay_centre_contact_moving_into_its_face_stays_on)
  * plane, moving in over the edge but away from the plane, was not met by that face
  * and fell through it (48/57/241).  Entering a column under its offset plane is now a
  * contact whichever way the path moves relative to the plane, as later in a flight;
- * a path along the edge (slower across it than RF_APPROACH_EPS, 27/20/149) is not
- * entering: meeting the face at once at every event, it ran out of rescues. */
+ * a path along the edge (27/20/149) is not entering: meeting the face at once at every
+ * event, it ran out of rescues. */
 TEST(hard_replay_centre_contact_flight_into_a_column_under_its_plane_meets_it)
 {
     replay_centre_rests_unstalled(48, 57, 241);
     replay_sphere_rests(27, 20, 149);
+}
+
+/* Centre contact: flights from a grid node among walls (faces whose offset planes are
+ * above the centre), moving in over a wall's column edge slower than RF_APPROACH_EPS,
+ * which was taken as not moving into that column at all: the centre drifted a few
+ * nanometres into the column unmet, came down under its offset plane and fell through
+ * the terrain (10/11/78 by 12 m; 20/58/124, 24/36/4, 24/54/238 and 26/50/244, by 8 to
+ * 38 m, still fell so with the mends below).  A flight starting on a column's border
+ * now enters it when it moves in over an edge of the column it lies on, however
+ * slowly, and out over none (at a vertex, in over one edge and out over the other is
+ * not entering: 40/16/109 above was met at once at every event). */
+TEST(hard_replay_centre_contact_drifting_from_a_node_into_a_wall_meets_it)
+{
+    static const replay_id cases[] = {{20, 58, 124}, {24, 36, 4}, {24, 54, 238}, {26, 50, 244}};
+    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
+}
+
+/* Centre contact: spheres reaching a grid node along a column's border, into the corner
+ * of a wall's column.  The reflection off the edge they moved in through (restitution
+ * near 0) turned them along it, in over the column's other edge there, between two
+ * walls and under both, where neither column counts as entered, and they fell through
+ * the terrain (18/50/169 by 6 m, 46/18/212 by 24 m).  A reflection at a
+ * column's corner that leaves the rock moving in over the other edge reverses the
+ * whole horizontal velocity instead (times e), which leaves the corner. */
+TEST(hard_replay_centre_contact_reflected_at_a_corner_of_a_wall_leaves_it)
+{
+    static const replay_id cases[] = {{18, 50, 169}, {46, 18, 212}};
+    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
+}
+
+/* Centre contact: a sphere lifted onto a face at a vertex of its column, its centre
+ * still a hair outside it, left it at once over an edge; the flight clipped the corner
+ * of the next column and moved over the face's column again, coming down onto its
+ * plane, but the face flown off was left out of the flight's search and the rock fell
+ * through it (7.5 m, 76/2/68).  The face flown off is now met once the centre moves
+ * over its column again. */
+TEST(hard_replay_centre_contact_flight_back_over_the_face_flown_off_meets_it)
+{
+    replay_sphere_rests(76, 2, 68);
 }
 
 /* Centre contact: spheres rolling along a wall on a face too steep for rolling (the
@@ -1001,7 +1040,12 @@ static void replay_fixed_step_rests_rescued(unsigned long seed, long it, long k)
  * (1/5/21 by 10 m, 1/7/48, 1/9/74; 93 % of the 11 742 falls of the fixed-step engine
  * on the random scenes went through a rescue), or, rescued onto that plane, looped on
  * until the rescues ran out (1/5/220).  Its steps now meet the wall as the exact
- * engine's segments do (rf_wall_start) and move along it, and they rest. */
+ * engine's segments do (rf_wall_meet) and move along it, and they rest.  Moving along
+ * one wall at a corner of two, a step that leaves over the other at once meets it with
+ * the step's velocity, which the corner stops: with the rock's own velocity, out of the
+ * corner along the first wall, it went from one wall to the other at every step, in
+ * no time (1/5/21, once a reflection at a column's corner, above, turned it back
+ * out). */
 TEST(hard_replay_fixed_step_along_a_wall_rests)
 {
     static const replay_id cases[] = {{1, 5, 21}, {1, 7, 48}, {1, 9, 74}, {1, 5, 220}};
