@@ -728,6 +728,21 @@ static void pend_push(search *s, int32_t idx, double w0, double t1, size_t *npen
     }
 }
 
+/* The face flown off (or, in a surface segment, the face just left), triangle idx,
+ * over [t0, t1]: for a sphere, not its face, but its edges and vertices (pending up to
+ * tend), which the rock can come down on (one on the grid's border has no other
+ * holder; in a surface segment, a path on the other face of a crease that ended can
+ * curve back into one); for a centre, the face once it moves over its column again
+ * (off a vertex, it can clip a corner of the next column first). */
+static void test_left(search *s, int32_t idx, double t0, double t1, double tend, size_t *npend)
+{
+    const rf_motion *m = s->m;
+    if (m->centre || m->point)
+        test_centre(s, idx, t0, t1, 1);
+    else if (m->rho > 0)
+        pend_push(s, idx, t0, tend, npend);
+}
+
 /* The edges and vertices of the pending triangles up to tb (lo, hi: the arc's box,
  * unused in a flight): through the table of shared features when it stays at most a
  * third full (a flight's pieces share one table, other searches start afresh),
@@ -804,14 +819,7 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
             continue;
         }
         if (excluded_tri(s->ex, idx)) {
-            /* the face flown off: for a sphere, not its face, but its edges and
-             * vertices, which the rock can come down on (one on the grid's border has
-             * no other holder); for a centre, the face once it moves over its column
-             * again (off a vertex, it can clip a corner of the next column first) */
-            if (m->centre || m->point)
-                test_centre(s, idx, tl, th, 1);
-            else if (m->rho > 0)
-                pend_push(s, idx, tl, T, &npend);
+            test_left(s, idx, tl, th, T, &npend);
             continue;
         }
         double w0;
@@ -858,14 +866,7 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
         if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
         if (excluded_tri(ex, idx)) {
-            /* as in test_line_candidates: not its face, but its edges and vertices;
-             * in a surface segment those of the face just left over an edge (the
-             * support faces were dropped before), which a path on the other face of
-             * a crease that ended can curve back into */
-            if (m->centre || m->point)
-                test_centre(s, idx, ta, tb, 1);
-            else if (m->rho > 0)
-                pend_push(s, idx, ta, tb, &npend);
+            test_left(s, idx, ta, tb, tb, &npend); /* the support faces were dropped before */
             continue;
         }
         double w0;

@@ -278,7 +278,6 @@ static void unstall(rf_motion *m)
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
-        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
         if (m->centre) {
             double gap;
             /* onto the offset plane of the column now under the centre, as a centre
@@ -292,8 +291,10 @@ static void unstall(rf_motion *m)
                 m->s.v = rf_v3(0, 0, 0);
                 m->s.w = rf_v3(0, 0, 0);
             }
-        } else if (dp < m->rho + m->tol_len) {
-            m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
+        } else {
+            double dp = rf_v3_dot(T->n, m->s.p) - T->d;
+            if (dp < m->rho + m->tol_len)
+                m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
         }
         double vn = rf_v3_dot(m->s.v, T->n);
         if (vn < 0)
