@@ -2,6 +2,7 @@
 #include "motion_test_util.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -192,34 +193,41 @@ double mt_terrain_distance(const rf_terrain *t, rf_vec3 p)
 char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
                    double (*z)(int i, int j, void *), void *ctx)
 {
-    size_t cap = 256 + (size_t)nx * (size_t)ny * 26;
-    char *buf = malloc(cap);
-    size_t n = (size_t)snprintf(buf, cap,
-                                "ncols %d\nnrows %d\nxllcorner %.17g\nyllcorner %.17g\n"
-                                "cellsize %.17g\nNODATA_value -9999\n",
-                                nx, ny, x0, y0, cell);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f)
+        return NULL;
+    fprintf(f, "ncols %d\nnrows %d\nxllcorner %.17g\nyllcorner %.17g\ncellsize %.17g\n"
+               "NODATA_value -9999\n",
+            nx, ny, x0, y0, cell);
     for (int j = ny - 1; j >= 0; j--) {
         for (int i = 0; i < nx; i++)
-            n += (size_t)snprintf(buf + n, cap - n, i ? " %.17g" : "%.17g", z(i, j, ctx));
-        n += (size_t)snprintf(buf + n, cap - n, "\n");
+            fprintf(f, i ? " %.17g" : "%.17g", z(i, j, ctx));
+        fputc('\n', f);
     }
+    fclose(f);
     return buf;
 }
 
 char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri)
 {
-    size_t cap = 64 + ntri * 240, n = 0;
-    char *buf = malloc(cap);
-    n += (size_t)snprintf(buf + n, cap - n, "solid mesh\n");
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f)
+        return NULL;
+    fputs("solid mesh\n", f);
     for (size_t k = 0; k < ntri; k++) {
-        n += (size_t)snprintf(buf + n, cap - n, "facet normal 0 0 0\nouter loop\n");
+        fputs("facet normal 0 0 0\nouter loop\n", f);
         for (int i = 0; i < 3; i++) {
             rf_vec3 p = P[tri[k][i]];
-            n += (size_t)snprintf(buf + n, cap - n, "vertex %.17g %.17g %.17g\n", p.x, p.y, p.z);
+            fprintf(f, "vertex %.17g %.17g %.17g\n", p.x, p.y, p.z);
         }
-        n += (size_t)snprintf(buf + n, cap - n, "endloop\nendfacet\n");
+        fputs("endloop\nendfacet\n", f);
     }
-    snprintf(buf + n, cap - n, "endsolid mesh\n");
+    fputs("endsolid mesh\n", f);
+    fclose(f);
     return buf;
 }
 

@@ -659,17 +659,18 @@ static void replay_centre_rests_unstalled(unsigned long seed, long it, long k)
     replay_finish(&rp, &r, seed, it, k);
 }
 
-/* Runs check on each of n replayed scenes. */
-static void replay_each(const replay_id *cases, size_t n, void (*check)(unsigned long, long, long))
-{
-    for (size_t i = 0; i < n; i++)
-        check(cases[i].seed, cases[i].it, cases[i].k);
-}
+/* Runs check on each replayed scene of the list ({seed, it, k}, ...). */
+#define REPLAY_EACH(check, ...)                                                         \
+    do {                                                                                  \
+        static const replay_id cases_[] = {__VA_ARGS__};                                  \
+        for (size_t i_ = 0; i_ < sizeof cases_ / sizeof *cases_; i_++)                    \
+            check(cases_[i_].seed, cases_[i_].it, cases_[i_].k);                          \
+    } while (0)
 
 /* Full-contact spheres that went into the terrain; each now stays out. */
 TEST(hard_replay_spheres_stay_out)
 {
-    static const replay_id cases[] = {
+    REPLAY_EACH(replay_sphere_stays_out,
         /* in a crease, a face whose vertices each lie below one or the other of the
          * crease's planes but which rises above both between them (sank to 0.06 r) */
         {2, 8, 85},
@@ -738,9 +739,7 @@ TEST(hard_replay_spheres_stay_out)
         /* touching an edge and moving apart from it by a few um/s, then curving in
          * hard: an 8 t sphere starting on a steep face in a pocket passed through the
          * edge, never having been clear of it (sank to 0.73 r, then fell through) */
-        {43, 59, 138},
-    };
-    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_stays_out);
+        {43, 59, 138});
 }
 
 /* Spheres released overlapping the terrain (their centre r above the ground point
@@ -751,8 +750,7 @@ TEST(hard_replay_spheres_stay_out)
  * ground.  They are now raised out first. */
 TEST(hard_replay_spheres_released_into_the_terrain_start_out)
 {
-    static const replay_id cases[] = {{1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}, {96, 42, 92}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_stays_out);
+    REPLAY_EACH(replay_sphere_stays_out, {1, 43, 95}, {2, 26, 143}, {2, 39, 96}, {3, 8, 154}, {4, 4, 178}, {96, 42, 92});
 }
 
 /* Centre contact (Eq. 6-7) counts only the face under the centre, whose offset plane
@@ -778,9 +776,8 @@ TEST(hard_replay_centre_contact_stays_over_its_columns)
  * sphere slides along the wall; in a corner it stops. */
 TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
 {
-    static const replay_id slipping[] = {{1, 14, 235}, {1, 14, 91}, {9, 7, 191}}, corner[] = {{1, 13, 236}, {1, 31, 176}};
-    replay_each(slipping, sizeof slipping / sizeof *slipping, replay_sphere_rests);
-    replay_each(corner, sizeof corner / sizeof *corner, replay_sphere_rests);
+    REPLAY_EACH(replay_sphere_rests, {1, 14, 235}, {1, 14, 91}, {9, 7, 191}); /* slipping */
+    REPLAY_EACH(replay_sphere_rests, {1, 13, 236}, {1, 31, 176});             /* corner */
 }
 
 /* Centre contact: spheres on a face whose column they are moving into, their centre
@@ -793,8 +790,7 @@ TEST(hard_replay_centre_contact_slipping_along_a_wall_and_into_a_corner_rests)
  * tolerance before its edge, and the exit is found where the path leaves the face. */
 TEST(hard_replay_centre_contact_moving_into_its_face_stays_on)
 {
-    static const replay_id cases[] = {{40, 16, 109}, {52, 24, 178}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_centre_rests_unstalled);
+    REPLAY_EACH(replay_centre_rests_unstalled, {40, 16, 109}, {52, 24, 178});
 }
 
 /* Centre contact: a flight that starts on a column's edge under that face's offset
@@ -820,8 +816,7 @@ TEST(hard_replay_centre_contact_flight_into_a_column_under_its_plane_meets_it)
  * not entering: 40/16/109 above was met at once at every event). */
 TEST(hard_replay_centre_contact_drifting_from_a_node_into_a_wall_meets_it)
 {
-    static const replay_id cases[] = {{20, 58, 124}, {24, 36, 4}, {24, 54, 238}, {26, 50, 244}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
+    REPLAY_EACH(replay_sphere_rests, {20, 58, 124}, {24, 36, 4}, {24, 54, 238}, {26, 50, 244});
 }
 
 /* Centre contact: spheres reaching a grid node along a column's border, into the corner
@@ -833,8 +828,7 @@ TEST(hard_replay_centre_contact_drifting_from_a_node_into_a_wall_meets_it)
  * whole horizontal velocity instead (times e), which leaves the corner. */
 TEST(hard_replay_centre_contact_reflected_at_a_corner_of_a_wall_leaves_it)
 {
-    static const replay_id cases[] = {{18, 50, 169}, {46, 18, 212}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
+    REPLAY_EACH(replay_sphere_rests, {18, 50, 169}, {46, 18, 212});
 }
 
 /* Centre contact: a sphere lifted onto a face at a vertex of its column, its centre
@@ -856,8 +850,7 @@ TEST(hard_replay_centre_contact_flight_back_over_the_face_flown_off_meets_it)
  * zero. */
 TEST(hard_replay_centre_contact_rolling_along_a_wall_on_a_steep_face_rests)
 {
-    static const replay_id cases[] = {{85, 11, 252}, {33, 39, 211}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_centre_rests_unstalled);
+    REPLAY_EACH(replay_centre_rests_unstalled, {85, 11, 252}, {33, 39, 211});
 }
 
 /* Centre contact: spheres wedged at a corner of columns among walls, leaving a face and
@@ -869,8 +862,7 @@ TEST(hard_replay_centre_contact_rolling_along_a_wall_on_a_steep_face_rests)
  * plane, paid from the kinetic energy, and stops a rock that cannot pay it; all rest. */
 TEST(hard_replay_centre_contact_rescued_in_a_corner_stays_over_its_column)
 {
-    static const replay_id cases[] = {{24, 41, 89}, {5, 28, 45}, {55, 57, 28}, {40, 27, 237}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
+    REPLAY_EACH(replay_sphere_rests, {24, 41, 89}, {5, 28, 45}, {55, 57, 28}, {40, 27, 237});
 }
 
 /* A 4 t sphere jiggles in a pocket of faces, slower than stop_speed, every event
@@ -909,8 +901,7 @@ TEST(hard_replay_point_along_a_shallow_valley_line_goes_on)
  * events).  They now roll along that wall, and rest. */
 TEST(hard_replay_centre_contact_along_a_wall_rests)
 {
-    static const replay_id cases[] = {{43, 52, 136}, {93, 40, 245}, {94, 3, 253}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_sphere_rests);
+    REPLAY_EACH(replay_sphere_rests, {43, 52, 136}, {93, 40, 245}, {94, 3, 253});
 }
 
 /* A point mass landing on one wall of a narrow gully exactly on its thalweg, moving a
@@ -1048,8 +1039,7 @@ static void replay_fixed_step_rests_rescued(unsigned long seed, long it, long k)
  * out). */
 TEST(hard_replay_fixed_step_along_a_wall_rests)
 {
-    static const replay_id cases[] = {{1, 5, 21}, {1, 7, 48}, {1, 9, 74}, {1, 5, 220}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_fixed_step_rests);
+    REPLAY_EACH(replay_fixed_step_rests, {1, 5, 21}, {1, 7, 48}, {1, 9, 74}, {1, 5, 220});
 }
 
 /* The fixed-step engine: a step whose velocity carries the centre out over a border of
@@ -1059,8 +1049,7 @@ TEST(hard_replay_fixed_step_along_a_wall_rests)
  * one over the edge's middle (77/1/174).  The rock now meets the wall there, and rests. */
 TEST(hard_replay_fixed_step_leaving_into_a_wall_at_once_meets_it)
 {
-    static const replay_id cases[] = {{1, 33, 29}, {77, 1, 174}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_fixed_step_rests);
+    REPLAY_EACH(replay_fixed_step_rests, {1, 33, 29}, {77, 1, 174});
 }
 
 /* The fixed-step engine: a sphere rolling along the diagonal of a cell crosses it with
@@ -1089,8 +1078,7 @@ TEST(hard_replay_fixed_step_point_creeping_in_a_frictionless_pit_rests)
  * column's plane as in the exact engine, and they rest. */
 TEST(hard_replay_fixed_step_rescued_among_walls_stays_over_its_column)
 {
-    static const replay_id cases[] = {{56, 3, 268}, {100, 20, 129}, {100, 31, 101}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_fixed_step_rests_rescued);
+    REPLAY_EACH(replay_fixed_step_rests_rescued, {56, 3, 268}, {100, 20, 129}, {100, 31, 101});
 }
 
 /* The fixed-step engine tested its steps' straight pieces with a copy of the flight's
@@ -1100,6 +1088,5 @@ TEST(hard_replay_fixed_step_rescued_among_walls_stays_over_its_column)
  * and these rest. */
 TEST(hard_replay_fixed_step_pieces_searched_as_flights_rest)
 {
-    static const replay_id cases[] = {{19, 36, 0}, {100, 11, 60}, {100, 11, 70}, {100, 13, 80}};
-    replay_each(cases, sizeof cases / sizeof *cases, replay_fixed_step_rests);
+    REPLAY_EACH(replay_fixed_step_rests, {19, 36, 0}, {100, 11, 60}, {100, 11, 70}, {100, 13, 80});
 }

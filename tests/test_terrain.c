@@ -40,8 +40,7 @@ static void build_mesh(const char *path, char up, rf_terrain *t)
  * round-trip precision, so its normal and offset come from the library. */
 static void one_triangle(rf_vec3 a, rf_vec3 b, rf_vec3 c, rf_terrain *t)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/one.obj", rf_test_tmpdir());
+    const char *path = rf_test_path("one.obj");
     FILE *f = fopen(path, "w");
     ENSURE(f != NULL);
     fprintf(f, "v %.17g %.17g %.17g\nv %.17g %.17g %.17g\nv %.17g %.17g %.17g\nf 1 2 3\n",
@@ -485,8 +484,7 @@ TEST(terrain_stl_binary)
     static const float v[4][3] = {{3.125f, -1.75f, 10.375f}, {8.375f, -1.75f, 11.0f},
                                   {8.375f, 4.5f, 12.6875f}, {3.125f, 4.5f, 11.625f}};
     static const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
-    char path[512];
-    snprintf(path, sizeof path, "%s/slab_bin.stl", rf_test_tmpdir());
+    const char *path = rf_test_path("slab_bin.stl");
     FILE *f = fopen(path, "wb");
     ENSURE(f != NULL);
     char header[80];
@@ -840,8 +838,7 @@ TEST(terrain_authume_mesh)
 
 TEST(terrain_mesh_highest_and_bucket_memory)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/mixed.obj", rf_test_tmpdir());
+    const char *path = rf_test_path("mixed.obj");
     FILE *f = fopen(path, "w");
     ENSURE(f != NULL);
     /* 40 x 40 tiny cells of 0.025 m near the origin, two triangles each ... */
