@@ -582,10 +582,11 @@ static void run_measures_free(run_measures *L)
     memset(L, 0, sizeof *L);
 }
 
+/* Fills the empty L with the run's measures; on failure L may hold part of them (the
+ * caller frees it). */
 static int read_run_measures(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L,
                              rf_error *err)
 {
-    memset(L, 0, sizeof *L);
     sqlite3_stmt *runs = NULL, *measures = NULL;
     rf_ydoc doc, *pd = NULL;
     size_t cap = 0;
@@ -622,8 +623,6 @@ done:
         rf_ydoc_free(pd);
     sqlite3_finalize(runs);
     sqlite3_finalize(measures);
-    if (status)
-        run_measures_free(L);
     return status;
 }
 
@@ -757,21 +756,19 @@ int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, lo
                       rf_error *err)
 {
     long failed = 0;
-    run_measures L;
-    memset(&L, 0, sizeof L);
-    int status = -1;
-    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK) {
-        db_error(db, "evaluating the rules", err);
-    } else {
-        /* the run's measures are read in the transaction that writes their checks */
-        status = read_run_measures(db, run, r, &L, err);
-        if (status == 0)
-            status = evaluate(db, run, r, &L, &failed, err);
-        if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
-            status = db_error(db, "committing the checks", err);
-        if (status != 0 && !sqlite3_get_autocommit(db))
-            sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
-    }
+    if (n_failed)
+        *n_failed = 0;
+    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
+        return db_error(db, "evaluating the rules", err);
+    /* the run's measures are read in the transaction that writes their checks */
+    run_measures L = {0};
+    int status = read_run_measures(db, run, r, &L, err);
+    if (status == 0)
+        status = evaluate(db, run, r, &L, &failed, err);
+    if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
+        status = db_error(db, "committing the checks", err);
+    if (status != 0 && !sqlite3_get_autocommit(db))
+        sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
     if (status == 0 && out)
         status = print_run(db, run, r, &L, failed, out, err);
     if (n_failed)

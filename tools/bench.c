@@ -191,21 +191,22 @@ int main(int argc, char **argv)
                        {"exact, centre contact", RF_CONTACT_CENTRE, RF_MODEL_SPHERE},
                        {"exact, point mass", RF_CONTACT_FULL, RF_MODEL_POINT}};
     row rows[NROWS];
-    char names[NROWS][48];
+    char fixed_names[NROWS - NEXACT][48];
     for (int i = 0; i < NROWS; i++) {
         memset(&rows[i], 0, sizeof rows[i]);
         rows[i].sim = p.sim;
         rows[i].sim.engine = i < NEXACT ? RF_ENGINE_EXACT : RF_ENGINE_FIXED_STEP;
         if (i < NEXACT) {
-            snprintf(names[i], sizeof names[i], "%s", exact[i].name);
+            rows[i].name = exact[i].name;
             rows[i].sim.contact = exact[i].contact;
             rows[i].sim.model = exact[i].model;
         } else {
+            char *name = fixed_names[i - NEXACT];
             rows[i].sim.contact = exact[CENTRE].contact;
             rows[i].sim.dt = dts[i - NEXACT];
-            snprintf(names[i], sizeof names[i], "fixed dt=%g s, centre", dts[i - NEXACT]);
+            snprintf(name, sizeof fixed_names[0], "fixed dt=%g s, centre", dts[i - NEXACT]);
+            rows[i].name = name;
         }
-        rows[i].name = names[i];
     }
 
     stats ref[NEXACT]; /* the converged references: exact engine, each exact row's setting */
