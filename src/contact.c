@@ -937,7 +937,12 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
             break;
         rf_vec3 lo, hi;
         arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
-        if (lo.z - reach > t->zmax || hi.z + reach < t->zmin)
+        /* higher than the reach above the terrain's top: nothing met (in centre mode
+         * the centre meets a face r / n.z above its plane, the furthest above the
+         * steepest face; a rock lifted onto a steep face at the top and let fall again
+         * fell through it) */
+        double up = m->centre ? reach / dmax(t->nz_min, 1e-12) : reach;
+        if (lo.z - up > t->zmax || hi.z + reach < t->zmin)
             continue;
         double hr = s.line ? line_reach(m) : reach;
         size_t n = rf_gather(m, lo.x - hr, lo.y - hr, hi.x + hr, hi.y + hr);

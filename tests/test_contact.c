@@ -148,6 +148,53 @@ TEST(contact_flight_search_point_matches_brute_force)
         flights_against_brute_force(POINT, 0.0, 300, mesh);
 }
 
+/* A cliff rising 10 m over 1 m to the terrain's top (nodes i = 0, 1, 2 a metre apart). */
+static double cliff_z(int i, int j, void *ctx)
+{
+    (void)j, (void)ctx;
+    return i == 2 ? 10.0 : 0.0;
+}
+
+/* Centre mode meets a face r / n.z above its plane, vertically: over the top of a
+ * cliff that is far more than r above the terrain's highest point.  A short piece
+ * falling onto the cliff there (as a fixed step's is) is met at the offset plane; it
+ * was culled as higher than the reach above the top, and a rock lifted onto a cliff's
+ * plane at the top fell through the terrain from there. */
+TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
+{
+    char *txt = mt_grid_text(3, 3, 1.0, 0.0, 0.0, cliff_z, NULL);
+    rf_terrain t;
+    mt_dem_text(&t, "cliff.asc", txt, PLAIN);
+    free(txt);
+    rf_workspace *ws = rf_workspace_alloc(&t);
+    ENSURE(ws != NULL);
+    rf_motion m;
+    memset(&m, 0, sizeof m);
+    m.terrain = &t;
+    m.ws = ws;
+    m.centre = 1;
+    m.rho = 0.5;
+    m.tol_len = RF_LEN_TOL;
+    double x = t.x0 + 1.9, y = t.y0 + 0.5; /* 0.1 m from the top, over the cliff */
+    int32_t k = rf_terrain_locate(&t, x, y);
+    ENSURE(k >= 0 && t.zmax == 10.0);
+    const rf_triangle *T = &t.tri[k];
+    double zc = rf_triangle_z_at(T, x, y) + m.rho / T->n.z; /* the offset plane, 14.02 */
+    ENSURE(zc > t.zmax + 3.0);
+    /* straight down from 0.1 m above it, and a falling parabola from 0.2 m */
+    rf_arc arcs[2] = {{rf_v3(x, y, zc + 0.1), rf_v3(0, 0, -1.0), rf_v3(0, 0, 0)},
+                      {rf_v3(x, y, zc + 0.2), rf_v3(0, 0, 0), rf_v3(0, 0, -RF_GRAVITY)}};
+    for (int a = 0; a < 2; a++) {
+        rf_contact c;
+        ENSURE_MSG(rf_contact_search(&m, &arcs[a], 0.3, NULL, &c), "arc %d: not met", a);
+        ENSURE(c.tri == k && c.kind == RF_FEAT_FACE);
+        ENSURE_MSG(fabs(rf_arc_pos(&arcs[a], c.t).z - zc) < 1e-9, "arc %d: met %.3g m off the plane", a,
+                   rf_arc_pos(&arcs[a], c.t).z - zc);
+    }
+    rf_workspace_free(ws);
+    rf_terrain_free(&t);
+}
+
 /* A sphere set into a crease lies exactly r above both faces, at the nearest such
  * point, even where the faces are nearly parallel (a shallow fold, 1 degree). */
 TEST(contact_crease_centre_on_both_offset_planes)

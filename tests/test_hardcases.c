@@ -1090,3 +1090,17 @@ TEST(hard_replay_fixed_step_pieces_searched_as_flights_rest)
 {
     REPLAY_EACH(replay_fixed_step_rests, {19, 36, 0}, {100, 11, 60}, {100, 11, 70}, {100, 13, 80});
 }
+
+/* The fixed-step engine (centre contact): spheres over a steep face near the top of a
+ * grid, within reach of its plane (r / n.z above it, vertically) but more than r above
+ * the terrain's highest node, fell through that face: the flight's search dropped
+ * every piece higher than r above the terrain's top, a bound that holds for a sphere
+ * but not for a centre over a steep face; the fixed step's short pieces met it (37
+ * falls on the random scenes, half of them rescued from among walls onto such a face's
+ * plane, 10/2/270, and let fall).  The bound is now r over the smallest n.z of the
+ * terrain in centre mode, and they rest. */
+TEST(hard_replay_fixed_step_over_a_steep_face_at_the_top_rests)
+{
+    REPLAY_EACH(replay_fixed_step_rests_rescued, {10, 2, 270}, {27, 12, 285}, {30, 35, 232},
+                {29, 28, 14});
+}
