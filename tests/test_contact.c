@@ -64,6 +64,22 @@ static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p, int32_t k
     return rf_v3_dot(T->n, p) - T->d - rho;
 }
 
+/* A motion on terrain t for the contact search alone: mode md, radius rho, with its
+ * own workspace (the caller frees m.ws). */
+static rf_motion motion_on(const rf_terrain *t, mode md, double rho)
+{
+    rf_motion m;
+    memset(&m, 0, sizeof m);
+    m.terrain = t;
+    m.ws = rf_workspace_alloc(t);
+    ENSURE(m.ws != NULL);
+    m.point = md == POINT;
+    m.centre = md == CENTRE;
+    m.rho = rho;
+    m.tol_len = RF_LEN_TOL;
+    return m;
+}
+
 static void flights_against_brute_force(mode md, double rho, int nflights, int mesh)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
@@ -80,16 +96,7 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
         mt_dem_text(&t, "bumpy.asc", txt, PLAIN);
     free(txt);
     ENSURE(t.is_grid == !mesh && t.ntri == 2 * (N - 1) * (N - 1));
-    rf_workspace *ws = rf_workspace_alloc(&t);
-    ENSURE(ws != NULL);
-    rf_motion m;
-    memset(&m, 0, sizeof m);
-    m.terrain = &t;
-    m.ws = ws;
-    m.point = md == POINT;
-    m.centre = md == CENTRE;
-    m.rho = rho;
-    m.tol_len = RF_LEN_TOL;
+    rf_motion m = motion_on(&t, md, rho);
     int hits = 0, misses = 0;
     for (int k = 0; k < nflights; k++) {
         /* a start clear of the terrain, a flight in any direction */
@@ -123,7 +130,7 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
     }
     /* the flights exercise both outcomes */
     ENSURE(hits > nflights / 2 && misses > 0);
-    rf_workspace_free(ws);
+    rf_workspace_free(m.ws);
     rf_terrain_free(&t);
     gsl_rng_free(rng);
 }
@@ -166,15 +173,7 @@ TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
     rf_terrain t;
     mt_dem_text(&t, "cliff.asc", txt, PLAIN);
     free(txt);
-    rf_workspace *ws = rf_workspace_alloc(&t);
-    ENSURE(ws != NULL);
-    rf_motion m;
-    memset(&m, 0, sizeof m);
-    m.terrain = &t;
-    m.ws = ws;
-    m.centre = 1;
-    m.rho = 0.5;
-    m.tol_len = RF_LEN_TOL;
+    rf_motion m = motion_on(&t, CENTRE, 0.5);
     double x = t.x0 + 1.9, y = t.y0 + 0.5; /* 0.1 m from the top, over the cliff */
     int32_t k = rf_terrain_locate(&t, x, y);
     ENSURE(k >= 0 && t.zmax == 10.0);
@@ -191,7 +190,7 @@ TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
         ENSURE_MSG(fabs(rf_arc_pos(&arcs[a], c.t).z - zc) < 1e-9, "arc %d: met %.3g m off the plane", a,
                    rf_arc_pos(&arcs[a], c.t).z - zc);
     }
-    rf_workspace_free(ws);
+    rf_workspace_free(m.ws);
     rf_terrain_free(&t);
 }
 
