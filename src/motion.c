@@ -270,6 +270,35 @@ int rf_motion_start(rf_motion *m)
 
 /* ---- the exact engine ------------------------------------------------------------- */
 
+/* The height of face T's offset plane (r above it) on the vertical through p. */
+static double offset_plane_z(const rf_motion *m, const rf_triangle *T, rf_vec3 p)
+{
+    return (T->d + m->rho - T->n.x * p.x - T->n.y * p.y) / T->n.z;
+}
+
+int32_t rf_highest_column(rf_motion *m, int32_t tri)
+{
+    const rf_terrain *t = m->terrain;
+    rf_vec3 p = m->s.p;
+    double tol = m->tol_len;
+    double best = offset_plane_z(m, &t->tri[tri], p);
+    size_t n = rf_gather(m, p.x - tol, p.y - tol, p.x + tol, p.y + tol);
+    for (size_t i = 0; i < n; i++) {
+        int32_t k = m->ws->cand[i];
+        const rf_triangle *T = &t->tri[k];
+        if (k == tri || !(T->n.z > 0) || !(offset_plane_z(m, T, p) > best))
+            continue;
+        rf_face_edges fe;
+        rf_column_edges(T, &fe);
+        int in = 1;
+        for (int e = 0; e < 3 && in; e++)
+            in = rf_v3_dot(fe.m[e], p) - fe.o[e] >= -tol;
+        if (in)
+            best = offset_plane_z(m, T, p), tri = k;
+    }
+    return tri;
+}
+
 static void unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
@@ -279,6 +308,8 @@ static void unstall(rf_motion *m)
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
         if (m->centre) {
+            tri = rf_highest_column(m, tri);
+            T = &t->tri[tri];
             double gap;
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted; wedged among walls it cannot pay the

@@ -241,6 +241,11 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live);
 void rf_tri_box_build(const rf_terrain *t, float *box);
 /* Gathers the triangles whose xy box overlaps the box into ws->cand; returns count. */
 size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax);
+/* Centre mode: of the faces whose columns hold the centre (several on a border, within
+ * the length tolerance), the one whose offset plane is highest there; tri is the one
+ * located.  Lifted onto another's plane, a rescued centre at a mesh's node lay under a
+ * neighbouring column's plane, over that column, and fell through it. */
+int32_t rf_highest_column(rf_motion *m, int32_t tri);
 /* Earliest contact along `arc` over [0, T] of the rock (contact radius m->rho; centre
  * mode tests the face under the centre only).  The faces, edges and vertices of the
  * support triangles in `ex` are ignored.  Returns 1 and fills *c when there is one. */

@@ -194,6 +194,43 @@ TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
     rf_terrain_free(&t);
 }
 
+/* At a node of a mesh, where six columns meet, a centre on a face's offset plane is
+ * lifted (rescued) onto the highest of their offset planes there: every plane passes
+ * through the node, so the steepest face's, r / n.z above it. */
+TEST(contact_centre_at_a_node_takes_the_highest_column)
+{
+    double z[N * N];
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            z[j * N + i] = 0.3 * (i * 7 % 5) + 0.8 * (j * 3 % 4);
+    char *txt = mesh_text(z);
+    rf_terrain t;
+    mt_mesh_text(&t, "nodes.stl", txt, PLAIN);
+    free(txt);
+    rf_motion m = motion_on(&t, CENTRE, 0.5);
+    for (int node = 0; node < 3; node++) {
+        int i = 4 + node, j = 6 + 2 * node;
+        m.s.p = rf_v3(i, j, z[j * N + i] + 0.5);
+        int32_t steepest = -1, got = rf_highest_column(&m, rf_terrain_locate(&t, i, j));
+        int got_at = 0;
+        for (size_t k = 0; k < t.ntri; k++) {
+            const rf_triangle *T = &t.tri[k];
+            int at = 0;
+            for (int v = 0; v < 3; v++)
+                at |= rf_tri_vertex(T, v).x == i && rf_tri_vertex(T, v).y == j;
+            if (at && (steepest < 0 || T->n.z < t.tri[steepest].n.z))
+                steepest = (int32_t)k;
+            got_at |= at && (int32_t)k == got;
+        }
+        /* one of the steepest (several can be as steep) */
+        ENSURE(steepest >= 0 && got >= 0 && got_at);
+        ENSURE_MSG(t.tri[got].n.z == t.tri[steepest].n.z, "node %d: n.z %.17g, the steepest %.17g",
+                   node, t.tri[got].n.z, t.tri[steepest].n.z);
+    }
+    rf_workspace_free(m.ws);
+    rf_terrain_free(&t);
+}
+
 /* A sphere set into a crease lies exactly r above both faces, at the nearest such
  * point, even where the faces are nearly parallel (a shallow fold, 1 degree). */
 TEST(contact_crease_centre_on_both_offset_planes)
