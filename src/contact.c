@@ -906,6 +906,11 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
     }
     double reach = m->rho + 4 * m->tol_len;
+    /* higher than this above the terrain's top, nothing is met: the reach (in centre
+     * mode the centre meets a face r / n.z above its plane, the furthest above the
+     * steepest face; a rock lifted onto a steep face at the top and let fall again
+     * fell through it) */
+    double up = m->centre ? reach / dmax(t->nz_min, 1e-12) : reach;
     double cell = t->is_grid ? t->cell : t->bsize;
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
     double hlen = vh * T;
@@ -937,11 +942,6 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
             break;
         rf_vec3 lo, hi;
         arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
-        /* higher than the reach above the terrain's top: nothing met (in centre mode
-         * the centre meets a face r / n.z above its plane, the furthest above the
-         * steepest face; a rock lifted onto a steep face at the top and let fall again
-         * fell through it) */
-        double up = m->centre ? reach / dmax(t->nz_min, 1e-12) : reach;
         if (lo.z - up > t->zmax || hi.z + reach < t->zmin)
             continue;
         double hr = s.line ? line_reach(m) : reach;
@@ -1370,7 +1370,7 @@ static void vertical_overlap(const rf_triangle *T, double x, double y, double rh
     if (fabs(T->n.z) > 1e-12) {
         /* each offset face is met where the foot of the line's point lies in T */
         rf_vec3 nu = T->n.z > 0 ? T->n : rf_v3_scale(T->n, -1.0);
-        double zp = (T->d - T->n.x * x - T->n.y * y) / T->n.z, dz = rho / nu.z;
+        double zp = rf_triangle_z_at(T, x, y), dz = rho / nu.z;
         if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp + dz), -rho, nu)))
             *hi = dmax(*hi, zp + dz);
         if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp - dz), rho, nu)))

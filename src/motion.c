@@ -273,7 +273,7 @@ int rf_motion_start(rf_motion *m)
 /* The height of face T's offset plane (r above it) on the vertical through p. */
 static double offset_plane_z(const rf_motion *m, const rf_triangle *T, rf_vec3 p)
 {
-    return (T->d + m->rho - T->n.x * p.x - T->n.y * p.y) / T->n.z;
+    return rf_triangle_z_at(T, p.x, p.y) + m->rho / T->n.z;
 }
 
 int32_t rf_highest_column(rf_motion *m, int32_t tri)
@@ -286,7 +286,10 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
         const rf_triangle *T = &t->tri[k];
-        if (k == tri || !(T->n.z > 0) || !(offset_plane_z(m, T, p) > best))
+        if (k == tri || !(T->n.z > 0))
+            continue;
+        double z = offset_plane_z(m, T, p);
+        if (!(z > best))
             continue;
         rf_face_edges fe;
         rf_column_edges(T, &fe);
@@ -294,7 +297,7 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
         for (int e = 0; e < 3 && in; e++)
             in = rf_v3_dot(fe.m[e], p) - fe.o[e] >= -tol;
         if (in)
-            best = offset_plane_z(m, T, p), tri = k;
+            best = z, tri = k;
     }
     return tri;
 }
