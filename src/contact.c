@@ -1165,6 +1165,8 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
         if (j - i == 2) {
             mark_pair(t, live, r[i].tri, r[i].k, r[i + 1].tri);
             mark_pair(t, live, r[i + 1].tri, r[i + 1].k, r[i].tri);
+        } else if (j - i == 1) {
+            live[r[i].tri] |= (uint8_t)(RF_EDGE_BORDER << r[i].k);
         }
         i = j;
     }
@@ -1197,6 +1199,99 @@ static double line_enters_triangle(rf_vec3 p, rf_vec3 v, const double *xy, doubl
     return lo < hi ? lo : INFINITY;
 }
 
+/* 1 when no triangle holds the centre a hair after th (before tb), on the path crossing
+ * into a gap at th (a path along a gap's border stays on the terrain). */
+static int over_gap(const rf_terrain *t, const rf_arc *arc, double th, double tb, double dt)
+{
+    double tm = dmin(tb, th + dmax(dt, 1e-9 * (1 + th)));
+    return rf_terrain_locate(t, arc->p.x + arc->v.x * tm, arc->p.y + arc->v.y * tm) < 0;
+}
+
+/* Grids: the earliest time in [ta, tb] the path enters a nodata triangle of the cells
+ * around it; INFINITY when none. */
+static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, double tb)
+{
+    double cell = t->cell;
+    double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
+    double ya = arc->p.y + arc->v.y * ta, yb = arc->p.y + arc->v.y * tb;
+    size_t ncx = t->nx - 1, ncy = t->ny - 1;
+    long i0 = (long)floor((dmin(xa, xb) - t->x0) / cell) - 1;
+    long i1 = (long)floor((dmax(xa, xb) - t->x0) / cell) + 1;
+    long j0 = (long)floor((dmin(ya, yb) - t->y0) / cell) - 1;
+    long j1 = (long)floor((dmax(ya, yb) - t->y0) / cell) + 1;
+    if (i0 < 0)
+        i0 = 0;
+    if (j0 < 0)
+        j0 = 0;
+    if (i1 > (long)ncx - 1)
+        i1 = (long)ncx - 1;
+    if (j1 > (long)ncy - 1)
+        j1 = (long)ncy - 1;
+    double best = INFINITY;
+    for (long j = j0; j <= j1; j++)
+        for (long ii = i0; ii <= i1; ii++)
+            for (int k = 0; k < 2; k++) {
+                if (t->grid_tri[2 * ((size_t)j * ncx + (size_t)ii) + (size_t)k] >= 0)
+                    continue;
+                double x0 = t->x0 + (double)ii * cell, y0 = t->y0 + (double)j * cell;
+                double x1 = x0 + cell, y1 = y0 + cell;
+                /* k = 0: SW, SE, NE;  k = 1: SW, NE, NW */
+                double xy[6] = {x0, y0, x1, k == 0 ? y0 : y1, k == 0 ? x1 : x0, y1};
+                double th = line_enters_triangle(arc->p, arc->v, xy, ta, tb);
+                if (th < best && over_gap(t, arc, th, tb, 0.0))
+                    best = th;
+            }
+    return best;
+}
+
+/* Meshes: the earliest time in [ta, tb] the path crosses outwards an edge that only one
+ * triangle holds (a border of the mesh or of a hole in it) into where no triangle is;
+ * INFINITY when it does not. */
+static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double tb)
+{
+    const rf_terrain *t = m->terrain;
+    double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
+    double ya = arc->p.y + arc->v.y * ta, yb = arc->p.y + arc->v.y * tb;
+    double pad = 4 * m->tol_len;
+    size_t n = rf_gather(m, dmin(xa, xb) - pad, dmin(ya, yb) - pad, dmax(xa, xb) + pad,
+                         dmax(ya, yb) + pad);
+    double best = INFINITY;
+    for (size_t i = 0; i < n; i++) {
+        int32_t idx = m->ws->cand[i];
+        unsigned border = m->ws->edge_live[idx] / RF_EDGE_BORDER;
+        if (!border)
+            continue;
+        const rf_triangle *T = &t->tri[idx];
+        for (int k = 0; k < 3; k++) {
+            if (!(border >> k & 1))
+                continue;
+            rf_vec3 A = rf_tri_vertex(T, k), B = rf_tri_vertex(T, k + 1), C = rf_tri_vertex(T, k + 2);
+            double ex = B.x - A.x, ey = B.y - A.y, el2 = ex * ex + ey * ey;
+            /* the side of the edge line the centre is on: s0 + s1 t, the triangle's
+             * side positive */
+            double sc = ex * (C.y - A.y) - ey * (C.x - A.x);
+            if (!(el2 > 0) || sc == 0.0)
+                continue;
+            double sg = sc > 0 ? 1.0 : -1.0;
+            double s0 = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x));
+            double s1 = sg * (ex * arc->v.y - ey * arc->v.x);
+            if (!(s1 < 0))
+                continue; /* not moving outwards */
+            double th = dmax(ta, -s0 / s1);
+            if (!(th <= tb) || th >= best)
+                continue;
+            double u = ((arc->p.x + arc->v.x * th - A.x) * ex + (arc->p.y + arc->v.y * th - A.y) * ey) / el2;
+            double ut = pad / sqrt(el2);
+            if (u < -ut || u > 1 + ut)
+                continue;
+            /* probe a few length tolerances beyond the edge */
+            if (over_gap(t, arc, th, tb, pad * sqrt(el2) / -s1))
+                best = th;
+        }
+    }
+    return best;
+}
+
 double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
 {
     const rf_terrain *t = m->terrain;
@@ -1219,52 +1314,50 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
         te = dmin(te, (ymin - py) / vy);
     if (te < 0)
         te = 0;
-    if (!t->is_grid || !m->ws->grid_has_holes)
+    if (!m->ws->has_gaps)
         return te;
-    /* holes of a grid: the cells along the path, a few at a time */
-    double cell = t->cell;
+    /* a mesh's gap under the start (a grid's: a start inside a nodata triangle) */
+    if (!t->is_grid && rf_terrain_locate(t, px, py) < 0)
+        return 0.0;
+    /* the gaps along the path, a few cells at a time */
+    double cell = t->is_grid ? t->cell : t->bsize;
     double vh = hypot(vx, vy);
     long npieces = (long)ceil(vh * te / (8.0 * cell));
     if (npieces < 1)
         npieces = 1;
-    size_t ncx = t->nx - 1, ncy = t->ny - 1;
     for (long i = 0; i < npieces; i++) {
         double ta = te * (double)i / (double)npieces, tb = te * (double)(i + 1) / (double)npieces;
-        double xa = px + vx * ta, xb = px + vx * tb, ya = py + vy * ta, yb = py + vy * tb;
-        long i0 = (long)floor((dmin(xa, xb) - t->x0) / cell) - 1;
-        long i1 = (long)floor((dmax(xa, xb) - t->x0) / cell) + 1;
-        long j0 = (long)floor((dmin(ya, yb) - t->y0) / cell) - 1;
-        long j1 = (long)floor((dmax(ya, yb) - t->y0) / cell) + 1;
-        if (i0 < 0)
-            i0 = 0;
-        if (j0 < 0)
-            j0 = 0;
-        if (i1 > (long)ncx - 1)
-            i1 = (long)ncx - 1;
-        if (j1 > (long)ncy - 1)
-            j1 = (long)ncy - 1;
-        double best = INFINITY;
-        for (long j = j0; j <= j1; j++)
-            for (long ii = i0; ii <= i1; ii++)
-                for (int k = 0; k < 2; k++) {
-                    if (t->grid_tri[2 * ((size_t)j * ncx + (size_t)ii) + (size_t)k] >= 0)
-                        continue;
-                    double x0 = t->x0 + (double)ii * cell, y0 = t->y0 + (double)j * cell;
-                    double x1 = x0 + cell, y1 = y0 + cell;
-                    /* k = 0: SW, SE, NE;  k = 1: SW, NE, NW */
-                    double xy[6] = {x0, y0, x1, k == 0 ? y0 : y1, k == 0 ? x1 : x0, y1};
-                    double th = line_enters_triangle(arc->p, arc->v, xy, ta, tb);
-                    if (th < best) {
-                        /* the centre is over the hole only if no triangle holds it there */
-                        double tm = dmin(tb, th + 1e-9 * (1 + th));
-                        if (rf_terrain_locate(t, px + vx * tm, py + vy * tm) < 0)
-                            best = th;
-                    }
-                }
+        double best = t->is_grid ? grid_gap_entry(t, arc, ta, tb) : mesh_gap_entry(m, arc, ta, tb);
         if (best < INFINITY)
             return best;
     }
     return te;
+}
+
+/* 1 when terrain t has holes: a nodata triangle of a grid; an edge of a mesh held by one
+ * triangle whose ends do not both lie on one side of the bounding box. */
+int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live)
+{
+    if (t->is_grid) {
+        size_t ncell = 2 * (t->nx - 1) * (t->ny - 1);
+        for (size_t i = 0; i < ncell; i++)
+            if (t->grid_tri[i] < 0)
+                return 1;
+        return 0;
+    }
+    for (size_t i = 0; i < t->ntri; i++) {
+        unsigned border = live[i] / RF_EDGE_BORDER;
+        for (int k = 0; k < 3; k++) {
+            if (!(border >> k & 1))
+                continue;
+            rf_vec3 A = rf_tri_vertex(&t->tri[i], k), B = rf_tri_vertex(&t->tri[i], k + 1);
+            int side = (A.x == t->xmin && B.x == t->xmin) || (A.x == t->xmax && B.x == t->xmax) ||
+                       (A.y == t->ymin && B.y == t->ymin) || (A.y == t->ymax && B.y == t->ymax);
+            if (!side)
+                return 1;
+        }
+    }
+    return 0;
 }
 
 /* ---- distances --------------------------------------------------------------------- */

@@ -70,11 +70,7 @@ rf_workspace *rf_workspace_alloc(const rf_terrain *t)
         return NULL;
     }
     rf_tri_box_build(t, ws->tri_box);
-    if (t->is_grid) {
-        size_t ncell = 2 * (t->nx - 1) * (t->ny - 1);
-        for (size_t i = 0; i < ncell && !ws->grid_has_holes; i++)
-            ws->grid_has_holes = t->grid_tri[i] < 0;
-    }
+    ws->has_gaps = rf_terrain_has_gaps(t, ws->edge_live);
     return ws;
 }
 

@@ -171,7 +171,8 @@ struct rf_workspace {
     size_t cap;
     uint32_t *stamp;  /* query stamps, one per triangle */
     uint32_t epoch;
-    int grid_has_holes;
+    int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
+                         a mesh held by one triangle off its bounding box's sides */
     int32_t *near_hit; /* candidates of a surface segment */
     float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
                          outwards) */
@@ -180,7 +181,8 @@ struct rf_workspace {
     double *pend_w0;
     size_t pend_cap;
     uint8_t *edge_live; /* per triangle, bit k: edge k can be met first (not strictly
-                           concave: convex, nearly flat, or on the border) */
+                           concave: convex, nearly flat, or on the border); meshes, bit
+                           RF_EDGE_BORDER << k: no other triangle holds edge k */
     uint32_t *tested; /* flights: triangles tested in the current search (== test_epoch) */
     uint32_t test_epoch;
     /* contact.c: shared edges and vertices (zeroed by calloc; no allocation) */
@@ -234,9 +236,12 @@ typedef struct rf_motion {
 } rf_motion;
 
 /* ---- contact.c -------------------------------------------------------------------- */
+#define RF_EDGE_BORDER 16u
 /* Prepares ws->edge_live for terrain t (meshes: all flags; grids: each triangle's when
  * first asked for); 0, or -1 out of memory. */
 int rf_edge_live_build(const rf_terrain *t, uint8_t *live);
+/* 1 when terrain t has holes (see rf_workspace.has_gaps); live: from rf_edge_live_build. */
+int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live);
 /* Fills ws->tri_box for terrain t. */
 void rf_tri_box_build(const rf_terrain *t, float *box);
 /* Gathers the triangles whose xy box overlaps the box into ws->cand; returns count. */

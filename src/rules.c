@@ -749,34 +749,6 @@ done:
     return status;
 }
 
-static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
-                     long failed, FILE *out, rf_error *err);
-
-int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
-                      rf_error *err)
-{
-    long failed = 0;
-    if (n_failed)
-        *n_failed = 0;
-    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
-        return db_error(db, "evaluating the rules", err);
-    /* the run's measures are read in the transaction that writes their checks */
-    run_measures L = {0};
-    int status = read_run_measures(db, run, r, &L, err);
-    if (status == 0)
-        status = evaluate(db, run, r, &L, &failed, err);
-    if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
-        status = db_error(db, "committing the checks", err);
-    if (status != 0 && !sqlite3_get_autocommit(db))
-        sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
-    if (status == 0 && out)
-        status = print_run(db, run, r, &L, failed, out, err);
-    if (n_failed)
-        *n_failed = status == 0 ? failed : 0;
-    run_measures_free(&L);
-    return status;
-}
-
 /* ---- printing -------------------------------------------------------------------- */
 
 static void print_capacities(const rf_rules *r, const measure_row *m, FILE *out)
@@ -903,4 +875,29 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
     else
         fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
     return 0;
+}
+
+int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
+                      rf_error *err)
+{
+    long failed = 0;
+    if (n_failed)
+        *n_failed = 0;
+    if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
+        return db_error(db, "evaluating the rules", err);
+    /* the run's measures are read in the transaction that writes their checks */
+    run_measures L = {0};
+    int status = read_run_measures(db, run, r, &L, err);
+    if (status == 0)
+        status = evaluate(db, run, r, &L, &failed, err);
+    if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
+        status = db_error(db, "committing the checks", err);
+    if (status != 0 && !sqlite3_get_autocommit(db))
+        sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
+    if (status == 0 && out)
+        status = print_run(db, run, r, &L, failed, out, err);
+    if (n_failed)
+        *n_failed = status == 0 ? failed : 0;
+    run_measures_free(&L);
+    return status;
 }

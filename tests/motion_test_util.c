@@ -231,6 +231,39 @@ char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri)
     return buf;
 }
 
+char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
+                       double (*z)(int i, int j, void *), void *ctx)
+{
+    size_t nn = (size_t)nx * (size_t)ny;
+    rf_vec3 *P = malloc(nn * sizeof *P);
+    int(*tri)[3] = malloc(2 * nn * sizeof *tri);
+    if (!P || !tri) {
+        free(P);
+        free(tri);
+        return NULL;
+    }
+    for (int j = 0; j < ny; j++)
+        for (int i = 0; i < nx; i++)
+            P[j * nx + i] = rf_v3(x0 + i * cell, y0 + j * cell, z(i, j, ctx));
+    size_t nt = 0;
+    for (int j = 0; j + 1 < ny; j++)
+        for (int i = 0; i + 1 < nx; i++) {
+            int a = j * nx + i;
+            int t2[2][3] = {{a, a + 1, a + nx + 1}, {a, a + nx + 1, a + nx}};
+            for (int k = 0; k < 2; k++) {
+                int hole = 0;
+                for (int c = 0; c < 3; c++)
+                    hole |= P[t2[k][c]].z == -9999.0;
+                if (!hole)
+                    memcpy(tri[nt++], t2[k], sizeof t2[k]);
+            }
+        }
+    char *txt = mt_stl_text(P, (const int(*)[3])tri, nt);
+    free(P);
+    free(tri);
+    return txt;
+}
+
 void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void *ctx, double *y,
             int n, double T, long steps)
 {

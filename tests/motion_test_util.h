@@ -39,6 +39,11 @@ char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
  * malloc'd. */
 char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri);
 
+/* The same surface as mt_grid_text's as an ascii STL: each cell split along its SW-NE
+ * diagonal, as a grid is, the triangles with a nodata corner left out (holes); malloc'd. */
+char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
+                       double (*z)(int i, int j, void *), void *ctx);
+
 rf_state mt_state(rf_vec3 p, rf_vec3 v);
 
 /* A plane falling along +x at theta, from height L tan(theta) at x = 0 to 0 at x = L,

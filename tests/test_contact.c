@@ -25,27 +25,6 @@ static double node_z(int i, int j, void *ctx)
     return ((const double *)ctx)[j * N + i];
 }
 
-/* The same surface as an ascii STL: each cell split along its SW-NE diagonal, as a
- * grid is. */
-static char *mesh_text(const double *z)
-{
-    rf_vec3 P[N * N];
-    int tri[(N - 1) * (N - 1) * 2][3];
-    size_t nt = 0;
-    for (int j = 0; j < N; j++)
-        for (int i = 0; i < N; i++)
-            P[j * N + i] = rf_v3(i, j, z[j * N + i]);
-    for (int j = 0; j + 1 < N; j++) {
-        for (int i = 0; i + 1 < N; i++) {
-            int a = j * N + i;
-            int t2[2][3] = {{a, a + 1, a + N + 1}, {a, a + N + 1, a + N}};
-            memcpy(tri[nt++], t2[0], sizeof t2[0]);
-            memcpy(tri[nt++], t2[1], sizeof t2[1]);
-        }
-    }
-    return mt_stl_text(P, (const int(*)[3])tri, nt);
-}
-
 /* How far the rock is from penetrating the terrain at centre p (< 0: it penetrates):
  * the sphere's distance beyond rho from the nearest triangle; the centre's distance
  * beyond rho from the plane of face k (-1: the face under it); the point's height
@@ -88,7 +67,7 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             z[j * N + i] = 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(rng);
-    char *txt = mesh ? mesh_text(z) : mt_grid_text(N, N, 1.0, 0.0, 0.0, node_z, z);
+    char *txt = mesh ? mt_grid_stl_text(N, N, 1.0, 0.0, 0.0, node_z, z) : mt_grid_text(N, N, 1.0, 0.0, 0.0, node_z, z);
     rf_terrain t;
     if (mesh)
         mt_mesh_text(&t, "bumpy.stl", txt, PLAIN);
@@ -203,7 +182,7 @@ TEST(contact_centre_at_a_node_takes_the_highest_column)
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             z[j * N + i] = 0.3 * (i * 7 % 5) + 0.8 * (j * 3 % 4);
-    char *txt = mesh_text(z);
+    char *txt = mt_grid_stl_text(N, N, 1.0, 0.0, 0.0, node_z, z);
     rf_terrain t;
     mt_mesh_text(&t, "nodes.stl", txt, PLAIN);
     free(txt);

@@ -240,44 +240,73 @@ static double holed_z(int i, int j, void *ctx)
     return 20.0 - 0.8 * i;
 }
 
-TEST(hard_nodata_holes_and_terrain_edges)
+/* The rock's way into the hole, beside it off the lower edge, and sideways off the
+ * terrain, on the grid or the same surface as a mesh. */
+static void holes_and_edges(const rf_terrain *t)
 {
-    char *txt = mt_grid_text(21, 11, 1.0, 0.0, 0.0, holed_z, NULL);
-    rf_terrain t;
-    mt_dem_text(&t, "hole.asc", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
-    free(txt);
     for (int model = 0; model < 2; model++) {
         rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(50.0, 2650.0, md);
         double rho = rf_body_contact_radius(&b);
         /* down the fall line into the hole (cells with x in [9.5, 13.5], y in [3.5, 7.5]) */
         double z;
-        ENSURE(rf_terrain_height(&t, 2.0, 5.0, &z) >= 0);
+        ENSURE(rf_terrain_height(t, 2.0, 5.0, &z) >= 0);
         rf_state s = mt_state(rf_v3(2.0, 5.0, z + rho + 0.01), rf_v3(0, 0, 0));
         mt_run r;
-        mt_simulate(&t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        mt_simulate(t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
         ensure_sane(&r, 300);
         ENSURE(r.rec.reason == RF_END_EXITED);
-        ENSURE(rf_terrain_locate(&t, r.rec.stop.x + 1e-6, r.rec.stop.y) < 0);
+        ENSURE(rf_terrain_locate(t, r.rec.stop.x + 1e-6, r.rec.stop.y) < 0);
         ENSURE(r.rec.stop.x > 9.5 - 1e-9 && r.rec.stop.x < 13.5);
+        /* it ends where its centre comes over the hole, above the ground there */
+        ENSURE(r.rec.stop.z > 20.0 - 0.8 * 9.0 - 1.0);
         mt_run_free(&r);
         /* beside the hole, off the lower edge (x = 20.5) */
-        ENSURE(rf_terrain_height(&t, 2.0, 1.5, &z) >= 0);
+        ENSURE(rf_terrain_height(t, 2.0, 1.5, &z) >= 0);
         s = mt_state(rf_v3(2.0, 1.5, z + rho + 0.01), rf_v3(0, 0, 0));
-        mt_simulate(&t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        mt_simulate(t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
         ensure_sane(&r, 300);
         ENSURE(r.rec.reason == RF_END_EXITED);
-        ENSURE(r.rec.stop.x >= 20.5 - 1e-9 || r.rec.stop.z < t.zmin);
+        ENSURE(r.rec.stop.x >= 20.5 - 1e-9 || r.rec.stop.z < t->zmin);
         mt_run_free(&r);
         /* thrown sideways off the terrain */
         s = mt_state(rf_v3(5.0, 8.0, 30.0), rf_v3(0, 6.0, 0));
-        mt_simulate(&t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        mt_simulate(t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
         ensure_sane(&r, 300);
         ENSURE(r.rec.reason == RF_END_EXITED);
         ENSURE_SMALL(r.rec.stop.y - 10.5, 1e-9);
         mt_run_free(&r);
     }
-    rf_terrain_free(&t);
+}
+
+/* holes_and_edges on the grid with its nodata hole, or on the same surface as a mesh
+ * with the hole left open (the ESRI grid's nodes are at its cells' centres). */
+static void holed_terrain(rf_terrain *t, int mesh)
+{
+    char *txt = mesh ? mt_grid_stl_text(21, 11, 1.0, 0.5, 0.5, holed_z, NULL)
+                     : mt_grid_text(21, 11, 1.0, 0.0, 0.0, holed_z, NULL);
+    rf_surface s = {{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}};
+    if (mesh)
+        mt_mesh_text(t, "hole.stl", txt, s);
+    else
+        mt_dem_text(t, "hole.asc", txt, s);
+    free(txt);
+    holes_and_edges(t);
+    rf_terrain_free(t);
+}
+
+TEST(hard_nodata_holes_and_terrain_edges)
+{
+    rf_terrain t;
+    holed_terrain(&t, 0);
+}
+
+/* A hole in a mesh ends the trajectory where the centre comes over it, as a grid's
+ * nodata does (the rock fell through it until it was below every face). */
+TEST(hard_mesh_holes_and_terrain_edges)
+{
+    rf_terrain t;
+    holed_terrain(&t, 1);
 }
 
 /* ---- truncation limits ----------------------------------------------------------------- */
