@@ -1140,6 +1140,12 @@ static int edge_ref_cmp(const void *x, const void *y)
     return (a->k > b->k) - (a->k < b->k);
 }
 
+/* Twice the signed area of T's projection on the ground. */
+static double plan_area2(const rf_triangle *T)
+{
+    return (T->b.x - T->a.x) * (T->c.y - T->a.y) - (T->b.y - T->a.y) * (T->c.x - T->a.x);
+}
+
 int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
 {
     if (t->is_grid) {
@@ -1165,9 +1171,15 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
         if (j - i == 2) {
             mark_pair(t, live, r[i].tri, r[i].k, r[i + 1].tri);
             mark_pair(t, live, r[i + 1].tri, r[i + 1].k, r[i].tri);
-        } else if (j - i == 1) {
-            live[r[i].tri] |= (uint8_t)(RF_EDGE_BORDER << r[i].k);
         }
+        /* a border in plan: one holder covers ground (vertical ones, a skirt under a
+         * rim, do not) */
+        size_t flat = 0, last = i;
+        for (size_t k = i; k < j; k++)
+            if (plan_area2(&t->tri[r[k].tri]) != 0.0)
+                flat++, last = k;
+        if (flat == 1)
+            live[r[last].tri] |= (uint8_t)(RF_EDGE_BORDER << r[last].k);
         i = j;
     }
     free(r);
@@ -1177,9 +1189,12 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
 /* ---- leaving the terrain -------------------------------------------------------------- */
 
 /* Time at which the straight horizontal line p + v t enters the 2D triangle (A, B, C),
- * within [t0, t1]; INFINITY when it does not (a start inside counts as t0). */
-static double line_enters_triangle(rf_vec3 p, rf_vec3 v, const double *xy, double t0, double t1)
+ * within [t0, t1], and in *out the time it leaves it (at most t1); INFINITY when it
+ * does not (a start inside counts as t0). */
+static double line_enters_triangle(rf_vec3 p, rf_vec3 v, const double *xy, double t0, double t1,
+                                   double *out)
 {
+    *out = t1;
     double orient = (xy[2] - xy[0]) * (xy[5] - xy[1]) - (xy[3] - xy[1]) * (xy[4] - xy[0]);
     double sg = orient > 0 ? 1.0 : -1.0;
     double lo = t0, hi = t1;
@@ -1196,20 +1211,20 @@ static double line_enters_triangle(rf_vec3 p, rf_vec3 v, const double *xy, doubl
             return INFINITY;
     }
     /* only the interior counts: a path along the border stays on the terrain */
+    *out = hi;
     return lo < hi ? lo : INFINITY;
 }
 
-/* 1 when no triangle holds the centre a hair after th (before tb), on the path crossing
- * into a gap at th (a path along a gap's border stays on the terrain). */
-static int over_gap(const rf_terrain *t, const rf_arc *arc, double th, double tb, double dt)
+/* 1 when no triangle holds the centre's horizontal path at time tm. */
+static int over_gap(const rf_terrain *t, const rf_arc *arc, double tm)
 {
-    double tm = dmin(tb, th + dmax(dt, 1e-9 * (1 + th)));
     return rf_terrain_locate(t, arc->p.x + arc->v.x * tm, arc->p.y + arc->v.y * tm) < 0;
 }
 
 /* Grids: the earliest time in [ta, tb] the path enters a nodata triangle of the cells
- * around it; INFINITY when none. */
-static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, double tb)
+ * around it (te: the end of the whole path); INFINITY when none. */
+static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, double tb,
+                             double te)
 {
     double cell = t->cell;
     double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
@@ -1237,17 +1252,24 @@ static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, 
                 double x1 = x0 + cell, y1 = y0 + cell;
                 /* k = 0: SW, SE, NE;  k = 1: SW, NE, NW */
                 double xy[6] = {x0, y0, x1, k == 0 ? y0 : y1, k == 0 ? x1 : x0, y1};
-                double th = line_enters_triangle(arc->p, arc->v, xy, ta, tb);
-                if (th < best && over_gap(t, arc, th, tb, 0.0))
+                double out, th = line_enters_triangle(arc->p, arc->v, xy, ta, te, &out);
+                /* over the hole only if no triangle holds the centre halfway across it
+                 * (a path along a hole's border stays on the terrain; a point a hair
+                 * past the border was still on the cell next to it, within the
+                 * locator's tolerance, on large cells) */
+                if (th <= tb && th < best && over_gap(t, arc, 0.5 * (th + out)))
                     best = th;
             }
     return best;
 }
 
 /* Meshes: the earliest time in [ta, tb] the path crosses outwards an edge that only one
- * triangle holds (a border of the mesh or of a hole in it) into where no triangle is;
- * INFINITY when it does not. */
-static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double tb)
+ * triangle holds in plan (a border of the mesh or of a hole in it) into where no
+ * triangle is; INFINITY when it does not.  A gap narrower than `bridge` along the path
+ * (a sphere in full contact: r) is passed over, as is a crack at a seam between two
+ * files of the mesh narrower than a hundredth of the triangles' size. */
+static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double tb,
+                             double bridge)
 {
     const rf_terrain *t = m->terrain;
     double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
@@ -1277,15 +1299,25 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double 
             double s1 = sg * (ex * arc->v.y - ey * arc->v.x);
             if (!(s1 < 0))
                 continue; /* not moving outwards */
-            double th = dmax(ta, -s0 / s1);
+            /* the crossing; one more than a few tolerances behind the start was
+             * before it (a gap under the start is the caller's) */
+            if (s0 < -pad * sqrt(el2))
+                continue;
+            double th = dmax(0.0, -s0 / s1);
             if (!(th <= tb) || th >= best)
                 continue;
             double u = ((arc->p.x + arc->v.x * th - A.x) * ex + (arc->p.y + arc->v.y * th - A.y) * ey) / el2;
             double ut = pad / sqrt(el2);
             if (u < -ut || u > 1 + ut)
                 continue;
-            /* probe a few length tolerances beyond the edge */
-            if (over_gap(t, arc, th, tb, pad * sqrt(el2) / -s1))
+            /* a gap when the centre is over no triangle `bridge` past the edge (and
+             * at least a hundredth of the holder's height over it, far beyond the
+             * locator's tolerance), along the path, but no more than 100 times that
+             * for a path nearly along the edge */
+            double h = fabs(sc) / sqrt(el2);
+            double d = dmax(bridge, 0.01 * h), vh = hypot(arc->v.x, arc->v.y);
+            double dt = d * dmin(vh * sqrt(el2) / -s1, 100.0) / vh;
+            if (over_gap(t, arc, th + dt))
                 best = th;
         }
     }
@@ -1316,18 +1348,22 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
         te = 0;
     if (!m->ws->has_gaps)
         return te;
-    /* a mesh's gap under the start (a grid's: a start inside a nodata triangle) */
-    if (!t->is_grid && rf_terrain_locate(t, px, py) < 0)
+    double vh = hypot(vx, vy);
+    /* meshes: a gap under the start, still there `bridge` on (a grid's: a start inside
+     * a nodata triangle, below) */
+    double bridge = m->centre || m->point ? 0.0 : m->rho;
+    if (!t->is_grid && over_gap(t, arc, 0.0) &&
+        over_gap(t, arc, vh > 0 ? dmax(bridge, 0.01 * t->bsize) / vh : 0.0))
         return 0.0;
     /* the gaps along the path, a few cells at a time */
     double cell = t->is_grid ? t->cell : t->bsize;
-    double vh = hypot(vx, vy);
     long npieces = (long)ceil(vh * te / (8.0 * cell));
     if (npieces < 1)
         npieces = 1;
     for (long i = 0; i < npieces; i++) {
         double ta = te * (double)i / (double)npieces, tb = te * (double)(i + 1) / (double)npieces;
-        double best = t->is_grid ? grid_gap_entry(t, arc, ta, tb) : mesh_gap_entry(m, arc, ta, tb);
+        double best = t->is_grid ? grid_gap_entry(t, arc, ta, tb, te)
+                                  : mesh_gap_entry(m, arc, ta, tb, bridge);
         if (best < INFINITY)
             return best;
     }

@@ -264,6 +264,18 @@ char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
     return txt;
 }
 
+void mt_grid_terrain(rf_terrain *t, int mesh, int nx, int ny, double cell,
+                     double (*z)(int i, int j, void *), void *ctx, rf_surface s)
+{
+    char *txt = mesh ? mt_grid_stl_text(nx, ny, cell, 0.5 * cell, 0.5 * cell, z, ctx)
+                     : mt_grid_text(nx, ny, cell, 0.0, 0.0, z, ctx);
+    if (mesh)
+        mt_mesh_text(t, "grid.stl", txt, s);
+    else
+        mt_dem_text(t, "grid.asc", txt, s);
+    free(txt);
+}
+
 void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void *ctx, double *y,
             int n, double T, long steps)
 {

@@ -44,6 +44,11 @@ char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri);
 char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
                        double (*z)(int i, int j, void *), void *ctx);
 
+/* Builds the terrain of mt_grid_text(nx, ny, cell, 0, 0, z, ctx): the ESRI grid, or
+ * (mesh) the same surface as an STL (its nodes at the grid's, the cells' centres). */
+void mt_grid_terrain(rf_terrain *t, int mesh, int nx, int ny, double cell,
+                     double (*z)(int i, int j, void *), void *ctx, rf_surface s);
+
 rf_state mt_state(rf_vec3 p, rf_vec3 v);
 
 /* A plane falling along +x at theta, from height L tan(theta) at x = 0 to 0 at x = L,

@@ -67,13 +67,8 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             z[j * N + i] = 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(rng);
-    char *txt = mesh ? mt_grid_stl_text(N, N, 1.0, 0.0, 0.0, node_z, z) : mt_grid_text(N, N, 1.0, 0.0, 0.0, node_z, z);
     rf_terrain t;
-    if (mesh)
-        mt_mesh_text(&t, "bumpy.stl", txt, PLAIN);
-    else
-        mt_dem_text(&t, "bumpy.asc", txt, PLAIN);
-    free(txt);
+    mt_grid_terrain(&t, mesh, N, N, 1.0, node_z, z, PLAIN);
     ENSURE(t.is_grid == !mesh && t.ntri == 2 * (N - 1) * (N - 1));
     rf_motion m = motion_on(&t, md, rho);
     int hits = 0, misses = 0;

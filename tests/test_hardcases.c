@@ -232,81 +232,175 @@ TEST(hard_near_vertical_faces)
 
 /* ---- holes and edges ------------------------------------------------------------------ */
 
+/* 21 x 11 nodes at spacing c = *ctx, a plane falling at 0.8 along x, nodata nodes i in
+ * 10..12, j in 4..6 (holes: the cells x in [9.5, 13.5] c, y in [3.5, 7.5] c). */
 static double holed_z(int i, int j, void *ctx)
 {
-    (void)ctx;
     if (i >= 10 && i <= 12 && j >= 4 && j <= 6)
         return -9999.0;
-    return 20.0 - 0.8 * i;
+    return *(const double *)ctx * (20.0 - 0.8 * i);
 }
 
-/* The rock's way into the hole, beside it off the lower edge, and sideways off the
- * terrain, on the grid or the same surface as a mesh. */
-static void holes_and_edges(const rf_terrain *t)
+/* One rock on the holed terrain of spacing c: model, contact, engine. */
+static void holed_run(const rf_terrain *t, rf_rock_model md, rf_contact_kind ck, int fixed,
+                      const rf_state *s, mt_run *r)
 {
-    for (int model = 0; model < 2; model++) {
-        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+    rf_simulation sim = mt_sim(md, ck, 300.0);
+    if (fixed)
+        sim.engine = RF_ENGINE_FIXED_STEP;
+    rf_body b = rf_body_make(50.0, 2650.0, md);
+    mt_simulate_opts(t, &sim, &b, s, 9, 0.0, r);
+    ensure_sane(r, 300);
+    ENSURE(r->rec.reason == RF_END_EXITED);
+}
+
+/* The rock's way into the hole (rolling, and thrown over its rim), beside it off the
+ * lower edge, and sideways off the terrain, on the grid or the same surface as a mesh
+ * of spacing c, for each rock model, contact and engine. */
+static void holes_and_edges(const rf_terrain *t, double c)
+{
+    for (int run = 0; run < 5; run++) {
+        rf_rock_model md = run == 4 ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_contact_kind ck = run & 1 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL;
+        int fixed = run == 2 || run == 3;
         rf_body b = rf_body_make(50.0, 2650.0, md);
         double rho = rf_body_contact_radius(&b);
-        /* down the fall line into the hole (cells with x in [9.5, 13.5], y in [3.5, 7.5]) */
+        /* down the fall line into the hole: it ends where its centre comes over it,
+         * above the ground at the rim (z = c (20.4 - 0.8 x / c)) */
         double z;
-        ENSURE(rf_terrain_height(t, 2.0, 5.0, &z) >= 0);
-        rf_state s = mt_state(rf_v3(2.0, 5.0, z + rho + 0.01), rf_v3(0, 0, 0));
+        ENSURE(rf_terrain_height(t, 2.0 * c, 5.0 * c, &z) >= 0);
+        rf_state s = mt_state(rf_v3(2.0 * c, 5.0 * c, z + rho + 0.01), rf_v3(0, 0, 0));
         mt_run r;
-        mt_simulate(t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
-        ensure_sane(&r, 300);
-        ENSURE(r.rec.reason == RF_END_EXITED);
-        ENSURE(rf_terrain_locate(t, r.rec.stop.x + 1e-6, r.rec.stop.y) < 0);
-        ENSURE(r.rec.stop.x > 9.5 - 1e-9 && r.rec.stop.x < 13.5);
-        /* it ends where its centre comes over the hole, above the ground there */
-        ENSURE(r.rec.stop.z > 20.0 - 0.8 * 9.0 - 1.0);
+        holed_run(t, md, ck, fixed, &s, &r);
+        ENSURE(rf_terrain_locate(t, r.rec.stop.x + 1e-6 * c, r.rec.stop.y) < 0);
+        ENSURE(r.rec.stop.x > 9.5 * c - 1e-9 * c && r.rec.stop.x < 9.5 * c + 2.0 * rho + 1e-6);
+        ENSURE(r.rec.stop.z > c * (20.4 - 0.8 * 9.5) - 1e-6 * c);
         mt_run_free(&r);
-        /* beside the hole, off the lower edge (x = 20.5) */
-        ENSURE(rf_terrain_height(t, 2.0, 1.5, &z) >= 0);
-        s = mt_state(rf_v3(2.0, 1.5, z + rho + 0.01), rf_v3(0, 0, 0));
-        mt_simulate(t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
-        ensure_sane(&r, 300);
-        ENSURE(r.rec.reason == RF_END_EXITED);
-        ENSURE(r.rec.stop.x >= 20.5 - 1e-9 || r.rec.stop.z < t->zmin);
+        /* thrown over the rim (from 1 m up, 5 m/s): it ends at the rim, in flight */
+        ENSURE(rf_terrain_height(t, 9.0 * c, 5.3 * c, &z) >= 0);
+        s = mt_state(rf_v3(9.0 * c, 5.3 * c, z + rho + 1.0), rf_v3(5.0, 0.1, 0.0));
+        holed_run(t, md, ck, fixed, &s, &r);
+        ENSURE_SMALL(r.rec.stop.x - 9.5 * c, 1e-6 * c);
+        ENSURE(r.rec.n_impacts == 0 || c > 1.0);
+        mt_run_free(&r);
+        /* beside the hole, off the lower edge (x = 20.5 c) */
+        ENSURE(rf_terrain_height(t, 2.0 * c, 1.5 * c, &z) >= 0);
+        s = mt_state(rf_v3(2.0 * c, 1.5 * c, z + rho + 0.01), rf_v3(0, 0, 0));
+        holed_run(t, md, ck, fixed, &s, &r);
+        ENSURE(r.rec.stop.x >= 20.5 * c - 1e-9 * c || r.rec.stop.z < t->zmin);
         mt_run_free(&r);
         /* thrown sideways off the terrain */
-        s = mt_state(rf_v3(5.0, 8.0, 30.0), rf_v3(0, 6.0, 0));
-        mt_simulate(t, md, 50.0, RF_CONTACT_FULL, &s, 9, &r);
-        ensure_sane(&r, 300);
-        ENSURE(r.rec.reason == RF_END_EXITED);
-        ENSURE_SMALL(r.rec.stop.y - 10.5, 1e-9);
+        s = mt_state(rf_v3(5.0 * c, 8.0 * c, 30.0 * c), rf_v3(0, 6.0, 0));
+        holed_run(t, md, ck, fixed, &s, &r);
+        ENSURE_SMALL(r.rec.stop.y - 10.5 * c, 1e-9 * c);
         mt_run_free(&r);
     }
 }
 
 /* holes_and_edges on the grid with its nodata hole, or on the same surface as a mesh
- * with the hole left open (the ESRI grid's nodes are at its cells' centres). */
-static void holed_terrain(rf_terrain *t, int mesh)
+ * with the hole left open (the ESRI grid's nodes are at its cells' centres), with cells
+ * of 1 m and of 10 m (a point a hair past a 10 m cell's border is on it still, within
+ * the locator's tolerance: the hole was missed). */
+static void holed_terrain(int mesh)
 {
-    char *txt = mesh ? mt_grid_stl_text(21, 11, 1.0, 0.5, 0.5, holed_z, NULL)
-                     : mt_grid_text(21, 11, 1.0, 0.0, 0.0, holed_z, NULL);
-    rf_surface s = {{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}};
-    if (mesh)
-        mt_mesh_text(t, "hole.stl", txt, s);
-    else
-        mt_dem_text(t, "hole.asc", txt, s);
-    free(txt);
-    holes_and_edges(t);
-    rf_terrain_free(t);
+    for (int k = 0; k < 2; k++) {
+        double c = k ? 10.0 : 1.0;
+        rf_terrain t;
+        mt_grid_terrain(&t, mesh, 21, 11, c, holed_z, &c,
+                        (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
+        holes_and_edges(&t, c);
+        rf_terrain_free(&t);
+    }
 }
 
 TEST(hard_nodata_holes_and_terrain_edges)
 {
-    rf_terrain t;
-    holed_terrain(&t, 0);
+    holed_terrain(0);
 }
 
 /* A hole in a mesh ends the trajectory where the centre comes over it, as a grid's
  * nodata does (the rock fell through it until it was below every face). */
 TEST(hard_mesh_holes_and_terrain_edges)
 {
+    holed_terrain(1);
+}
+
+/* A mesh of two tiles of one plane falling along x, 1 cm apart: a sphere bridges the
+ * crack between them and leaves the terrain at its lower edge, not at the crack (a gap
+ * is one the centre is over r further on). */
+TEST(hard_mesh_crack_between_tiles_is_bridged)
+{
+    rf_vec3 P[2 * 11 * 11];
+    int tri[2 * 2 * 10 * 10][3];
+    size_t nt = 0;
+    for (int tile = 0; tile < 2; tile++) {
+        int o = tile * 121;
+        for (int j = 0; j < 11; j++)
+            for (int i = 0; i < 11; i++) {
+                double x = 0.5 + i + tile * 10.01;
+                P[o + j * 11 + i] = rf_v3(x, 0.5 + j, 20.0 - 0.8 * x);
+            }
+        for (int j = 0; j < 10; j++)
+            for (int i = 0; i < 10; i++) {
+                int a = o + j * 11 + i;
+                int t2[2][3] = {{a, a + 1, a + 12}, {a, a + 12, a + 11}};
+                memcpy(tri[nt++], t2[0], sizeof t2[0]);
+                memcpy(tri[nt++], t2[1], sizeof t2[1]);
+            }
+    }
+    char *txt = mt_stl_text(P, (const int(*)[3])tri, nt);
     rf_terrain t;
-    holed_terrain(&t, 1);
+    mt_mesh_text(&t, "tiles.stl", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
+    free(txt);
+    rf_body b = rf_body_make(50.0, 2650.0, RF_MODEL_SPHERE);
+    double rho = rf_body_contact_radius(&b), z;
+    ENSURE(rho > 0.01);
+    /* rolling over the crack, and flying over it (from 1 m up, 5 m/s down the slope) */
+    for (int fly = 0; fly < 2; fly++) {
+        double x0 = fly ? 8.0 : 2.0;
+        ENSURE(rf_terrain_height(&t, x0, 5.0, &z) >= 0);
+        rf_state s = mt_state(rf_v3(x0, 5.0, z + rho + (fly ? 1.0 : 0.01)),
+                              rf_v3(fly ? 5.0 : 0.0, 0, 0));
+        mt_run r;
+        mt_simulate(&t, RF_MODEL_SPHERE, 50.0, RF_CONTACT_FULL, &s, 9, &r);
+        ensure_sane(&r, 300);
+        ENSURE(r.rec.reason == RF_END_EXITED);
+        ENSURE(r.rec.stop.x >= 20.51 - 1e-9);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* An L-shaped mesh (a plane falling along x, its quarter x > 5, y > 5 cut out), with
+ * and without a vertical skirt hanging from the cut: a rock thrown across the cut
+ * leaves the terrain there, not at the bounding box (the rim, held by the ground and
+ * the skirt, is a border in plan). */
+TEST(hard_mesh_outline_with_a_skirt)
+{
+    for (int skirt = 0; skirt < 2; skirt++) {
+        rf_vec3 P[11];
+        const double xy[8][2] = {{0, 0}, {5, 0}, {10, 0}, {0, 5}, {5, 5}, {10, 5}, {0, 10}, {5, 10}};
+        for (int k = 0; k < 8; k++)
+            P[k] = rf_v3(xy[k][0], xy[k][1], 10.0 - 0.5 * xy[k][0]);
+        P[8] = rf_v3(5, 5, -5), P[9] = rf_v3(10, 5, -5), P[10] = rf_v3(5, 10, -5);
+        const int tri[10][3] = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}, {3, 4, 7},
+                                {3, 7, 6}, {4, 5, 9}, {4, 9, 8}, {4, 7, 10}, {4, 10, 8}};
+        char *txt = mt_stl_text(P, tri, skirt ? 10 : 6);
+        rf_terrain t;
+        mt_mesh_text(&t, "l.stl", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
+        free(txt);
+        for (int model = 0; model < 2; model++) {
+            rf_state s = mt_state(rf_v3(1.0, 7.5, 11.5), rf_v3(6.0, 0.0, 0.0));
+            mt_run r;
+            mt_simulate(&t, model ? RF_MODEL_POINT : RF_MODEL_SPHERE, 50.0, RF_CONTACT_FULL, &s,
+                        9, &r);
+            ensure_sane(&r, 300);
+            ENSURE(r.rec.reason == RF_END_EXITED);
+            ENSURE_SMALL(r.rec.stop.x - 5.0, 1e-9);
+            mt_run_free(&r);
+        }
+        rf_terrain_free(&t);
+    }
 }
 
 /* ---- truncation limits ----------------------------------------------------------------- */
