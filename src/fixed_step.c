@@ -100,6 +100,19 @@ static int flight_step(rf_motion *m, double h)
     /* Eq. 6-7: a contact needs the centre in another face's column or below the offset
      * plane of the face under it at the step's end */
     int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y), tri1 = rf_terrain_locate(t, pe.x, pe.y);
+    if (tri0 >= 0 &&
+        rf_v3_dot(t->tri[tri0].n, p0) - t->tri[tri0].d < -RF_TOUCH_BAND * m->tol_len &&
+        rf_v3_dot(t->tri[tri0].n, m->s.v) < 0) {
+        /* a centre under the face it is over, sinking further: the search finds no
+         * entry into a plane the centre is already under (stopped on a column's border
+         * at a pit beside a hole, a rock sank under the face's offset plane and fell
+         * through the terrain); rescued at once, onto the highest offset plane there.
+         * (Under the offset plane alone is left to the stall rules: a rock wedged
+         * among walls is, and rests; rescued at once at every step on a column's
+         * border, it was given up.) */
+        int end = rf_rescue(m);
+        return end == RF_RESCUED ? -1 : end;
+    }
     double te = h;
     int hit = 0, out = 0;
     rf_contact c;

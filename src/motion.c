@@ -352,14 +352,19 @@ int rf_progress(rf_motion *m, int events)
         /* no progress in time: a rock wedged between features */
         if (rf_v3_norm(m->s.v) <= stop)
             return RF_END_REST;
-        if (++m->rescues > RF_MAX_RESCUES)
-            return RF_END_MAX_TIME;
-        unstall(m);
-        m->stall = 0;
-        m->stall_t = m->s.t;
-        return RF_RESCUED;
+        return rf_rescue(m);
     }
     return -1;
+}
+
+int rf_rescue(rf_motion *m)
+{
+    if (++m->rescues > RF_MAX_RESCUES)
+        return RF_END_MAX_TIME;
+    unstall(m);
+    m->stall = 0;
+    m->stall_t = m->s.t;
+    return RF_RESCUED;
 }
 
 static int run_exact(rf_motion *m)

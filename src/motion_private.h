@@ -419,6 +419,8 @@ double rf_motion_energy(const rf_motion *m);
  * end reason, RF_RESCUED after a rescue, or -1. */
 #define RF_RESCUED -2
 int rf_progress(rf_motion *m, int events);
+/* The rescue of rf_progress, at once: RF_RESCUED, or max_time after RF_MAX_RESCUES. */
+int rf_rescue(rf_motion *m);
 
 /* Events of the scene beyond the terrain (tree collisions, measure crossings): the
  * extension point of the vegetation and measures modules.  Every piece of exact motion
