@@ -1140,10 +1140,13 @@ static int edge_ref_cmp(const void *x, const void *y)
     return (a->k > b->k) - (a->k < b->k);
 }
 
-/* Twice the signed area of T's projection on the ground. */
-static double plan_area2(const rf_triangle *T)
+/* 1 when T's projection on the ground has an area (not a vertical face, nor one within
+ * rounding of it: twice the area against the squares of its sides). */
+static int covers_ground(const rf_triangle *T)
 {
-    return (T->b.x - T->a.x) * (T->c.y - T->a.y) - (T->b.y - T->a.y) * (T->c.x - T->a.x);
+    double ux = T->b.x - T->a.x, uy = T->b.y - T->a.y;
+    double wx = T->c.x - T->a.x, wy = T->c.y - T->a.y;
+    return fabs(ux * wy - uy * wx) > 1e-12 * (ux * ux + uy * uy + wx * wx + wy * wy);
 }
 
 int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
@@ -1176,7 +1179,7 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
          * rim, do not) */
         size_t flat = 0, last = i;
         for (size_t k = i; k < j; k++)
-            if (plan_area2(&t->tri[r[k].tri]) != 0.0)
+            if (covers_ground(&t->tri[r[k].tri]))
                 flat++, last = k;
         if (flat == 1)
             live[r[last].tri] |= (uint8_t)(RF_EDGE_BORDER << r[last].k);
@@ -1370,8 +1373,8 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
     return te;
 }
 
-/* 1 when terrain t has holes: a nodata triangle of a grid; an edge of a mesh held by one
- * triangle whose ends do not both lie on one side of the bounding box. */
+/* 1 when terrain t has holes: a nodata triangle of a grid; a border edge in plan of a
+ * mesh (RF_EDGE_BORDER) whose ends do not both lie on one side of the bounding box. */
 int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live)
 {
     if (t->is_grid) {

@@ -125,7 +125,9 @@ static int flight_step(rf_motion *m, double h)
         }
         hit = piece_contact(m, p0, ve, tx, &c);
         te = hit ? c.t : tx;
-        out = !hit && tri1 < 0;
+        /* out only where the terrain's gaps end it: the step's end over a crack the
+         * rock bridges (rf_terrain_exit_time) is not */
+        out = !hit && tri1 < 0 && tx < h;
     }
     if (!hit && pe.z < t->zmin - m->rho - 1.0)
         out = 1; /* below every face */

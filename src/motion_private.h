@@ -172,7 +172,7 @@ struct rf_workspace {
     uint32_t *stamp;  /* query stamps, one per triangle */
     uint32_t epoch;
     int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
-                         a mesh held by one triangle off its bounding box's sides */
+                         a mesh on its border in plan off its bounding box's sides */
     int32_t *near_hit; /* candidates of a surface segment */
     float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
                          outwards) */
@@ -182,7 +182,8 @@ struct rf_workspace {
     size_t pend_cap;
     uint8_t *edge_live; /* per triangle, bit k: edge k can be met first (not strictly
                            concave: convex, nearly flat, or on the border); meshes, bit
-                           RF_EDGE_BORDER << k: no other triangle holds edge k */
+                           RF_EDGE_BORDER << k: edge k is a border in plan (one
+                           holder covers ground: no other, or only vertical ones) */
     uint32_t *tested; /* flights: triangles tested in the current search (== test_epoch) */
     uint32_t test_epoch;
     /* contact.c: shared edges and vertices (zeroed by calloc; no allocation) */

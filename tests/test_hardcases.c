@@ -325,50 +325,62 @@ TEST(hard_mesh_holes_and_terrain_edges)
     holed_terrain(1);
 }
 
-/* A mesh of two tiles of one plane falling along x, 1 cm apart: a sphere bridges the
- * crack between them and leaves the terrain at its lower edge, not at the crack (a gap
- * is one the centre is over r further on). */
+/* A mesh of two tiles of one plane falling along x, a crack between them (0.8 cm, under
+ * a hundredth of the 1 m cells; 5 cm, under the radius of the 50 kg sphere).  A sphere in
+ * full contact bridges either, rolling or thrown over it, and leaves the terrain at its
+ * lower edge; any rock thrown over the narrow one does so too, in either engine (a gap
+ * is one the centre is over that far on).  A point mass or a centre sliding into a
+ * crack leaves the terrain there: the surface phase looks for the next face within
+ * 0.1 mm. */
 TEST(hard_mesh_crack_between_tiles_is_bridged)
 {
-    rf_vec3 P[2 * 11 * 11];
-    int tri[2 * 2 * 10 * 10][3];
-    size_t nt = 0;
-    for (int tile = 0; tile < 2; tile++) {
-        int o = tile * 121;
-        for (int j = 0; j < 11; j++)
-            for (int i = 0; i < 11; i++) {
-                double x = 0.5 + i + tile * 10.01;
-                P[o + j * 11 + i] = rf_v3(x, 0.5 + j, 20.0 - 0.8 * x);
-            }
-        for (int j = 0; j < 10; j++)
-            for (int i = 0; i < 10; i++) {
-                int a = o + j * 11 + i;
-                int t2[2][3] = {{a, a + 1, a + 12}, {a, a + 12, a + 11}};
-                memcpy(tri[nt++], t2[0], sizeof t2[0]);
-                memcpy(tri[nt++], t2[1], sizeof t2[1]);
-            }
+    const double cracks[2] = {0.008, 0.05};
+    for (int w = 0; w < 2; w++) {
+        rf_vec3 P[2 * 11 * 11];
+        int tri[2 * 2 * 10 * 10][3];
+        size_t nt = 0;
+        for (int tile = 0; tile < 2; tile++) {
+            int o = tile * 121;
+            for (int j = 0; j < 11; j++)
+                for (int i = 0; i < 11; i++) {
+                    double x = 0.5 + i + tile * (10.0 + cracks[w]);
+                    P[o + j * 11 + i] = rf_v3(x, 0.5 + j, 20.0 - 0.8 * x);
+                }
+            for (int j = 0; j < 10; j++)
+                for (int i = 0; i < 10; i++) {
+                    int a = o + j * 11 + i;
+                    int t2[2][3] = {{a, a + 1, a + 12}, {a, a + 12, a + 11}};
+                    memcpy(tri[nt++], t2[0], sizeof t2[0]);
+                    memcpy(tri[nt++], t2[1], sizeof t2[1]);
+                }
+        }
+        char *txt = mt_stl_text(P, (const int(*)[3])tri, nt);
+        rf_terrain t;
+        mt_mesh_text(&t, "tiles.stl", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
+        free(txt);
+        double xend = 20.5 + cracks[w];
+        /* run 0, 1: a full-contact sphere rolling and thrown; 2-5 (the narrow crack):
+         * thrown, a point mass, a centre, and the fixed step */
+        for (int run = 0; run < (w ? 2 : 6); run++) {
+            rf_rock_model md = run == 3 ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+            rf_simulation sim = mt_sim(md, run == 4 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL, 300.0);
+            if (run == 5)
+                sim.engine = RF_ENGINE_FIXED_STEP;
+            rf_body b = rf_body_make(50.0, 2650.0, md);
+            double rho = rf_body_contact_radius(&b), z, x0 = run ? 8.0 : 2.0;
+            ENSURE(rf_terrain_height(&t, x0, 5.0, &z) >= 0);
+            rf_state s = mt_state(rf_v3(x0, 5.0, z + rho + (run ? 1.0 : 0.01)),
+                                  rf_v3(run ? 5.0 : 0.0, 0, 0));
+            mt_run r;
+            mt_simulate_opts(&t, &sim, &b, &s, 9, 0.0, &r);
+            ensure_sane(&r, 300);
+            ENSURE(r.rec.reason == RF_END_EXITED);
+            ENSURE_MSG(r.rec.stop.x >= xend - 1e-9, "crack %g, run %d: ends at x = %.6f", cracks[w],
+                       run, r.rec.stop.x);
+            mt_run_free(&r);
+        }
+        rf_terrain_free(&t);
     }
-    char *txt = mt_stl_text(P, (const int(*)[3])tri, nt);
-    rf_terrain t;
-    mt_mesh_text(&t, "tiles.stl", txt, (rf_surface){{0.2, 0.0}, {0.1, 0.0}, {0.05, 0.0}});
-    free(txt);
-    rf_body b = rf_body_make(50.0, 2650.0, RF_MODEL_SPHERE);
-    double rho = rf_body_contact_radius(&b), z;
-    ENSURE(rho > 0.01);
-    /* rolling over the crack, and flying over it (from 1 m up, 5 m/s down the slope) */
-    for (int fly = 0; fly < 2; fly++) {
-        double x0 = fly ? 8.0 : 2.0;
-        ENSURE(rf_terrain_height(&t, x0, 5.0, &z) >= 0);
-        rf_state s = mt_state(rf_v3(x0, 5.0, z + rho + (fly ? 1.0 : 0.01)),
-                              rf_v3(fly ? 5.0 : 0.0, 0, 0));
-        mt_run r;
-        mt_simulate(&t, RF_MODEL_SPHERE, 50.0, RF_CONTACT_FULL, &s, 9, &r);
-        ensure_sane(&r, 300);
-        ENSURE(r.rec.reason == RF_END_EXITED);
-        ENSURE(r.rec.stop.x >= 20.51 - 1e-9);
-        mt_run_free(&r);
-    }
-    rf_terrain_free(&t);
 }
 
 /* An L-shaped mesh (a plane falling along x, its quarter x > 5, y > 5 cut out), with
