@@ -1277,7 +1277,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double 
     const rf_terrain *t = m->terrain;
     double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
     double ya = arc->p.y + arc->v.y * ta, yb = arc->p.y + arc->v.y * tb;
-    double pad = 4 * m->tol_len;
+    double pad = 4 * m->tol_len, vh = hypot(arc->v.x, arc->v.y);
     size_t n = rf_gather(m, dmin(xa, xb) - pad, dmin(ya, yb) - pad, dmax(xa, xb) + pad,
                          dmax(ya, yb) + pad);
     double best = INFINITY;
@@ -1291,11 +1291,11 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double 
             if (!(border >> k & 1))
                 continue;
             rf_vec3 A = rf_tri_vertex(T, k), B = rf_tri_vertex(T, k + 1), C = rf_tri_vertex(T, k + 2);
-            double ex = B.x - A.x, ey = B.y - A.y, el2 = ex * ex + ey * ey;
+            double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
             /* the side of the edge line the centre is on: s0 + s1 t, the triangle's
              * side positive */
             double sc = ex * (C.y - A.y) - ey * (C.x - A.x);
-            if (!(el2 > 0) || sc == 0.0)
+            if (!(el > 0) || sc == 0.0)
                 continue;
             double sg = sc > 0 ? 1.0 : -1.0;
             double s0 = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x));
@@ -1304,22 +1304,22 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double 
                 continue; /* not moving outwards */
             /* the crossing; one more than a few tolerances behind the start was
              * before it (a gap under the start is the caller's) */
-            if (s0 < -pad * sqrt(el2))
+            if (s0 < -pad * el)
                 continue;
             double th = dmax(0.0, -s0 / s1);
             if (!(th <= tb) || th >= best)
                 continue;
-            double u = ((arc->p.x + arc->v.x * th - A.x) * ex + (arc->p.y + arc->v.y * th - A.y) * ey) / el2;
-            double ut = pad / sqrt(el2);
-            if (u < -ut || u > 1 + ut)
+            /* along the edge, from A (within a few tolerances of its ends) */
+            double u = ((arc->p.x + arc->v.x * th - A.x) * ex +
+                        (arc->p.y + arc->v.y * th - A.y) * ey) / el;
+            if (u < -pad || u > el + pad)
                 continue;
             /* a gap when the centre is over no triangle `bridge` past the edge (and
              * at least a hundredth of the holder's height over it, far beyond the
              * locator's tolerance), along the path, but no more than 100 times that
              * for a path nearly along the edge */
-            double h = fabs(sc) / sqrt(el2);
-            double d = dmax(bridge, 0.01 * h), vh = hypot(arc->v.x, arc->v.y);
-            double dt = d * dmin(vh * sqrt(el2) / -s1, 100.0) / vh;
+            double d = dmax(bridge, 0.01 * fabs(sc) / el);
+            double dt = d * dmin(vh * el / -s1, 100.0) / vh;
             if (over_gap(t, arc, th + dt))
                 best = th;
         }

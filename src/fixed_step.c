@@ -99,7 +99,7 @@ static int flight_step(rf_motion *m, double h)
     rf_vec3 pe = rf_v3_madd(p0, h, ve);
     /* Eq. 6-7: a contact needs the centre in another face's column or below the offset
      * plane of the face under it at the step's end */
-    int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y), tri1 = rf_terrain_locate(t, pe.x, pe.y);
+    int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y);
     if (tri0 >= 0 &&
         rf_v3_dot(t->tri[tri0].n, p0) - t->tri[tri0].d < -RF_TOUCH_BAND * m->tol_len &&
         rf_v3_dot(t->tri[tri0].n, m->s.v) < 0) {
@@ -113,6 +113,7 @@ static int flight_step(rf_motion *m, double h)
         int end = rf_rescue(m);
         return end == RF_RESCUED ? -1 : end;
     }
+    int32_t tri1 = rf_terrain_locate(t, pe.x, pe.y);
     double te = h;
     int hit = 0, out = 0;
     rf_contact c;

@@ -231,7 +231,7 @@ char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri)
     return buf;
 }
 
-char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
+char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0, int alternate,
                        double (*z)(int i, int j, void *), void *ctx)
 {
     size_t nn = (size_t)nx * (size_t)ny;
@@ -242,20 +242,22 @@ char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
         free(tri);
         return NULL;
     }
-    for (int j = 0; j < ny; j++)
+    for (int j = ny - 1; j >= 0; j--)
         for (int i = 0; i < nx; i++)
             P[j * nx + i] = rf_v3(x0 + i * cell, y0 + j * cell, z(i, j, ctx));
+    /* corners SW, SE, NE, NW; the two triangles of each split */
+    static const int split[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{0, 1, 3}, {1, 2, 3}}};
     size_t nt = 0;
     for (int j = 0; j + 1 < ny; j++)
         for (int i = 0; i + 1 < nx; i++) {
-            int a = j * nx + i;
-            int t2[2][3] = {{a, a + 1, a + nx + 1}, {a, a + nx + 1, a + nx}};
-            for (int k = 0; k < 2; k++) {
-                int hole = 0;
-                for (int c = 0; c < 3; c++)
-                    hole |= P[t2[k][c]].z == -9999.0;
-                if (!hole)
-                    memcpy(tri[nt++], t2[k], sizeof t2[k]);
+            int c[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i};
+            for (int h = 0; h < 2; h++) {
+                const int *v = split[alternate && (i + j) % 2][h];
+                if (P[c[v[0]]].z == -9999.0 || P[c[v[1]]].z == -9999.0 || P[c[v[2]]].z == -9999.0)
+                    continue;
+                for (int a = 0; a < 3; a++)
+                    tri[nt][a] = c[v[a]];
+                nt++;
             }
         }
     char *txt = mt_stl_text(P, (const int(*)[3])tri, nt);
@@ -267,7 +269,7 @@ char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
 void mt_grid_terrain(rf_terrain *t, int mesh, int nx, int ny, double cell,
                      double (*z)(int i, int j, void *), void *ctx, rf_surface s)
 {
-    char *txt = mesh ? mt_grid_stl_text(nx, ny, cell, 0.5 * cell, 0.5 * cell, z, ctx)
+    char *txt = mesh ? mt_grid_stl_text(nx, ny, cell, 0.5 * cell, 0.5 * cell, 0, z, ctx)
                      : mt_grid_text(nx, ny, cell, 0.0, 0.0, z, ctx);
     if (mesh)
         mt_mesh_text(t, "grid.stl", txt, s);

@@ -39,9 +39,11 @@ char *mt_grid_text(int nx, int ny, double cell, double x0, double y0,
  * malloc'd. */
 char *mt_stl_text(const rf_vec3 *P, const int (*tri)[3], size_t ntri);
 
-/* The same surface as mt_grid_text's as an ascii STL: each cell split along its SW-NE
- * diagonal, as a grid is, the triangles with a nodata corner left out (holes); malloc'd. */
-char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0,
+/* The same surface as mt_grid_text's as an ascii STL, nodes at (x0, y0) + (i, j) cell,
+ * heights asked for in mt_grid_text's order: each cell split along its SW-NE diagonal,
+ * as a grid is, or (alternate) along a diagonal that alternates with the cell's parity
+ * (i + j odd: SE-NW); the triangles with a nodata corner left out (holes); malloc'd. */
+char *mt_grid_stl_text(int nx, int ny, double cell, double x0, double y0, int alternate,
                        double (*z)(int i, int j, void *), void *ctx);
 
 /* Builds the terrain of mt_grid_text(nx, ny, cell, 0, 0, z, ctx): the ESRI grid, or

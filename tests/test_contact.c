@@ -177,7 +177,7 @@ TEST(contact_centre_at_a_node_takes_the_highest_column)
     for (int j = 0; j < N; j++)
         for (int i = 0; i < N; i++)
             z[j * N + i] = 0.3 * (i * 7 % 5) + 0.8 * (j * 3 % 4);
-    char *txt = mt_grid_stl_text(N, N, 1.0, 0.0, 0.0, node_z, z);
+    char *txt = mt_grid_stl_text(N, N, 1.0, 0.0, 0.0, 0, node_z, z);
     rf_terrain t;
     mt_mesh_text(&t, "nodes.stl", txt, PLAIN);
     free(txt);

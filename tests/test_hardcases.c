@@ -644,39 +644,8 @@ static double replay_z(int i, int j, void *ctx)
     return z;
 }
 
-/* The scene's heights as a mesh: each cell split along a diagonal that alternates with
- * the cell's parity (unlike a grid), the triangles with a nodata corner left out (holes);
- * nodes at (1000, 2000) + (i, j) cell.  malloc'd. */
-static char *replay_mesh_text(int nx, int ny, double cell, replay_grid *q)
-{
-    size_t nn = (size_t)nx * (size_t)ny;
-    rf_vec3 *P = malloc(nn * sizeof *P);
-    int(*tri)[3] = malloc(2 * nn * sizeof *tri);
-    ENSURE(P != NULL && tri != NULL);
-    for (int j = ny - 1; j >= 0; j--)
-        for (int i = 0; i < nx; i++)
-            P[j * nx + i] = rf_v3(1000 + i * cell, 2000 + j * cell, replay_z(i, j, q));
-    size_t nt = 0;
-    for (int j = 0; j + 1 < ny; j++)
-        for (int i = 0; i + 1 < nx; i++) {
-            int c[4] = {j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1, (j + 1) * nx + i};
-            int split[2][2][3] = {{{0, 1, 2}, {0, 2, 3}}, {{0, 1, 3}, {1, 2, 3}}};
-            for (int h = 0; h < 2; h++) {
-                const int *v = split[(i + j) % 2][h];
-                if (P[c[v[0]]].z < -9000 || P[c[v[1]]].z < -9000 || P[c[v[2]]].z < -9000)
-                    continue;
-                for (int a = 0; a < 3; a++)
-                    tri[nt][a] = c[v[a]];
-                nt++;
-            }
-        }
-    char *txt = mt_stl_text(P, (const int(*)[3])tri, nt);
-    free(P);
-    free(tri);
-    return txt;
-}
-
-/* Scene `it` of search `seed` (mesh: as a mesh, replay_mesh_text), trajectory k. */
+/* Scene `it` of search `seed`, trajectory k; mesh: the scene as a mesh, each cell split
+ * along a diagonal that alternates with its parity (unlike a grid), nodata left open. */
 static void replay_scene(unsigned long seed, long it, long k, int mesh, replay *rp)
 {
     gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
@@ -687,7 +656,7 @@ static void replay_scene(unsigned long seed, long it, long k, int mesh, replay *
     double holes = gsl_rng_uniform(g) < 0.3 ? 0.02 : 0.0;
     int steps = gsl_rng_uniform(g) < 0.3;
     replay_grid q = {g, cell, slope, rough, holes, steps};
-    char *txt = mesh ? replay_mesh_text(nx, ny, cell, &q)
+    char *txt = mesh ? mt_grid_stl_text(nx, ny, cell, 1000.0, 2000.0, 1, replay_z, &q)
                      : mt_grid_text(nx, ny, cell, 1000.0, 2000.0, replay_z, &q);
     ENSURE(txt != NULL);
     double e = gsl_rng_uniform(g), esd = gsl_rng_uniform(g) < 0.5 ? 0 : 0.3 * gsl_rng_uniform(g);
