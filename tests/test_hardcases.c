@@ -415,6 +415,88 @@ TEST(hard_mesh_outline_with_a_skirt)
     }
 }
 
+/* How many of 8 points round (x, y) at distance d have terrain under them. */
+static int terrain_round(const rf_terrain *t, double x, double y, double d)
+{
+    int n = 0;
+    for (int k = 0; k < 8; k++) {
+        double a = k * 0.25 * M_PI, z;
+        n += rf_terrain_height(t, x + d * cos(a), y + d * sin(a), &z) >= 0;
+    }
+    return n;
+}
+
+/* A real terrain: the Authume quarry's mesh (../shared/validation/authume), three STL
+ * files of about 0.5 m triangles in a y-up frame, one zone each, with vertical rock
+ * walls and flat benches, and an outline that is not its bounding box.  Rocks of 300 to
+ * 1 800 kg dropped from the shovel on both profiles, in every rock model, contact and
+ * engine: sane, each rests or leaves the mesh at its outline (where ground is on one
+ * side only; without the outline's gaps they left at the bounding box), none under the
+ * ground, and no full-contact sphere's centre ever nearer the terrain than 0.99 r
+ * (without edge contacts, 0.57 r). */
+TEST(hard_real_mesh_of_three_files_all_engines)
+{
+    static const char *names[3] = {"Blue", "Gray", "Red"};
+    char paths[3][1024], *files[3];
+    for (int i = 0; i < 3; i++) {
+        char rel[256];
+        snprintf(rel, sizeof rel, "validation/authume/Geometries/STL/DTM_%s_zone.stl", names[i]);
+        snprintf(paths[i], sizeof paths[i], "%s", rf_test_shared(rel));
+        files[i] = paths[i];
+    }
+    /* hard ground (Gray) bouncier than the slopes */
+    rf_zone_spec zones[1] = {{.name = (char *)"gray", .file = paths[1],
+                              .surface = {{0.4, 0.05}, {0.5, 0.1}, {0.3, 0.02}}}};
+    rf_terrain_spec spec = {.source = RF_TERRAIN_MESH, .files = files, .nfiles = 3, .up = 'y',
+                            .surface = {{0.25, 0.05}, {0.5, 0.1}, {0.3, 0.02}},
+                            .zones = zones, .nzones = 1};
+    rf_terrain t;
+    rf_error err;
+    memset(&err, 0, sizeof err);
+    ENSURE_MSG(rf_terrain_build(&spec, &t, &err) == 0, "%s", err.message);
+    /* the drop zones' centres (file x, z) and the shovel's height (file y) */
+    const double drop[2][3] = {{0.32, 370.4, 211.75}, {-1.83, 289.85, 209.48}};
+    const double mass[4] = {300.0, 700.0, 1200.0, 1800.0};
+    long rest = 0, exited = 0;
+    for (int mode = 0; mode < 5; mode++) {
+        rf_rock_model md = mode == 2 || mode == 4 ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_simulation sim = mt_sim(md, mode == 1 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL, 300.0);
+        if (mode >= 3)
+            sim.engine = RF_ENGINE_FIXED_STEP, sim.dt = 0.002;
+        for (int p = 0; p < 2; p++)
+            for (int k = 0; k < 8; k++) {
+                rf_body b = rf_body_make(mass[k % 4], 2650.0, md);
+                double rho = rf_body_contact_radius(&b);
+                rf_state s = mt_state(rf_v3(drop[p][0] - 1.5 + k % 4, drop[p][1] - 1.0 + k / 4,
+                                            drop[p][2]),
+                                      rf_v3(0.5 * (k % 3), 0.2 * (k % 2), 0.0));
+                mt_run r;
+                mt_simulate_opts(&t, &sim, &b, &s, 100 * (unsigned long)mode + 10 * p + k, 0.0, &r);
+                ensure_sane(&r, 300);
+                ENSURE(r.rec.reason == RF_END_REST || r.rec.reason == RF_END_EXITED);
+                rest += r.rec.reason == RF_END_REST;
+                exited += r.rec.reason == RF_END_EXITED;
+                double x = r.rec.stop.x, y = r.rec.stop.y, z;
+                ENSURE_MSG(r.rec.reason == RF_END_REST ||
+                               (terrain_round(&t, x, y, 1.0) < 8 && terrain_round(&t, x, y, 0.1) > 0),
+                           "mode %d, drop %d, rock %d left the terrain at (%.3f, %.3f), not at "
+                           "its outline", mode, p, k, x, y);
+                if (rf_terrain_height(&t, x, y, &z) >= 0)
+                    ENSURE_MSG(r.rec.stop.z > z - 1e-6, "mode %d, drop %d, rock %d ends %.3g m "
+                               "under the ground", mode, p, k, z - r.rec.stop.z);
+                if (mode == 0 && k < 4)
+                    for (size_t i = 1; i < r.npoints; i++)
+                        ENSURE_MSG(mt_terrain_distance(&t, r.points[i].p) > 0.99 * rho,
+                                   "drop %d, rock %d, point %zu: %.4f r from the terrain", p, k,
+                                   i, mt_terrain_distance(&t, r.points[i].p) / rho);
+                mt_run_free(&r);
+            }
+    }
+    /* both ends are taken (benches hold some rocks, others run off the quarry's end) */
+    ENSURE_MSG(rest > 10 && exited > 10, "rest %ld, exited %ld", rest, exited);
+    rf_terrain_free(&t);
+}
+
 /* ---- truncation limits ----------------------------------------------------------------- */
 
 TEST(hard_restitution_and_friction_at_limits)
