@@ -372,7 +372,8 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
     rf_quadratic_range(f, t0, t1, &fmin, &fmax);
     if (fmin > tol)
         return;
-    double lo = t0, hi = t1, in = t0; /* in: the centre half the tolerance outside */
+    double lo = t0, hi = t1;
+    double al[3], be[3]; /* the centre's inward distance from edge k: al + be t */
     rf_vec3 P[3] = {T->a, T->b, T->c};
     double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
     if (orient == 0.0)
@@ -386,14 +387,13 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
         double el = hypot(ex, ey);
         if (!(el > 0))
             return;
-        /* inward distance of the centre: alpha + beta t */
         double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
-        if (fabs(alpha) <= tol)
+        al[k] = alpha, be[k] = beta;
+        if (at_start && fabs(alpha) <= tol)
             moves_in |= beta > 0, moves_out |= beta < 0;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
-            in = dmax(in, (-0.5 * tol - alpha) / beta);
         } else if (beta < 0) {
             hi = dmin(hi, (-tol - alpha) / beta);
         } else if (alpha < -tol) {
@@ -415,7 +415,12 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
          * tolerance outside the column's edge: at the tolerance, rounding put it beyond
          * the edge for the face's surface phase, which left the face at once (on the
          * edge, it was met at once again after a reflection off a wall there) */
-        t = dmin(in, hi); /* in >= lo: the same edges, half the tolerance further in */
+        double in = t0; /* the centre half the tolerance outside: in >= lo (the same
+                         * edges, half the tolerance further in) */
+        for (int k = 0; k < 3; k++)
+            if (be[k] > 0)
+                in = dmax(in, (-0.5 * tol - al[k]) / be[k]);
+        t = dmin(in, hi);
     } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {
         return;
     }
@@ -739,7 +744,7 @@ static void test_left(search *s, int32_t idx, double t0, double t1, double tend,
     const rf_motion *m = s->m;
     if (m->centre || m->point)
         test_centre(s, idx, t0, t1, 1);
-    else if (m->rho > 0)
+    else
         pend_push(s, idx, t0, tend, npend);
 }
 
@@ -910,7 +915,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
      * mode the centre meets a face r / n.z above its plane, the furthest above the
      * steepest face; a rock lifted onto a steep face at the top and let fall again
      * fell through it) */
-    double up = m->centre ? reach / dmax(t->nz_min, 1e-12) : reach;
+    double up = m->centre ? reach / m->ws->nz_min : reach;
     double cell = t->is_grid ? t->cell : t->bsize;
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
     double hlen = vh * T;
@@ -1270,14 +1275,15 @@ static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, 
  * triangle holds in plan (a border of the mesh or of a hole in it) into where no
  * triangle is; INFINITY when it does not.  A gap narrower than `bridge` along the path
  * (a sphere in full contact: r) is passed over, as is a crack at a seam between two
- * files of the mesh narrower than a hundredth of the triangles' size. */
-static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double ta, double tb,
+ * files of the mesh narrower than a hundredth of the triangles' size.  vh: the path's
+ * horizontal speed. */
+static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double ta, double tb,
                              double bridge)
 {
     const rf_terrain *t = m->terrain;
     double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
     double ya = arc->p.y + arc->v.y * ta, yb = arc->p.y + arc->v.y * tb;
-    double pad = 4 * m->tol_len, vh = hypot(arc->v.x, arc->v.y);
+    double pad = 4 * m->tol_len;
     size_t n = rf_gather(m, dmin(xa, xb) - pad, dmin(ya, yb) - pad, dmax(xa, xb) + pad,
                          dmax(ya, yb) + pad);
     double best = INFINITY;
@@ -1366,7 +1372,7 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
     for (long i = 0; i < npieces; i++) {
         double ta = te * (double)i / (double)npieces, tb = te * (double)(i + 1) / (double)npieces;
         double best = t->is_grid ? grid_gap_entry(t, arc, ta, tb, te)
-                                  : mesh_gap_entry(m, arc, ta, tb, bridge);
+                                  : mesh_gap_entry(m, arc, vh, ta, tb, bridge);
         if (best < INFINITY)
             return best;
     }
@@ -1499,9 +1505,10 @@ static void vertical_overlap(const rf_triangle *T, double x, double y, double rh
             }
         }
     }
-    if (fabs(T->n.z) > 1e-12) {
-        /* each offset face is met where the foot of the line's point lies in T */
-        rf_vec3 nu = T->n.z > 0 ? T->n : rf_v3_scale(T->n, -1.0);
+    if (T->n.z > 1e-12) {
+        /* each offset face is met where the foot of the line's point lies in T (n.z
+         * >= 0: the normals point up) */
+        rf_vec3 nu = T->n;
         double zp = rf_triangle_z_at(T, x, y), dz = rho / nu.z;
         if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp + dz), -rho, nu)))
             *hi = dmax(*hi, zp + dz);

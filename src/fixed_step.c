@@ -80,16 +80,6 @@ static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h)
     return scene;
 }
 
-/* The first contact along the step's straight piece p + v t over [0, T], found as the
- * exact engine finds a flight's (Eq. 6-7: the centre moves over a column already
- * within reach of its plane, or reaches the plane over the column); the face flown
- * off (flight_ex) is left out. */
-static int piece_contact(rf_motion *m, rf_vec3 p, rf_vec3 v, double T, rf_contact *c)
-{
-    rf_arc piece = {p, v, rf_v3(0, 0, 0)};
-    return rf_contact_search(m, &piece, T, m->flight_ex.n ? &m->flight_ex : NULL, c) && c->t <= T;
-}
-
 static int flight_step(rf_motion *m, double h)
 {
     const rf_terrain *t = m->terrain;
@@ -119,12 +109,12 @@ static int flight_step(rf_motion *m, double h)
     rf_contact c;
     if (tri1 != tri0 || tri1 < 0 ||
         rf_v3_dot(t->tri[tri1].n, pe) - t->tri[tri1].d - m->rho < m->tol_len) {
-        double tx = h;
-        if (tri1 < 0) {
-            rf_arc piece = {p0, ve, rf_v3(0, 0, 0)};
-            tx = rf_terrain_exit_time(m, &piece, h);
-        }
-        hit = piece_contact(m, p0, ve, tx, &c);
+        /* the step's straight piece p0 + ve t, searched as the exact engine searches a
+         * flight (Eq. 6-7: the centre moves over a column already within reach of its
+         * plane, or reaches the plane over the column) */
+        rf_arc piece = {p0, ve, rf_v3(0, 0, 0)};
+        double tx = tri1 < 0 ? rf_terrain_exit_time(m, &piece, h) : h;
+        hit = rf_flight_contact(m, &piece, tx, &c);
         te = hit ? c.t : tx;
         /* out only where the terrain's gaps end it: the step's end over a crack the
          * rock bridges (rf_terrain_exit_time) is not */
@@ -192,8 +182,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
     if (run->wall >= 0) {
         /* along the wall: the law along it, the wall taking the rest */
         a = rf_surface_accel(m, n, run->dir, run->dir, &du);
-        a = rf_v3_scale(run->dir, rf_v3_dot(a, run->dir));
-        du = rf_v3_scale(run->dir, rf_v3_dot(du, run->dir));
+        rf_wall_law(run->dir, &a, &du);
     } else {
         a = rf_surface_accel(m, n, m->s.v, u, &du);
     }
@@ -357,8 +346,6 @@ int rf_simulate_fixed_step(rf_motion *m)
     if (end >= 0)
         return end;
     face_run run = {1, -1, {0, 0, 0}};
-    m->stall_t = m->s.t;
-    m->creep_p = m->s.p;
     long marked = m->marked;
     /* the steps max_time takes and as many events as the exact engine may meet */
     double budget = ceil((m->t_end - m->s.t) / dt) + RF_MAX_EVENTS;

@@ -71,6 +71,10 @@ rf_workspace *rf_workspace_alloc(const rf_terrain *t)
     }
     rf_tri_box_build(t, ws->tri_box);
     ws->has_gaps = rf_terrain_has_gaps(t, ws->edge_live);
+    ws->nz_min = 1.0;
+    for (size_t k = 0; k < t->ntri; k++)
+        ws->nz_min = fmin(ws->nz_min, t->tri[k].n.z);
+    ws->nz_min = fmax(ws->nz_min, 1e-12);
     return ws;
 }
 
@@ -157,6 +161,12 @@ void rf_motion_event(rf_motion *m)
 
 /* ---- flight ------------------------------------------------------------------------ */
 
+int rf_flight_contact(rf_motion *m, const rf_arc *arc, double T, rf_contact *c)
+{
+    const rf_support *ex = m->flight_ex.n ? &m->flight_ex : NULL;
+    return rf_contact_search(m, arc, T, ex, c) && c->t <= T;
+}
+
 /* One flight until its next event; returns -1 to go on, or the end reason. */
 static int flight_step(rf_motion *m)
 {
@@ -172,8 +182,7 @@ static int flight_step(rf_motion *m)
     double tc = fmin(T, t_fall);
     double te = rf_terrain_exit_time(m, &arc, tc);
     rf_contact c;
-    const rf_support *ex = m->flight_ex.n ? &m->flight_ex : NULL;
-    int hit = rf_contact_search(m, &arc, te, ex, &c) && c.t <= te;
+    int hit = rf_flight_contact(m, &arc, te, &c);
     double tend = hit ? c.t : te;
     double ts = rf_scene_horizon(m, &arc, tend);
     if (m->scene_pending && ts < tend) {
@@ -195,7 +204,8 @@ static int flight_step(rf_motion *m)
 
 /* ---- start ------------------------------------------------------------------------- */
 
-int rf_motion_start(rf_motion *m)
+/* rf_motion_start without the progress watch. */
+static int place_start(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
@@ -237,7 +247,7 @@ int rf_motion_start(rf_motion *m)
              * of every feature, but below them) is not taken */
             int32_t under = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
             if (dist < m->rho - m->tol_len || under < 0 ||
-                rf_v3_dot(t->tri[under].n, m->s.p) - t->tri[under].d < m->rho - m->tol_len) {
+                rf_triangle_plane_distance(&t->tri[under], m->s.p) < m->rho - m->tol_len) {
                 m->s.p = p0;
                 m->s.p.z = rf_clear_height(m, p0);
                 dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
@@ -262,6 +272,16 @@ int rf_motion_start(rf_motion *m)
     }
     rf_contact_resolve(m, &c);
     return -1;
+}
+
+int rf_motion_start(rf_motion *m)
+{
+    int end = place_start(m);
+    if (end < 0) {
+        m->stall_t = m->s.t;
+        m->creep_p = m->s.p;
+    }
+    return end;
 }
 
 /* ---- the exact engine ------------------------------------------------------------- */
@@ -372,8 +392,6 @@ static int run_exact(rf_motion *m)
     int end = rf_motion_start(m);
     if (end >= 0)
         return end;
-    m->stall_t = m->s.t;
-    m->creep_p = m->s.p;
     for (;;) {
         if (++m->events > RF_MAX_EVENTS)
             return RF_END_MAX_TIME;

@@ -173,6 +173,8 @@ struct rf_workspace {
     uint32_t epoch;
     int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
                          a mesh on its border in plan off its bounding box's sides */
+    double nz_min;    /* the smallest z component of the faces' unit normals, at least
+                         1e-12 (centre contact: a centre meets a face r / n.z above) */
     int32_t *near_hit; /* candidates of a surface segment */
     float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
                          outwards) */
@@ -247,11 +249,6 @@ int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live);
 void rf_tri_box_build(const rf_terrain *t, float *box);
 /* Gathers the triangles whose xy box overlaps the box into ws->cand; returns count. */
 size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax);
-/* Centre mode: of the faces whose columns hold the centre (several on a border, within
- * the length tolerance), the one whose offset plane is highest there; tri is the one
- * located.  Lifted onto another's plane, a rescued centre at a mesh's node lay under a
- * neighbouring column's plane, over that column, and fell through it. */
-int32_t rf_highest_column(rf_motion *m, int32_t tri);
 /* Earliest contact along `arc` over [0, T] of the rock (contact radius m->rho; centre
  * mode tests the face under the centre only).  The faces, edges and vertices of the
  * support triangles in `ex` are ignored.  Returns 1 and fills *c when there is one. */
@@ -375,6 +372,10 @@ void rf_support_single(rf_motion *m, int32_t tri, int fresh);
  * or rolling sphere; coefficients of m->sup): acceleration of the centre, and in *du
  * the rate of the slip u of a slipping sphere. */
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du);
+/* Along a wall (centre contact: the steep face beyond an edge of the column, dir along
+ * that edge): the wall takes the parts across it of the acceleration a and of the
+ * slip's rate du. */
+void rf_wall_law(rf_vec3 dir, rf_vec3 *a, rf_vec3 *du);
 /* 1 when the rock at rest on its support would stay there. */
 int rf_surface_holds(const rf_motion *m);
 /* Slip of the sphere's contact point on a face with normal n: u = v + w x (-r n), in
@@ -406,8 +407,17 @@ void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj);
 void rf_motion_event(rf_motion *m);
 /* Places the rock at the start of a trajectory: on the surface when it touches it
  * (landing, or an impact when it moves into it), else in flight.  Returns -1 to go on
- * or an end reason.  Shared by both engines. */
+ * or an end reason; going on, progress (rf_progress) is watched from there.  Shared by
+ * both engines. */
 int rf_motion_start(rf_motion *m);
+/* The first contact of a flight along arc over [0, T], the face flown off (flight_ex)
+ * left out; both engines' flights take it. */
+int rf_flight_contact(rf_motion *m, const rf_arc *arc, double T, rf_contact *c);
+/* Centre mode: of the faces whose columns hold the centre (several on a border, within
+ * the length tolerance), the one whose offset plane is highest there; tri is the one
+ * located.  Lifted onto another's plane, a rescued centre at a mesh's node lay under a
+ * neighbouring column's plane, over that column, and fell through it. */
+int32_t rf_highest_column(rf_motion *m, int32_t tri);
 /* Total kinetic energy of the current state (J). */
 double rf_motion_energy(const rf_motion *m);
 /* The rock's progress, at every turn of either engine's loop: a rock that meets events

@@ -102,6 +102,12 @@ static rf_vec3 law_dir(const face_dyn *f, rf_vec3 v, rf_vec3 u)
     return xl > 0 ? rf_v3_scale(x, 1.0 / xl) : f->e1;
 }
 
+void rf_wall_law(rf_vec3 dir, rf_vec3 *a, rf_vec3 *du)
+{
+    *a = rf_v3_scale(dir, rf_v3_dot(*a, dir));
+    *du = rf_v3_scale(dir, rf_v3_dot(*du, dir)); /* the wall's push changes no spin */
+}
+
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du)
 {
     face_dyn f;
@@ -787,17 +793,14 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
 {
     rf_support ex = segment_exclusion(m);
     rf_vec3 a = law_accel(f, dir);
+    rf_vec3 du = f->mode == LAW_SLIDE ? law_slip_rate(f, dir) : rf_v3(0, 0, 0);
     if (wall >= 0)
-        a = rf_v3_scale(dir, rf_v3_dot(a, dir));
+        rf_wall_law(dir, &a, &du);
     double speed = rf_v3_norm(m->s.v);
     seg_event ev = {EV_MAX_TIME, m->t_end - m->s.t, 0, 0, {0}, 0.0};
     if (ev.t < 0)
         ev.t = 0;
-    rf_vec3 du = rf_v3(0, 0, 0);
     if (f->mode == LAW_SLIDE) {
-        du = law_slip_rate(f, dir);
-        if (wall >= 0)
-            du = rf_v3_scale(dir, rf_v3_dot(du, dir)); /* the wall's push changes no spin */
         double dus = rf_v3_dot(du, dir);
         if (dus < 0)
             consider(&ev, EV_SLIP, rf_v3_norm(u0) / -dus);

@@ -407,9 +407,7 @@ static void compute_bounds(rf_terrain *t)
 {
     t->xmin = t->ymin = t->zmin = INFINITY;
     t->xmax = t->ymax = t->zmax = -INFINITY;
-    t->nz_min = 1.0;
     for (size_t k = 0; k < t->ntri; k++) {
-        t->nz_min = fmin(t->nz_min, t->tri[k].n.z);
         const rf_vec3 *v[3] = {&t->tri[k].a, &t->tri[k].b, &t->tri[k].c};
         for (int i = 0; i < 3; i++) {
             t->xmin = fmin(t->xmin, v[i]->x), t->xmax = fmax(t->xmax, v[i]->x);

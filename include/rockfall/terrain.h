@@ -82,7 +82,6 @@ typedef struct rf_terrain {
     rf_zone *zones; /* zones[0] is the default surface ("default") */
     size_t nzones;
     double xmin, xmax, ymin, ymax, zmin, zmax;
-    double nz_min; /* the smallest z component of the faces' unit normals */
 
     /* DEM grids: O(1) location.  Nodes at x0 + i*cell, y0 + j*cell (i < nx, j < ny);
      * cell (i, j) spans nodes i..i+1, j..j+1 and holds triangles
