@@ -13,6 +13,10 @@ void rf_test_fail(const char *file, int line, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Path of a file under ../shared (the shared folder beside the repository). */
 const char *rf_test_shared(const char *rel);
+/* The Authume quarry's mesh (../shared/validation/authume): the paths of its three STL
+ * files, DTM_Blue_zone, DTM_Gray_zone and DTM_Red_zone in that order, into paths, and
+ * files[i] pointing at paths[i]. */
+void rf_test_authume_files(char paths[3][4096], char *files[3]);
 /* Runs the rockfall binary ($ROCKFALL_BIN, else build/rockfall) with `args`; returns
  * its exit status, with its stdout and stderr together in out (NUL-terminated). */
 int rf_test_rockfall(const char *args, char *out, size_t cap);

@@ -436,14 +436,8 @@ static int terrain_round(const rf_terrain *t, double x, double y, double d)
  * (without edge contacts, 0.57 r). */
 TEST(hard_real_mesh_of_three_files_all_engines)
 {
-    static const char *names[3] = {"Blue", "Gray", "Red"};
-    char paths[3][1024], *files[3];
-    for (int i = 0; i < 3; i++) {
-        char rel[256];
-        snprintf(rel, sizeof rel, "validation/authume/Geometries/STL/DTM_%s_zone.stl", names[i]);
-        snprintf(paths[i], sizeof paths[i], "%s", rf_test_shared(rel));
-        files[i] = paths[i];
-    }
+    char paths[3][4096], *files[3];
+    rf_test_authume_files(paths, files);
     /* hard ground (Gray) bouncier than the slopes */
     rf_zone_spec zones[1] = {{.name = (char *)"gray", .file = paths[1],
                               .surface = {{0.4, 0.05}, {0.5, 0.1}, {0.3, 0.02}}}};

@@ -50,6 +50,17 @@ const char *rf_test_shared(const char *rel)
     return buf;
 }
 
+void rf_test_authume_files(char paths[3][4096], char *files[3])
+{
+    static const char *names[3] = {"Blue", "Gray", "Red"};
+    for (int i = 0; i < 3; i++) {
+        char rel[256];
+        snprintf(rel, sizeof rel, "validation/authume/Geometries/STL/DTM_%s_zone.stl", names[i]);
+        snprintf(paths[i], 4096, "%s", rf_test_shared(rel));
+        files[i] = paths[i];
+    }
+}
+
 int rf_test_rockfall(const char *args, char *out, size_t cap)
 {
     const char *bin = getenv("ROCKFALL_BIN");

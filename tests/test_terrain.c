@@ -752,14 +752,8 @@ TEST(terrain_authume_mesh)
 {
     static const char *names[3] = {"DTM_Blue_zone", "DTM_Gray_zone", "DTM_Red_zone"};
     static const size_t facets[3] = {5300, 2953, 748};
-    char paths[3][1024];
-    char *files[3];
-    for (int i = 0; i < 3; i++) {
-        char rel[256];
-        snprintf(rel, sizeof rel, "validation/authume/Geometries/STL/%s.stl", names[i]);
-        snprintf(paths[i], sizeof paths[i], "%s", rf_test_shared(rel));
-        files[i] = paths[i];
-    }
+    char paths[3][4096], *files[3];
+    rf_test_authume_files(paths, files);
     rf_zone_spec zones[1] = {{.name = (char *)"gray", .file = paths[1], .surface = SURF_OTHER}};
     rf_terrain_spec spec = {.source = RF_TERRAIN_MESH, .files = files, .nfiles = 3, .up = 'y',
                             .surface = SURF_DEFAULT, .zones = zones, .nzones = 1};
