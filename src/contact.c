@@ -375,6 +375,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
     double lo = t0, hi = t1;
     double al[3], be[3]; /* the centre's inward distance from edge k: al + be t */
     rf_vec3 P[3] = {T->a, T->b, T->c};
+    const double *hedge = s->m->ws->hedge + 3 * (size_t)idx;
     double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
     if (orient == 0.0)
         return;
@@ -384,7 +385,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         double ex = B.x - A.x, ey = B.y - A.y;
-        double el = hypot(ex, ey);
+        double el = hedge[k];
         if (!(el > 0))
             return;
         double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
@@ -1000,6 +1001,16 @@ void rf_tri_box_build(const rf_terrain *t, float *box)
         box[3] = float_up(dmax(T->a.y, dmax(T->b.y, T->c.y)));
         box[4] = float_down(dmin(T->a.z, dmin(T->b.z, T->c.z)));
         box[5] = float_up(dmax(T->a.z, dmax(T->b.z, T->c.z)));
+    }
+}
+
+void rf_hedge_build(const rf_terrain *t, double *hedge)
+{
+    for (size_t i = 0; i < t->ntri; i++, hedge += 3) {
+        const rf_triangle *T = &t->tri[i];
+        rf_vec3 P[3] = {T->a, T->b, T->c};
+        for (int k = 0; k < 3; k++)
+            hedge[k] = hypot(P[(k + 1) % 3].x - P[k].x, P[(k + 1) % 3].y - P[k].y);
     }
 }
 

@@ -64,12 +64,14 @@ rf_workspace *rf_workspace_alloc(const rf_terrain *t)
     ws->tested = calloc(t->ntri ? t->ntri : 1, sizeof *ws->tested);
     ws->edge_live = malloc(t->ntri ? t->ntri : 1);
     ws->tri_box = malloc(6 * (t->ntri ? t->ntri : 1) * sizeof *ws->tri_box);
-    if (!ws->cand || !ws->stamp || !ws->tested || !ws->edge_live || !ws->tri_box ||
+    ws->hedge = malloc(3 * (t->ntri ? t->ntri : 1) * sizeof *ws->hedge);
+    if (!ws->cand || !ws->stamp || !ws->tested || !ws->edge_live || !ws->tri_box || !ws->hedge ||
         rf_edge_live_build(t, ws->edge_live)) {
         rf_workspace_free(ws);
         return NULL;
     }
     rf_tri_box_build(t, ws->tri_box);
+    rf_hedge_build(t, ws->hedge);
     ws->has_gaps = rf_terrain_has_gaps(t, ws->edge_live);
     ws->nz_min = 1.0;
     for (size_t k = 0; k < t->ntri; k++)
@@ -87,6 +89,7 @@ void rf_workspace_free(rf_workspace *ws)
     free(ws->tested);
     free(ws->edge_live);
     free(ws->tri_box);
+    free(ws->hedge);
     free(ws->near_hit);
     free(ws->pend_idx);
     free(ws->pend_w0);

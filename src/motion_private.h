@@ -178,6 +178,7 @@ struct rf_workspace {
     int32_t *near_hit; /* candidates of a surface segment */
     float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
                          outwards) */
+    double *hedge;    /* per triangle: the horizontal lengths of edges ab, bc, ca */
     size_t near_cap;
     int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
     double *pend_w0;
@@ -247,6 +248,8 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live);
 int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live);
 /* Fills ws->tri_box for terrain t. */
 void rf_tri_box_build(const rf_terrain *t, float *box);
+/* Fills ws->hedge for terrain t. */
+void rf_hedge_build(const rf_terrain *t, double *hedge);
 /* Gathers the triangles whose xy box overlaps the box into ws->cand; returns count. */
 size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax);
 /* Earliest contact along `arc` over [0, T] of the rock (contact radius m->rho; centre
