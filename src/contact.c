@@ -4,8 +4,9 @@
  * distance minus the contact radius is a quadratic in t; against an edge line or a
  * vertex the squared distance minus rho^2 is a quartic.  The triangles near the path
  * are gathered piece by piece along it (the candidate set stays small however long
- * the arc), culled by height and by the time window in which the face plane is within
- * reach, and the earliest entering root over all of them wins.  No stepping: a contact
+ * the arc; on a grid, a centre's or a point's flight walks the cells under its line),
+ * culled by height and by the time window in which the face plane is within reach,
+ * and the earliest entering root over all of them wins.  No stepping: a contact
  * is found whatever the speed. */
 #include "motion_private.h"
 #include "util.h"
@@ -17,27 +18,38 @@
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
 
-/* Grid terrains: the cells the box touches, both triangles of each (a few more than
- * the box holds, none missing), by index arithmetic on the documented layout. */
-static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
+/* Grid terrains: the cells [r[0], r[1]] x [r[2], r[3]] the box touches; 0 when it
+ * misses the grid. */
+static int grid_cells(const rf_terrain *t, double xmin, double ymin, double xmax, double ymax,
+                      size_t r[4])
 {
-    rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
     double ncx = (double)(t->nx - 1), ncy = (double)(t->ny - 1);
     double fi0 = floor((xmin - t->x0) / t->cell), fi1 = floor((xmax - t->x0) / t->cell);
     double fj0 = floor((ymin - t->y0) / t->cell), fj1 = floor((ymax - t->y0) / t->cell);
     if (!(fi1 >= 0 && fj1 >= 0 && fi0 <= ncx - 1 && fj0 <= ncy - 1))
         return 0;
-    size_t i0 = fi0 < 0 ? 0 : (size_t)fi0, j0 = fj0 < 0 ? 0 : (size_t)fj0;
-    size_t i1 = fi1 > ncx - 1 ? (size_t)ncx - 1 : (size_t)fi1;
-    size_t j1 = fj1 > ncy - 1 ? (size_t)ncy - 1 : (size_t)fj1;
-    size_t need = 2 * (i1 - i0 + 1) * (j1 - j0 + 1);
+    r[0] = fi0 < 0 ? 0 : (size_t)fi0, r[2] = fj0 < 0 ? 0 : (size_t)fj0;
+    r[1] = fi1 > ncx - 1 ? (size_t)ncx - 1 : (size_t)fi1;
+    r[3] = fj1 > ncy - 1 ? (size_t)ncy - 1 : (size_t)fj1;
+    return 1;
+}
+
+/* Grid terrains: both triangles of each cell the box touches (a few more than the box
+ * holds, none missing), by index arithmetic on the documented layout. */
+static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
+{
+    rf_workspace *ws = m->ws;
+    const rf_terrain *t = m->terrain;
+    size_t r[4];
+    if (!grid_cells(t, xmin, ymin, xmax, ymax, r))
+        return 0;
+    size_t need = 2 * (r[1] - r[0] + 1) * (r[3] - r[2] + 1);
     if (rf_grow((void **)&ws->cand, &ws->cap, need, sizeof *ws->cand))
         return 0;
     size_t n = 0, row = t->nx - 1;
-    for (size_t j = j0; j <= j1; j++) {
-        const int32_t *g = t->grid_tri + 2 * (j * row + i0);
-        for (size_t i = i0; i <= i1; i++, g += 2) {
+    for (size_t j = r[2]; j <= r[3]; j++) {
+        const int32_t *g = t->grid_tri + 2 * (j * row + r[0]);
+        for (size_t i = r[0]; i <= r[1]; i++, g += 2) {
             if (g[0] >= 0)
                 ws->cand[n++] = g[0];
             if (g[1] >= 0)
@@ -770,75 +782,153 @@ static void test_pending(search *s, size_t npend, double tb, rf_vec3 lo, rf_vec3
             test_edges(s, ws->pend_idx[k], ws->pend_w0[k], tb);
 }
 
-/* A flight (s->line) over [0, T]: the candidates not yet tested in this search, each
- * over the whole time it is within reach of the centre (so once per search); faces
- * first, then the edges and vertices of the triangles whose planes are reached before
- * the earliest contact found. */
-static void test_line_candidates(search *s, const int32_t *cand, size_t n, double T)
+/* A flight (s->line) over [0, T]: candidate idx, unless already tested in this search,
+ * over the whole time it is within reach of the centre (so once per search); its face
+ * now, its edges and vertices pending when its plane is reached before the earliest
+ * contact found. */
+static void line_candidate(search *s, int32_t idx, double T, size_t *npend)
 {
     rf_motion *m = s->m;
     rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
+    if (ws->tested[idx] == ws->test_epoch)
+        return;
+    ws->tested[idx] = ws->test_epoch;
+    const rf_triangle *Tr = &m->terrain->tri[idx];
     const rf_arc *arc = s->arc;
     double reach = m->rho + 4 * m->tol_len;
     double hr = line_reach(m);
+    /* a point of the triangle within reach of the centre: within reach of the
+     * horizontal line, the centre horizontally within reach of it meanwhile, and
+     * not lower than the centre's lowest height then minus the reach */
+    double pa = s->ux * Tr->a.y - s->uy * Tr->a.x - s->d0;
+    double pb = s->ux * Tr->b.y - s->uy * Tr->b.x - s->d0;
+    double pc = s->ux * Tr->c.y - s->uy * Tr->c.x - s->d0;
+    if ((pa > hr && pb > hr && pc > hr) || (pa < -hr && pb < -hr && pc < -hr))
+        return;
+    double qa = s->ux * Tr->a.x + s->uy * Tr->a.y - s->s0;
+    double qb = s->ux * Tr->b.x + s->uy * Tr->b.y - s->s0;
+    double qc = s->ux * Tr->c.x + s->uy * Tr->c.y - s->s0;
+    double tl = (dmin(qa, dmin(qb, qc)) - hr) / s->vh;
+    double th = (dmax(qa, dmax(qb, qc)) + hr) / s->vh;
+    if (tl < 0.0)
+        tl = 0.0;
+    if (th > T)
+        th = T;
+    if (th > s->best)
+        th = s->best;
+    if (!(tl <= th))
+        return;
     double zq[3] = {arc->p.z, arc->v.z, 0.5 * arc->a.z};
-    uint32_t mark = ws->test_epoch;
-    pend_reserve(ws, n);
-    size_t npend = 0;
-    for (size_t k = 0; k < n; k++) {
-        int32_t idx = cand[k];
-        if (ws->tested[idx] == mark)
-            continue;
-        ws->tested[idx] = mark;
-        const rf_triangle *Tr = &t->tri[idx];
-        /* a point of the triangle within reach of the centre: within reach of the
-         * horizontal line, the centre horizontally within reach of it meanwhile, and
-         * not lower than the centre's lowest height then minus the reach */
-        double pa = s->ux * Tr->a.y - s->uy * Tr->a.x - s->d0;
-        double pb = s->ux * Tr->b.y - s->uy * Tr->b.x - s->d0;
-        double pc = s->ux * Tr->c.y - s->uy * Tr->c.x - s->d0;
-        if ((pa > hr && pb > hr && pc > hr) || (pa < -hr && pb < -hr && pc < -hr))
-            continue;
-        double qa = s->ux * Tr->a.x + s->uy * Tr->a.y - s->s0;
-        double qb = s->ux * Tr->b.x + s->uy * Tr->b.y - s->s0;
-        double qc = s->ux * Tr->c.x + s->uy * Tr->c.y - s->s0;
-        double tl = (dmin(qa, dmin(qb, qc)) - hr) / s->vh;
-        double th = (dmax(qa, dmax(qb, qc)) + hr) / s->vh;
-        if (tl < 0.0)
-            tl = 0.0;
-        if (th > T)
-            th = T;
-        if (th > s->best)
-            th = s->best;
-        if (!(tl <= th))
-            continue;
-        double zlo, zhi; /* the centre's height over [tl, th] */
-        rf_quadratic_range(zq, tl, th, &zlo, &zhi);
-        double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
-        if (m->centre) {
-            /* as test_candidates: the centre meets a face r / n.z above its plane */
-            if (zt < zlo - reach / dmax(Tr->n.z, 1e-12) ||
-                dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zhi + reach)
-                continue;
-        } else if (zt < zlo - reach) {
-            continue;
-        }
-        if (excluded_tri(s->ex, idx)) {
-            test_left(s, idx, tl, th, T, &npend);
-            continue;
-        }
-        double w0;
-        if (test_face(s, idx, tl, th, &w0)) {
-            if (w0 < tl)
-                w0 = tl;
-            if (w0 > th)
-                continue;
-            pend_push(s, idx, w0, T, &npend);
-        }
+    double zlo, zhi; /* the centre's height over [tl, th] */
+    rf_quadratic_range(zq, tl, th, &zlo, &zhi);
+    double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
+    if (m->centre) {
+        /* as test_candidates: the centre meets a face r / n.z above its plane */
+        if (zt < zlo - reach / dmax(Tr->n.z, 1e-12) ||
+            dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zhi + reach)
+            return;
+    } else if (zt < zlo - reach) {
+        return;
     }
+    if (excluded_tri(s->ex, idx)) {
+        test_left(s, idx, tl, th, T, npend);
+        return;
+    }
+    double w0;
+    if (test_face(s, idx, tl, th, &w0)) {
+        if (w0 < tl)
+            w0 = tl;
+        if (w0 > th)
+            return;
+        pend_push(s, idx, w0, T, npend);
+    }
+}
+
+/* A flight's candidates cand[0..n) over [0, T]: faces first, then the edges and
+ * vertices of the triangles whose planes are reached before the earliest contact
+ * found. */
+static void test_line_candidates(search *s, const int32_t *cand, size_t n, double T)
+{
+    pend_reserve(s->m->ws, n);
+    size_t npend = 0;
+    for (size_t k = 0; k < n; k++)
+        line_candidate(s, cand[k], T, &npend);
     rf_vec3 z = rf_v3(0, 0, 0);
     test_pending(s, npend, T, z, z);
+}
+
+/* The cells of a grid terrain that the box [xmin, xmax] x [ymin, ymax] touches: their
+ * triangles as a flight's candidates over [0, T]. */
+static void line_cells(search *s, double xmin, double ymin, double xmax, double ymax, double T,
+                       size_t *npend)
+{
+    const rf_terrain *t = s->m->terrain;
+    size_t r[4];
+    if (!grid_cells(t, xmin, ymin, xmax, ymax, r))
+        return;
+    for (size_t j = r[2]; j <= r[3]; j++) {
+        const int32_t *g = t->grid_tri + 2 * (j * (t->nx - 1) + r[0]);
+        for (size_t i = r[0]; i <= r[1]; i++, g += 2)
+            for (int k = 0; k < 2; k++)
+                if (g[k] >= 0)
+                    line_candidate(s, g[k], T, npend);
+    }
+}
+
+/* A flight over a grid terrain in centre mode or of a point mass (the face under the
+ * centre: no edges or vertices, and a reach of the length tolerance): the cells under
+ * its horizontal line in the order it crosses them, each with the cells within reach of
+ * its stretch of the line, until a cell left after the earliest contact found. */
+static void walk_grid(search *s, double T)
+{
+    const rf_terrain *t = s->m->terrain;
+    double hr = line_reach(s->m);
+    double px = s->arc->p.x, py = s->arc->p.y, vx = s->arc->v.x, vy = s->arc->v.y;
+    double c = t->cell;
+    /* the time over the grid, widened by the reach (slabs in x and y) */
+    double ta = 0.0, tb = T;
+    double lo[2] = {t->x0 - hr, t->y0 - hr};
+    double hi[2] = {t->x0 + c * (double)(t->nx - 1) + hr, t->y0 + c * (double)(t->ny - 1) + hr};
+    double p[2] = {px, py}, v[2] = {vx, vy};
+    for (int a = 0; a < 2; a++) {
+        if (v[a] == 0.0) {
+            if (p[a] < lo[a] || p[a] > hi[a])
+                return;
+            continue;
+        }
+        double u0 = (lo[a] - p[a]) / v[a], u1 = (hi[a] - p[a]) / v[a];
+        ta = dmax(ta, dmin(u0, u1));
+        tb = dmin(tb, dmax(u0, u1));
+    }
+    if (!(ta <= tb))
+        return;
+    double fi = floor((px + vx * ta - t->x0) / c), fj = floor((py + vy * ta - t->y0) / c);
+    int sx = vx > 0 ? 1 : vx < 0 ? -1 : 0, sy = vy > 0 ? 1 : vy < 0 ? -1 : 0;
+    size_t npend = 0; /* none is pending: a centre's or a point's faces only */
+    double t0 = ta;
+    /* each step moves one cell in x or y: at most the cells between the ends and two */
+    double steps = fabs(floor((px + vx * tb - t->x0) / c) - fi) +
+                   fabs(floor((py + vy * tb - t->y0) / c) - fj) + 2.0;
+    for (double k = 0; k <= steps; k++) {
+        /* the next grid line crossed in x and in y (from the index: no drift) */
+        double tx = sx > 0   ? (t->x0 + (fi + 1) * c - px) / vx
+                    : sx < 0 ? (t->x0 + fi * c - px) / vx
+                             : INFINITY;
+        double ty = sy > 0   ? (t->y0 + (fj + 1) * c - py) / vy
+                    : sy < 0 ? (t->y0 + fj * c - py) / vy
+                             : INFINITY;
+        double t1 = dmin(dmax(dmin(tx, ty), t0), tb);
+        double xa = px + vx * t0, xb = px + vx * t1, ya = py + vy * t0, yb = py + vy * t1;
+        line_cells(s, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr, dmax(ya, yb) + hr,
+                   T, &npend);
+        if ((s->found && s->best <= t1) || t1 >= tb)
+            break;
+        if (tx <= ty)
+            fi += sx;
+        else
+            fj += sy;
+        t0 = t1;
+    }
 }
 
 /* Tests candidates over [ta, tb] (lo, hi: the arc's box over it): faces first, then
@@ -922,14 +1012,21 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     double hlen = vh * T;
     rf_workspace *ws = m->ws;
     double piece;
+    if (s.line && ++ws->test_epoch == 0) { /* a new mark for the triangles tested */
+        memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
+        ws->test_epoch = 1;
+    }
+    if (s.line && t->is_grid && (m->centre || m->point)) {
+        walk_grid(&s, T);
+        if (!s.found)
+            return 0;
+        finish(m, arc, c);
+        return 1;
+    }
     if (s.line) {
         /* pieces of about a cell of travel, in order; each triangle is tested once
          * (over all the time it is within reach), so the search stops at the first
          * piece that ends after the earliest contact found */
-        if (++ws->test_epoch == 0) {
-            memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
-            ws->test_epoch = 1;
-        }
         feat_reset(ws);
         piece = t->is_grid ? cell : 2.0 * cell;
     } else {

@@ -59,17 +59,51 @@ static rf_motion motion_on(const rf_terrain *t, mode md, double rho)
     return m;
 }
 
+/* Flight k (arc over [0, te]) against every triangle: nothing penetrated before the
+ * contact returned, or before te when none is; touching at the contact. */
+static void check_flight(rf_motion *m, mode md, double rho, const rf_arc *arc, double te, int k,
+                         int *hits, int *misses)
+{
+    const rf_terrain *t = m->terrain;
+    rf_contact c;
+    int found = rf_contact_search(m, arc, te, NULL, &c) && c.t <= te;
+    double tend = found ? c.t : te;
+    *hits += found, *misses += !found;
+    for (int i = 0; i < 1000; i++) {
+        double ts = tend * i / 1000.0;
+        double g = gap(t, md, rho, rf_arc_pos(arc, ts), -1);
+        ENSURE_MSG(g >= -1e-6,
+                   "mode %d, %s, flight %d from (%.9g, %.9g, %.9g) at (%.9g, %.9g, %.9g): "
+                   "penetrates by %.3g at t = %.9g, before %s at %.9g",
+                   md, t->is_grid ? "grid" : "mesh", k, arc->p.x, arc->p.y, arc->p.z, arc->v.x,
+                   arc->v.y, arc->v.z, -g, ts,
+                   found ? "the contact returned" : "leaving the terrain", tend);
+    }
+    if (found) {
+        double g = gap(t, md, rho, rf_arc_pos(arc, c.t), c.tri);
+        ENSURE_MSG(md == CENTRE ? g <= 1e-6 : fabs(g) <= 1e-6,
+                   "mode %d, %s, flight %d: at the contact returned (t = %.9g) the gap is %.3g",
+                   md, t->is_grid ? "grid" : "mesh", k, c.t, g);
+    }
+}
+
+/* A random rough surface over N x N nodes, 1 m apart (a grid, or a mesh). */
+static void rough_terrain(rf_terrain *t, double *z, gsl_rng *rng, int mesh)
+{
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            z[j * N + i] = 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(rng);
+    mt_grid_terrain(t, mesh, N, N, 1.0, node_z, z, PLAIN);
+    ENSURE(t->is_grid == !mesh && t->ntri == 2 * (N - 1) * (N - 1));
+}
+
 static void flights_against_brute_force(mode md, double rho, int nflights, int mesh)
 {
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     gsl_rng_set(rng, 3 + (unsigned long)md);
     double z[N * N];
-    for (int j = 0; j < N; j++)
-        for (int i = 0; i < N; i++)
-            z[j * N + i] = 12.0 - 0.7 * i + 0.15 * j + 1.5 * gsl_rng_uniform(rng);
     rf_terrain t;
-    mt_grid_terrain(&t, mesh, N, N, 1.0, node_z, z, PLAIN);
-    ENSURE(t.is_grid == !mesh && t.ntri == 2 * (N - 1) * (N - 1));
+    rough_terrain(&t, z, rng, mesh);
     rf_motion m = motion_on(&t, md, rho);
     int hits = 0, misses = 0;
     for (int k = 0; k < nflights; k++) {
@@ -85,25 +119,67 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
         double az = 2.0 * M_PI * gsl_rng_uniform(rng), vh = 0.3 + 12.0 * gsl_rng_uniform(rng);
         rf_arc arc = {p, rf_v3(vh * cos(az), vh * sin(az), -4.0 + 10.0 * gsl_rng_uniform(rng)),
                       rf_v3(0, 0, -RF_GRAVITY)};
-        double te = rf_terrain_exit_time(&m, &arc, 4.0);
-        rf_contact c;
-        int found = rf_contact_search(&m, &arc, te, NULL, &c) && c.t <= te;
-        double tend = found ? c.t : te;
-        hits += found, misses += !found;
-        for (int i = 0; i < 1000; i++) {
-            double ts = tend * i / 1000.0;
-            double g = gap(&t, md, rho, rf_arc_pos(&arc, ts), -1);
-            ENSURE_MSG(g >= -1e-6, "flight %d: penetrates by %.3g at t = %.9g, before %s at %.9g",
-                       k, -g, ts, found ? "the contact returned" : "leaving the terrain", tend);
-        }
-        if (found) {
-            double g = gap(&t, md, rho, rf_arc_pos(&arc, c.t), c.tri);
-            ENSURE_MSG(md == CENTRE ? g <= 1e-6 : fabs(g) <= 1e-6,
-                       "flight %d: at the contact returned (t = %.9g) the gap is %.3g", k, c.t, g);
-        }
+        check_flight(&m, md, rho, &arc, rf_terrain_exit_time(&m, &arc, 4.0), k, &hits, &misses);
     }
     /* the flights exercise both outcomes */
     ENSURE(hits > nflights / 2 && misses > 0);
+    rf_workspace_free(m.ws);
+    rf_terrain_free(&t);
+    gsl_rng_free(rng);
+}
+
+/* Flights on the grid's own lines: along the node rows and columns, along the cells'
+ * diagonals (their triangles' shared edges) and across them through the nodes (the
+ * cells' corners), and from off the terrain into it.  A grid's cells are searched in
+ * the order the flight's horizontal line crosses them; these lines lie on the borders
+ * between cells all the way. */
+static void grid_line_flights_against_brute_force(mode md, double rho, int mesh)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 11 + (unsigned long)md);
+    double z[N * N];
+    rf_terrain t;
+    rough_terrain(&t, z, rng, mesh);
+    ENSURE(!t.is_grid || (t.x0 == 0.5 && t.y0 == 0.5));
+    rf_motion m = motion_on(&t, md, rho);
+    int hits = 0, misses = 0;
+    static const double dirs[8][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1},
+                                      {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
+    for (int k = 0; k < 160; k++) {
+        const double *d = dirs[k % 8];
+        int outside = k % 5 == 4;
+        double vh = 0.3 + 12.0 * gsl_rng_uniform(rng), vz = -4.0 + 10.0 * gsl_rng_uniform(rng);
+        /* a node, and the centre on the vertical through it */
+        double i0 = 2 + (int)(11 * gsl_rng_uniform(rng)), j0 = 2 + (int)(11 * gsl_rng_uniform(rng));
+        rf_vec3 p = rf_v3(0.5 + i0, 0.5 + j0, 0.0); /* node (0, 0) at (0.5, 0.5) */
+        if (outside) {
+            /* back along the line from the node to 3 m off the terrain, high over it */
+            double back = INFINITY; /* to the nearer border it heads away from, and 3 more */
+            if (d[0] != 0.0)
+                back = d[0] > 0 ? i0 : N - 1 - i0;
+            if (d[1] != 0.0)
+                back = fmin(back, d[1] > 0 ? j0 : N - 1 - j0);
+            back += 3.0;
+            p.x -= d[0] * back, p.y -= d[1] * back;
+            /* over the border 3 m on, above the terrain's top (not below it, which would
+             * enter the terrain's side) */
+            vh = 6.0 + 6.0 * gsl_rng_uniform(rng);
+            double tin = 3.0 * hypot(d[0], d[1]) / vh;
+            p.z = 16.0 + 1.5 * rho + 2.0 * gsl_rng_uniform(rng) - vz * tin +
+                  0.5 * RF_GRAVITY * tin * tin;
+        } else {
+            double zs;
+            ENSURE(rf_terrain_height(&t, p.x, p.y, &zs) >= 0);
+            p.z = zs + 1.5 * rho + 2.0 * gsl_rng_uniform(rng);
+            while (gap(&t, md, rho, p, -1) < 0.05)
+                p.z += 0.1;
+        }
+        double dl = hypot(d[0], d[1]);
+        rf_arc arc = {p, rf_v3(vh * d[0] / dl, vh * d[1] / dl, vz), rf_v3(0, 0, -RF_GRAVITY)};
+        check_flight(&m, md, rho, &arc, outside ? 4.0 : rf_terrain_exit_time(&m, &arc, 4.0), k,
+                     &hits, &misses);
+    }
+    ENSURE(hits > 40 && misses > 0);
     rf_workspace_free(m.ws);
     rf_terrain_free(&t);
     gsl_rng_free(rng);
@@ -127,6 +203,15 @@ TEST(contact_flight_search_point_matches_brute_force)
 {
     for (int mesh = 0; mesh < 2; mesh++)
         flights_against_brute_force(POINT, 0.0, 300, mesh);
+}
+
+TEST(contact_flight_search_on_the_grid_lines_matches_brute_force)
+{
+    for (int mesh = 0; mesh < 2; mesh++) {
+        grid_line_flights_against_brute_force(FULL, 0.74, mesh);
+        grid_line_flights_against_brute_force(CENTRE, 0.74, mesh);
+        grid_line_flights_against_brute_force(POINT, 0.0, mesh);
+    }
 }
 
 /* A cliff rising 10 m over 1 m to the terrain's top (nodes i = 0, 1, 2 a metre apart). */
