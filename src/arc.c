@@ -68,23 +68,6 @@ double rf_poly_eval(const double *c, int deg, double t)
     return p;
 }
 
-void rf_quadratic_range(const double c[3], double t0, double t1, double *lo, double *hi)
-{
-    double a = c[0] + t0 * (c[1] + t0 * c[2]), b = c[0] + t1 * (c[1] + t1 * c[2]);
-    *lo = a < b ? a : b;
-    *hi = a < b ? b : a;
-    if (c[2] != 0.0) {
-        double tv = -c[1] / (2.0 * c[2]);
-        if (tv > t0 && tv < t1) {
-            double v = c[0] + tv * (c[1] + tv * c[2]);
-            if (c[2] > 0.0)
-                *lo = v < *lo ? v : *lo;
-            else
-                *hi = v > *hi ? v : *hi;
-        }
-    }
-}
-
 static void derivative(const double *c, int deg, double *d)
 {
     for (int i = 1; i <= deg; i++)

@@ -113,7 +113,24 @@ int rf_quadratic_roots(double c2, double c1, double c0, double r[2]);
 /* Value of the polynomial c[0] + c[1] t + ... + c[deg] t^deg. */
 double rf_poly_eval(const double *c, int deg, double t);
 /* Smallest and largest value of c[0] + c[1] t + c[2] t^2 over [t0, t1]. */
-void rf_quadratic_range(const double c[3], double t0, double t1, double *lo, double *hi);
+static inline void rf_quadratic_range(const double c[3], double t0, double t1, double *lo,
+                                      double *hi)
+{
+    double a = c[0] + t0 * (c[1] + t0 * c[2]), b = c[0] + t1 * (c[1] + t1 * c[2]);
+    *lo = a < b ? a : b;
+    *hi = a < b ? b : a;
+    if (c[2] != 0.0) {
+        double tv = -c[1] / (2.0 * c[2]);
+        if (tv > t0 && tv < t1) {
+            double v = c[0] + tv * (c[1] + tv * c[2]);
+            if (c[2] > 0.0)
+                *lo = v < *lo ? v : *lo;
+            else
+                *hi = v > *hi ? v : *hi;
+        }
+    }
+}
+
 /* Entering roots of P (deg <= 4) on [t0, t1]: times where P falls through 0 with
  * P' < -slope_eps, after having been above tol, or above 0 only when P' < -100 slope_eps
  * there (a start with -RF_TOUCH_BAND tol <= P(t0) <= tol counts only when P'(t0) <
