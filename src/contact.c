@@ -909,7 +909,14 @@ static void walk_grid(search *s, double T)
     /* each step moves one cell in x or y: at most the cells between the ends and two */
     double steps = fabs(floor((px + vx * tb - t->x0) / c) - fi) +
                    fabs(floor((py + vy * tb - t->y0) / c) - fj) + 2.0;
-    for (double k = 0; k <= steps; k++) {
+    for (double k = 0;; k++) {
+        if (k > steps) {
+            /* never reached (the steps are counted with two to spare): the rest at once */
+            double xa = px + vx * t0, xb = px + vx * tb, ya = py + vy * t0, yb = py + vy * tb;
+            line_cells(s, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr,
+                       dmax(ya, yb) + hr, T, &npend);
+            break;
+        }
         /* the next grid line crossed in x and in y (from the index: no drift) */
         double tx = sx > 0   ? (t->x0 + (fi + 1) * c - px) / vx
                     : sx < 0 ? (t->x0 + fi * c - px) / vx

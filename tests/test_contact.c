@@ -27,16 +27,24 @@ static double node_z(int i, int j, void *ctx)
 
 /* How far the rock is from penetrating the terrain at centre p (< 0: it penetrates):
  * the sphere's distance beyond rho from the nearest triangle; the centre's distance
- * beyond rho from the plane of face k (-1: the face under it); the point's height
- * above that face.  INFINITY off the terrain. */
+ * beyond rho from the plane of face k (-1: the least over the faces under it); the
+ * point's height above that face.  INFINITY off the terrain. */
 static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p, int32_t k)
 {
     if (md == FULL)
         return mt_terrain_distance(t, p) - rho;
-    if (k < 0)
-        k = rf_terrain_locate(t, p.x, p.y);
-    if (k < 0)
-        return INFINITY;
+    if (k < 0) {
+        /* the faces under it: on the border of two columns (within the length
+         * tolerance), both */
+        double g = INFINITY;
+        for (int dx = -1; dx <= 1; dx++)
+            for (int dy = -1; dy <= 1; dy++) {
+                int32_t j = rf_terrain_locate(t, p.x + 2e-10 * dx, p.y + 2e-10 * dy);
+                if (j >= 0)
+                    g = fmin(g, gap(t, md, rho, p, j));
+            }
+        return g;
+    }
     const rf_triangle *T = &t->tri[k];
     if (md == POINT)
         return p.z - rf_triangle_z_at(T, p.x, p.y);
@@ -149,8 +157,8 @@ static void grid_line_flights_against_brute_force(mode md, double rho, int mesh)
         const double *d = dirs[k % 8];
         int outside = k % 5 == 4;
         double vh = 0.3 + 12.0 * gsl_rng_uniform(rng), vz = -4.0 + 10.0 * gsl_rng_uniform(rng);
-        /* a node, and the centre on the vertical through it */
-        double i0 = 2 + (int)(11 * gsl_rng_uniform(rng)), j0 = 2 + (int)(11 * gsl_rng_uniform(rng));
+        /* a node (the grid's border lines too), and the centre on the vertical through it */
+        double i0 = (int)(N * gsl_rng_uniform(rng)), j0 = (int)(N * gsl_rng_uniform(rng));
         rf_vec3 p = rf_v3(0.5 + i0, 0.5 + j0, 0.0); /* node (0, 0) at (0.5, 0.5) */
         if (outside) {
             /* back along the line from the node to 3 m off the terrain, high over it */
