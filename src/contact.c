@@ -857,28 +857,10 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
     test_pending(s, npend, T, z, z);
 }
 
-/* The cells of a grid terrain that the box [xmin, xmax] x [ymin, ymax] touches: their
- * triangles as a flight's candidates over [0, T]. */
-static void line_cells(search *s, double xmin, double ymin, double xmax, double ymax, double T,
-                       size_t *npend)
-{
-    const rf_terrain *t = s->m->terrain;
-    size_t r[4];
-    if (!grid_cells(t, xmin, ymin, xmax, ymax, r))
-        return;
-    for (size_t j = r[2]; j <= r[3]; j++) {
-        const int32_t *g = t->grid_tri + 2 * (j * (t->nx - 1) + r[0]);
-        for (size_t i = r[0]; i <= r[1]; i++, g += 2)
-            for (int k = 0; k < 2; k++)
-                if (g[k] >= 0)
-                    line_candidate(s, g[k], T, npend);
-    }
-}
-
 /* A flight over a grid terrain in centre mode or of a point mass (the face under the
- * centre: no edges or vertices, and a reach of the length tolerance): the cells under
- * its horizontal line in the order it crosses them, each with the cells within reach of
- * its stretch of the line, until a cell left after the earliest contact found. */
+ * centre, within the length tolerance of the line): the cells under its horizontal
+ * line in the order it crosses them, each stretch of the line a piece with the cells
+ * within reach of it, until a cell left after the earliest contact found. */
 static void walk_grid(search *s, double T)
 {
     const rf_terrain *t = s->m->terrain;
@@ -904,30 +886,24 @@ static void walk_grid(search *s, double T)
         return;
     double fi = floor((px + vx * ta - t->x0) / c), fj = floor((py + vy * ta - t->y0) / c);
     int sx = vx > 0 ? 1 : vx < 0 ? -1 : 0, sy = vy > 0 ? 1 : vy < 0 ? -1 : 0;
-    size_t npend = 0; /* none is pending: a centre's or a point's faces only */
     double t0 = ta;
     /* each step moves one cell in x or y: at most the cells between the ends and two */
     double steps = fabs(floor((px + vx * tb - t->x0) / c) - fi) +
                    fabs(floor((py + vy * tb - t->y0) / c) - fj) + 2.0;
     for (double k = 0;; k++) {
-        if (k > steps) {
-            /* never reached (the steps are counted with two to spare): the rest at once */
-            double xa = px + vx * t0, xb = px + vx * tb, ya = py + vy * t0, yb = py + vy * tb;
-            line_cells(s, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr,
-                       dmax(ya, yb) + hr, T, &npend);
-            break;
-        }
-        /* the next grid line crossed in x and in y (from the index: no drift) */
+        /* the next grid line crossed in x and in y (from the index: no drift); should
+         * the steps ever run out (they are counted with two to spare), the rest at once */
         double tx = sx > 0   ? (t->x0 + (fi + 1) * c - px) / vx
                     : sx < 0 ? (t->x0 + fi * c - px) / vx
                              : INFINITY;
         double ty = sy > 0   ? (t->y0 + (fj + 1) * c - py) / vy
                     : sy < 0 ? (t->y0 + fj * c - py) / vy
                              : INFINITY;
-        double t1 = dmin(dmax(dmin(tx, ty), t0), tb);
+        double t1 = k > steps ? tb : dmin(dmax(dmin(tx, ty), t0), tb);
         double xa = px + vx * t0, xb = px + vx * t1, ya = py + vy * t0, yb = py + vy * t1;
-        line_cells(s, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr, dmax(ya, yb) + hr,
-                   T, &npend);
+        size_t n = gather_grid(s->m, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr,
+                               dmax(ya, yb) + hr);
+        test_line_candidates(s, s->m->ws->cand, n, T);
         if ((s->found && s->best <= t1) || t1 >= tb)
             break;
         if (tx <= ty)
@@ -992,6 +968,58 @@ static void finish(const rf_motion *m, const rf_arc *arc, rf_contact *c)
     }
 }
 
+/* The arc over [0, T] in pieces along it, in order (s->line: a flight, each triangle
+ * tested once over all the time it is within reach), until the first piece that ends
+ * after the earliest contact found. */
+static void search_pieces(search *s, double T)
+{
+    rf_motion *m = s->m;
+    const rf_terrain *t = m->terrain;
+    const rf_arc *arc = s->arc;
+    double reach = m->rho + 4 * m->tol_len;
+    /* higher than this above the terrain's top, nothing is met: the reach (in centre
+     * mode the centre meets a face r / n.z above its plane, the furthest above the
+     * steepest face; a rock lifted onto a steep face at the top and let fall again
+     * fell through it) */
+    double up = m->centre ? reach / m->ws->nz_min : reach;
+    double cell = t->is_grid ? t->cell : t->bsize;
+    double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
+    double hlen = vh * T;
+    rf_workspace *ws = m->ws;
+    double piece;
+    if (s->line) {
+        /* pieces of about a cell of travel */
+        feat_reset(ws);
+        piece = t->is_grid ? cell : 2.0 * cell;
+    } else {
+        /* pieces of about a few cells of horizontal travel */
+        piece = dmax(4.0 * cell, 2.0 * m->rho);
+    }
+    long npieces = (long)ceil(hlen / piece);
+    if (npieces < 1)
+        npieces = 1;
+    if (npieces > 1000000)
+        npieces = 1000000;
+    for (long i = 0; i < npieces; i++) {
+        double ta = T * (double)i / (double)npieces;
+        double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
+        if (ta >= s->best)
+            break;
+        rf_vec3 lo, hi;
+        arc_box(arc, ta, dmin(tb, s->best), &lo, &hi);
+        if (lo.z - up > t->zmax || hi.z + reach < t->zmin)
+            continue;
+        double hr = s->line ? line_reach(m) : reach;
+        size_t n = rf_gather(m, lo.x - hr, lo.y - hr, hi.x + hr, hi.y + hr);
+        if (s->line)
+            test_line_candidates(s, ws->cand, n, T);
+        else
+            test_candidates(s, ws->cand, n, ta, tb, lo, hi);
+        if (s->found && s->best <= tb)
+            break;
+    }
+}
+
 int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                       rf_contact *c)
 {
@@ -1007,62 +1035,16 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         s.vh = vh0;
         s.s0 = s.ux * arc->p.x + s.uy * arc->p.y;
         s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
+        rf_workspace *ws = m->ws;
+        if (++ws->test_epoch == 0) { /* a new mark for the triangles tested */
+            memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
+            ws->test_epoch = 1;
+        }
     }
-    double reach = m->rho + 4 * m->tol_len;
-    /* higher than this above the terrain's top, nothing is met: the reach (in centre
-     * mode the centre meets a face r / n.z above its plane, the furthest above the
-     * steepest face; a rock lifted onto a steep face at the top and let fall again
-     * fell through it) */
-    double up = m->centre ? reach / m->ws->nz_min : reach;
-    double cell = t->is_grid ? t->cell : t->bsize;
-    double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
-    double hlen = vh * T;
-    rf_workspace *ws = m->ws;
-    double piece;
-    if (s.line && ++ws->test_epoch == 0) { /* a new mark for the triangles tested */
-        memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
-        ws->test_epoch = 1;
-    }
-    if (s.line && t->is_grid && (m->centre || m->point)) {
+    if (s.line && t->is_grid && (m->centre || m->point))
         walk_grid(&s, T);
-        if (!s.found)
-            return 0;
-        finish(m, arc, c);
-        return 1;
-    }
-    if (s.line) {
-        /* pieces of about a cell of travel, in order; each triangle is tested once
-         * (over all the time it is within reach), so the search stops at the first
-         * piece that ends after the earliest contact found */
-        feat_reset(ws);
-        piece = t->is_grid ? cell : 2.0 * cell;
-    } else {
-        /* pieces of about a few cells of horizontal travel */
-        piece = dmax(4.0 * cell, 2.0 * m->rho);
-    }
-    long npieces = (long)ceil(hlen / piece);
-    if (npieces < 1)
-        npieces = 1;
-    if (npieces > 1000000)
-        npieces = 1000000;
-    for (long i = 0; i < npieces; i++) {
-        double ta = T * (double)i / (double)npieces;
-        double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;
-        if (ta >= s.best)
-            break;
-        rf_vec3 lo, hi;
-        arc_box(arc, ta, dmin(tb, s.best), &lo, &hi);
-        if (lo.z - up > t->zmax || hi.z + reach < t->zmin)
-            continue;
-        double hr = s.line ? line_reach(m) : reach;
-        size_t n = rf_gather(m, lo.x - hr, lo.y - hr, hi.x + hr, hi.y + hr);
-        if (s.line)
-            test_line_candidates(&s, ws->cand, n, T);
-        else
-            test_candidates(&s, ws->cand, n, ta, tb, lo, hi);
-        if (s.found && s.best <= tb)
-            break;
-    }
+    else
+        search_pieces(&s, T);
     if (!s.found)
         return 0;
     finish(m, arc, c);
@@ -1412,7 +1394,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
             if (!(border >> k & 1))
                 continue;
             rf_vec3 A = rf_tri_vertex(T, k), B = rf_tri_vertex(T, k + 1), C = rf_tri_vertex(T, k + 2);
-            double ex = B.x - A.x, ey = B.y - A.y, el = hypot(ex, ey);
+            double ex = B.x - A.x, ey = B.y - A.y, el = m->ws->hedge[3 * (size_t)idx + k];
             /* the side of the edge line the centre is on: s0 + s1 t, the triangle's
              * side positive */
             double sc = ex * (C.y - A.y) - ey * (C.x - A.x);

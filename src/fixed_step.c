@@ -91,7 +91,7 @@ static int flight_step(rf_motion *m, double h)
      * plane of the face under it at the step's end */
     int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y);
     if (tri0 >= 0 &&
-        rf_v3_dot(t->tri[tri0].n, p0) - t->tri[tri0].d < -RF_TOUCH_BAND * m->tol_len &&
+        rf_triangle_plane_distance(&t->tri[tri0], p0) < -RF_TOUCH_BAND * m->tol_len &&
         rf_v3_dot(t->tri[tri0].n, m->s.v) < 0) {
         /* a centre under the face it is over, sinking further: the search finds no
          * entry into a plane the centre is already under (stopped on a column's border

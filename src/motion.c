@@ -345,7 +345,7 @@ static void unstall(rf_motion *m)
                 m->s.w = rf_v3(0, 0, 0);
             }
         } else {
-            double dp = rf_v3_dot(T->n, m->s.p) - T->d;
+            double dp = rf_triangle_plane_distance(T, m->s.p);
             if (dp < m->rho + m->tol_len)
                 m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
         }

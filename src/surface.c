@@ -645,7 +645,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         return RF_SURF_FLIGHT;
     }
     rf_vec3 e = edge_dir(F, edge);
-    rf_vec3 vp = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, e), e);
+    rf_vec3 vp = rf_in_plane(m->s.v, e);
     if (rf_v3_norm2(vp) >= m->rho * G_ACC * F->n.z) {
         go_flight(m, from); /* fast enough to fly off the edge */
         return RF_SURF_FLIGHT;
@@ -1390,6 +1390,8 @@ static rf_surface_end wall_step(rf_motion *m, face_dyn *f, const rf_face_edges *
 int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf_vec3 *dir)
 {
     *wall = -1;
+    if (!on_edge(m, col, edge, m->s.p))
+        return -1;
     int32_t from = m->sup.tri[0];
     const rf_triangle *T = &m->terrain->tri[from];
     face_dyn f;
@@ -1398,7 +1400,7 @@ int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf
     /* the face the rock would enter there (rf_leave_face), which at a vertex need not
      * be the one over the edge's middle */
     rf_vec3 acc = law_accel(&f, law_dir(&f, m->s.v, u));
-    if (!on_edge(m, col, edge, m->s.p) || !is_wall(m, rf_face_after(m, from, edge, col, m->s.p, acc)))
+    if (!is_wall(m, rf_face_after(m, from, edge, col, m->s.p, acc)))
         return -1;
     int stays;
     int end = wall_meet(m, &f, col, edge, edge_dir(T, edge), dir, &u, &stays);
