@@ -69,10 +69,12 @@ static rf_motion motion_on(const rf_terrain *t, mode md, double rho)
 
 /* Flight k (arc over [0, te]) against every triangle: nothing penetrated before the
  * contact returned, or before te when none is; touching at the contact. */
-static void check_flight(rf_motion *m, mode md, double rho, const rf_arc *arc, double te, int k,
-                         int *hits, int *misses)
+static void check_flight(rf_motion *m, const rf_arc *arc, double te, int k, int *hits,
+                         int *misses)
 {
     const rf_terrain *t = m->terrain;
+    mode md = m->point ? POINT : m->centre ? CENTRE : FULL;
+    double rho = m->rho;
     rf_contact c;
     int found = rf_contact_search(m, arc, te, NULL, &c) && c.t <= te;
     double tend = found ? c.t : te;
@@ -127,7 +129,7 @@ static void flights_against_brute_force(mode md, double rho, int nflights, int m
         double az = 2.0 * M_PI * gsl_rng_uniform(rng), vh = 0.3 + 12.0 * gsl_rng_uniform(rng);
         rf_arc arc = {p, rf_v3(vh * cos(az), vh * sin(az), -4.0 + 10.0 * gsl_rng_uniform(rng)),
                       rf_v3(0, 0, -RF_GRAVITY)};
-        check_flight(&m, md, rho, &arc, rf_terrain_exit_time(&m, &arc, 4.0), k, &hits, &misses);
+        check_flight(&m, &arc, rf_terrain_exit_time(&m, &arc, 4.0), k, &hits, &misses);
     }
     /* the flights exercise both outcomes */
     ENSURE(hits > nflights / 2 && misses > 0);
@@ -184,7 +186,7 @@ static void grid_line_flights_against_brute_force(mode md, double rho, int mesh)
         }
         double dl = hypot(d[0], d[1]);
         rf_arc arc = {p, rf_v3(vh * d[0] / dl, vh * d[1] / dl, vz), rf_v3(0, 0, -RF_GRAVITY)};
-        check_flight(&m, md, rho, &arc, outside ? 4.0 : rf_terrain_exit_time(&m, &arc, 4.0), k,
+        check_flight(&m, &arc, outside ? 4.0 : rf_terrain_exit_time(&m, &arc, 4.0), k,
                      &hits, &misses);
     }
     ENSURE(hits > 40 && misses > 0);
@@ -236,10 +238,8 @@ static double cliff_z(int i, int j, void *ctx)
  * plane at the top fell through the terrain from there. */
 TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
 {
-    char *txt = mt_grid_text(3, 3, 1.0, 0.0, 0.0, cliff_z, NULL);
     rf_terrain t;
-    mt_dem_text(&t, "cliff.asc", txt, PLAIN);
-    free(txt);
+    mt_grid_terrain(&t, 0, 3, 3, 1.0, cliff_z, NULL, PLAIN);
     rf_motion m = motion_on(&t, CENTRE, 0.5);
     double x = t.x0 + 1.9, y = t.y0 + 0.5; /* 0.1 m from the top, over the cliff */
     int32_t k = rf_terrain_locate(&t, x, y);
