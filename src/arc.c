@@ -19,21 +19,26 @@ double rf_arc_length(rf_vec3 v, rf_vec3 a, double T)
     double C = rf_v3_norm2(v);
     if (!(A > 1e-300))
         return sqrt(C) * T;
-    /* |v + a t| = sqrt(A) sqrt(u^2 + k^2), u = t + v.a / A, k = |v x a| / A. */
-    double sa = sqrt(A);
+    /* |v + a t| = sqrt(A) h(u), h = sqrt(u^2 + k^2), u = t + v.a / A, k = |v x a| / A;
+     * the length is sqrt(A) / 2 [u h + k^2 asinh(u / k)] from u0 to u1 = u0 + T, both
+     * differences taken without cancellation:
+     *   u1 h1 - u0 h0 = T (h1 + u0 (u0 + u1) / (h0 + h1)),
+     *   asinh(u1 / k) - asinh(u0 / k) = log1p(T (1 + s) / (u0 + h0))
+     *                                 = log1p(T (1 - s) / (h1 - u1)), s = (u0 + u1) / (h0 + h1),
+     * the first after the least speed (s >= 0), the second before it; u + h (h - u)
+     * for u < 0 (u > 0) as k^2 / (h - u) (k^2 / (h + u)). */
     double u0 = rf_v3_dot(v, a) / A, u1 = u0 + T;
-    double k = rf_v3_norm(rf_v3_cross(v, a)) / A;
-    double f0, f1;
-    if (k > 1e-12 * (fabs(u0) + fabs(u1))) {
-        f0 = u0 * hypot(u0, k) + k * k * asinh(u0 / k);
-        f1 = u1 * hypot(u1, k) + k * k * asinh(u1 / k);
-    } else {
-        f0 = u0 * fabs(u0);
-        f1 = u1 * fabs(u1);
+    double k2 = rf_v3_norm2(rf_v3_cross(v, a)) / (A * A);
+    double h0 = sqrt(u0 * u0 + k2), h1 = sqrt(u1 * u1 + k2);
+    double s = (u0 + u1) / (h0 + h1);
+    double len = T * (h1 + u0 * s);
+    /* below, the asinh term is under 1e-28 of the length */
+    if (k2 > 1e-30 * (u0 * u0 + u1 * u1)) {
+        double L = s >= 0 ? log1p(T * (1.0 + s) / (u0 >= 0 ? u0 + h0 : k2 / (h0 - u0)))
+                          : log1p(T * (1.0 - s) / (u1 <= 0 ? h1 - u1 : k2 / (h1 + u1)));
+        len += k2 * L;
     }
-    double len = 0.5 * sa * (f1 - f0);
-    /* The chord is a lower bound; the integral is exact up to rounding. */
-    return len > 0 ? len : 0.0;
+    return 0.5 * sqrt(A) * len;
 }
 
 int rf_quadratic_roots(double c2, double c1, double c0, double r[2])

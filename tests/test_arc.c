@@ -161,3 +161,76 @@ TEST(arc_quartic_sinks_from_a_touch)
     double flat[5] = {-1e-11, 0, 0, 0, 0};
     ENSURE(rf_poly_sinks(flat, 4, 0.0, 0.5, -band, tol, &t) == 0);
 }
+
+/* The integral of |v + a t| over [t0, t1] by 5-point Gauss-Legendre. */
+static double speed_gauss(rf_vec3 v, rf_vec3 a, double t0, double t1)
+{
+    static const double x[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
+                                0.5384693101056831, 0.9061798459386640};
+    static const double w[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
+                                0.4786286704993665, 0.2369268850561891};
+    double c = 0.5 * (t0 + t1), h = 0.5 * (t1 - t0), s = 0.0;
+    for (int j = 0; j < 5; j++)
+        s += w[j] * rf_v3_norm(rf_v3_madd(v, c + h * x[j], a));
+    return h * s;
+}
+
+/* The same, halving [t0, t1] until its halves agree with it to 1e-17 of scale. */
+static double speed_integral(rf_vec3 v, rf_vec3 a, double t0, double t1, double whole,
+                             double scale, int depth)
+{
+    double tm = 0.5 * (t0 + t1);
+    double l = speed_gauss(v, a, t0, tm), r = speed_gauss(v, a, tm, t1);
+    if (depth > 60 || fabs(l + r - whole) <= 1e-17 * scale)
+        return l + r;
+    return speed_integral(v, a, t0, tm, l, scale, depth + 1) +
+           speed_integral(v, a, tm, t1, r, scale, depth + 1);
+}
+
+/* The length of an arc over [0, T], by quadrature split where the speed is least (a
+ * kink when it passes through zero). */
+static double quadrature_length(rf_vec3 v, rf_vec3 a, double T)
+{
+    double A = rf_v3_norm2(a);
+    double ts = A > 0 ? -rf_v3_dot(v, a) / A : -1.0;
+    double e[3] = {0.0, ts, T};
+    int n = ts > 0 && ts < T ? 3 : 2;
+    if (n == 2)
+        e[1] = T;
+    double scale = speed_gauss(v, a, 0.0, T), len = 0.0;
+    for (int i = 0; i + 1 < n; i++)
+        len += speed_integral(v, a, e[i], e[i + 1], speed_gauss(v, a, e[i], e[i + 1]), scale, 0);
+    return len;
+}
+
+TEST(arc_length_matches_quadrature)
+{
+    struct {
+        rf_vec3 v, a;
+        double T;
+    } c[] = {
+        {{3, 0, 0}, {0, 0, -9.81}, 0.7},          /* a throw: speed perpendicular at first */
+        {{0, 0, 4}, {0, 0, -9.81}, 1.0},          /* up and down through zero speed */
+        {{0, 0, -4}, {0, 0, -9.81}, 0.3},         /* along the acceleration */
+        {{10, 0, 0}, {-9.81, 0, 0.1}, 0.5},       /* slowing, not to zero */
+        {{10, 0, 0}, {-9.81, 0, 1e-7}, 1.5},      /* nearly through zero speed */
+        {{30, 5, -2}, {2, -1, -9.81}, 1e-4},      /* fast and short */
+        {{1e-9, 0, 0}, {0, 0, -9.81}, 2.0},       /* from nearly rest */
+        {{12, -7, 3}, {0, 0, 0}, 0.4},            /* no acceleration */
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++)
+        ENSURE_REL(rf_arc_length(c[i].v, c[i].a, c[i].T), quadrature_length(c[i].v, c[i].a, c[i].T),
+                   1e-14);
+    gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(r, 7);
+    for (int i = 0; i < 300; i++) {
+        rf_vec3 v = rf_v3(20 * (gsl_rng_uniform(r) - 0.5), 20 * (gsl_rng_uniform(r) - 0.5),
+                          20 * (gsl_rng_uniform(r) - 0.5));
+        rf_vec3 a = rf_v3(10 * (gsl_rng_uniform(r) - 0.5), 10 * (gsl_rng_uniform(r) - 0.5),
+                          -9.81 * gsl_rng_uniform(r));
+        double T = pow(10.0, -4.0 + 4.3 * gsl_rng_uniform(r));
+        ENSURE_REL(rf_arc_length(v, a, T), quadrature_length(v, a, T), 1e-14);
+    }
+    gsl_rng_free(r);
+    ENSURE(rf_arc_length(rf_v3(1, 2, 3), rf_v3(0, 0, -9.81), 0.0) == 0.0);
+}
