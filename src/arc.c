@@ -209,9 +209,9 @@ static int bernstein4_above(const double b[5], double level, int depth)
     return bernstein4_above(l, level, depth - 1) && bernstein4_above(r, level, depth - 1);
 }
 
-/* 1 when the quartic c is certainly above level over [t0, t1]: from its Bernstein
- * form there, with a margin for the rounding of the change of basis. */
-static int quartic_stays_above(const double c[5], double t0, double t1, double level)
+/* 1 when the quartic c (five coefficients) is certainly above level over [t0, t1]:
+ * from its Bernstein form there, with a margin for the rounding of the change of basis. */
+static int quartic_stays_above(const double *c, double t0, double t1, double level)
 {
     /* Taylor coefficients at t0, scaled to the interval's length h */
     double h = t1 - t0;

@@ -143,7 +143,7 @@ static int readable(const char *path, char *why, size_t size)
 static int read_name(loader *L, const rf_ynode *map, const char *what, char **out)
 {
     rf_ynode *n;
-    const char *s;
+    const char *s = NULL;
     if (rf_ydoc_require(&L->d, map, "name", what, &n, L->err) ||
         rf_ydoc_string(&L->d, n, "name", &s, L->err))
         return -1;
@@ -332,7 +332,7 @@ static int read_surface(loader *L, const rf_ynode *map, const rf_surface *base,
 static int add_file(loader *L, rf_ynode *n)
 {
     rf_terrain_spec *s = &L->p->terrain_spec;
-    const char *path;
+    const char *path = NULL;
     if (rf_ydoc_string(&L->d, n, s->source == RF_TERRAIN_DEM ? "dem" : "mesh", &path, L->err))
         return -1;
     char *resolved = resolve(L->p->dir, path);
@@ -382,7 +382,7 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *wha
     if (polygon && read_points(L, polygon, "polygon", 3, &z->poly_xy, &z->npoly))
         return -1;
     if (file) {
-        const char *path;
+        const char *path = NULL;
         if (rf_ydoc_string(&L->d, file, "file", &path, L->err))
             return -1;
         if (s->source != RF_TERRAIN_MESH)
@@ -522,7 +522,7 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
     rf_project *p = L->p;
     rf_release *r = &p->releases[i];
     rf_ynode *point, *rock;
-    const char *rock_name;
+    const char *rock_name = NULL;
     double xy[2];
     if (rf_ydoc_require(&L->d, n, "point", what, &point, L->err) ||
         read_tuple(L, point, "point", 2, "a point [x, y]", xy) ||
@@ -745,7 +745,7 @@ static int read_document(loader *L)
         return -1;
 
     rf_ynode *terrain;
-    const char *s;
+    const char *s = NULL;
     if (read_name(L, root, "the project file", &p->name))
         return -1;
     long long seed = 1;
