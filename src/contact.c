@@ -18,22 +18,6 @@
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
 
-/* Grid terrains: the cells [r[0], r[1]] x [r[2], r[3]] the box touches; 0 when it
- * misses the grid. */
-static int grid_cells(const rf_terrain *t, double xmin, double ymin, double xmax, double ymax,
-                      size_t r[4])
-{
-    double ncx = (double)(t->nx - 1), ncy = (double)(t->ny - 1);
-    double fi0 = floor((xmin - t->x0) / t->cell), fi1 = floor((xmax - t->x0) / t->cell);
-    double fj0 = floor((ymin - t->y0) / t->cell), fj1 = floor((ymax - t->y0) / t->cell);
-    if (!(fi1 >= 0 && fj1 >= 0 && fi0 <= ncx - 1 && fj0 <= ncy - 1))
-        return 0;
-    r[0] = fi0 < 0 ? 0 : (size_t)fi0, r[2] = fj0 < 0 ? 0 : (size_t)fj0;
-    r[1] = fi1 > ncx - 1 ? (size_t)ncx - 1 : (size_t)fi1;
-    r[3] = fj1 > ncy - 1 ? (size_t)ncy - 1 : (size_t)fj1;
-    return 1;
-}
-
 /* Grid terrains: both triangles of each cell the box touches (a few more than the box
  * holds, none missing), by index arithmetic on the documented layout. */
 static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
@@ -41,7 +25,8 @@ static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, d
     rf_workspace *ws = m->ws;
     const rf_terrain *t = m->terrain;
     size_t r[4];
-    if (!grid_cells(t, xmin, ymin, xmax, ymax, r))
+    if (!rf_cell_range(xmin, xmax, t->x0, t->cell, t->nx - 1, &r[0], &r[1]) ||
+        !rf_cell_range(ymin, ymax, t->y0, t->cell, t->ny - 1, &r[2], &r[3]))
         return 0;
     size_t need = 2 * (r[1] - r[0] + 1) * (r[3] - r[2] + 1);
     if (rf_grow((void **)&ws->cand, &ws->cap, need, sizeof *ws->cand))
@@ -903,7 +888,11 @@ static void walk_grid(search *s, double T)
         double xa = px + vx * t0, xb = px + vx * t1, ya = py + vy * t0, yb = py + vy * t1;
         size_t n = gather_grid(s->m, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr,
                                dmax(ya, yb) + hr);
-        test_line_candidates(s, s->m->ws->cand, n, T);
+        /* only faces under the centre: nothing is left pending (test_face and
+         * test_left go to test_centre) */
+        size_t npend = 0;
+        for (size_t i = 0; i < n; i++)
+            line_candidate(s, s->m->ws->cand[i], T, &npend);
         if ((s->found && s->best <= t1) || t1 >= tb)
             break;
         if (tx <= ty)

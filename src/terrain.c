@@ -302,19 +302,6 @@ static int tri_box_overlap(const rf_triangle *tri, double xmin, double ymin, dou
     return tx0 <= xmax && tx1 >= xmin && ty0 <= ymax && ty1 >= ymin;
 }
 
-/* Index range [*lo, *hi] of n cells of size `size` from c0 that [a, b] touches; 0 when
- * none. */
-static int cell_range(double a, double b, double c0, double size, size_t n, size_t *lo,
-                      size_t *hi)
-{
-    double fa = floor((a - c0) / size), fb = floor((b - c0) / size);
-    if (!(fb >= 0 && fa <= (double)n - 1))
-        return 0;
-    *lo = fa < 0 ? 0 : (size_t)fa;
-    *hi = fb > (double)n - 1 ? n - 1 : (size_t)fb;
-    return 1;
-}
-
 size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, double xmax,
                             double ymax, int32_t *out, size_t cap, uint32_t *stamp,
                             uint32_t *epoch)
@@ -328,8 +315,8 @@ size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, doubl
     if (t->is_grid) {
         /* Cell (i, j) spans [x0 + i cell, x0 + (i + 1) cell]: each triangle is in one
          * cell, so no duplicates arise. */
-        if (!cell_range(xmin, xmax, t->x0, t->cell, t->nx - 1, &i0, &i1) ||
-            !cell_range(ymin, ymax, t->y0, t->cell, t->ny - 1, &j0, &j1))
+        if (!rf_cell_range(xmin, xmax, t->x0, t->cell, t->nx - 1, &i0, &i1) ||
+            !rf_cell_range(ymin, ymax, t->y0, t->cell, t->ny - 1, &j0, &j1))
             return 0;
         /* A box edge exactly on a node line also touches the cell before it. */
         if (i0 > 0 && xmin <= t->x0 + (double)i0 * t->cell)
@@ -348,8 +335,8 @@ size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, doubl
                 }
         return count;
     }
-    if (!cell_range(xmin, xmax, t->bx0, t->bsize, t->nbx, &i0, &i1) ||
-        !cell_range(ymin, ymax, t->by0, t->bsize, t->nby, &j0, &j1))
+    if (!rf_cell_range(xmin, xmax, t->bx0, t->bsize, t->nbx, &i0, &i1) ||
+        !rf_cell_range(ymin, ymax, t->by0, t->bsize, t->nby, &j0, &j1))
         return 0;
     for (size_t j = j0; j <= j1; j++)
         for (size_t i = i0; i <= i1; i++) {
@@ -427,8 +414,8 @@ static void bucket_span(const rf_terrain *t, const rf_triangle *tri, double size
     double tx1 = fmax(tri->a.x, fmax(tri->b.x, tri->c.x)) + pad;
     double ty0 = fmin(tri->a.y, fmin(tri->b.y, tri->c.y)) - pad;
     double ty1 = fmax(tri->a.y, fmax(tri->b.y, tri->c.y)) + pad;
-    *any = cell_range(tx0, tx1, t->xmin, size, nbx, i0, i1) &&
-           cell_range(ty0, ty1, t->ymin, size, nby, j0, j1);
+    *any = rf_cell_range(tx0, tx1, t->xmin, size, nbx, i0, i1) &&
+           rf_cell_range(ty0, ty1, t->ymin, size, nby, j0, j1);
 }
 
 /* The bucket grid over the xy bounds: buckets about BUCKET_EDGE_FACTOR mean horizontal

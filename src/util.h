@@ -1,7 +1,9 @@
-/* util.h - small helpers shared by the modules: growing arrays, reading files. */
+/* util.h - small helpers shared by the modules: growing arrays, reading files, cell
+ * ranges. */
 #ifndef ROCKFALL_UTIL_H
 #define ROCKFALL_UTIL_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "rockfall/error.h"
@@ -13,5 +15,18 @@ int rf_grow(void **v, size_t *cap, size_t need, size_t elem);
 /* Reads a whole file into a NUL-terminated malloc'd buffer (*len excludes the NUL).
  * Errors name the file: "cannot open 'PATH': reason", "cannot read ...". */
 int rf_read_file(const char *path, char **text, size_t *len, rf_error *err);
+
+/* Index range [*lo, *hi] of n cells of size `size` from c0 that [a, b] touches; 0 when
+ * none. */
+static inline int rf_cell_range(double a, double b, double c0, double size, size_t n,
+                                size_t *lo, size_t *hi)
+{
+    double fa = floor((a - c0) / size), fb = floor((b - c0) / size);
+    if (!(fb >= 0 && fa <= (double)n - 1))
+        return 0;
+    *lo = fa < 0 ? 0 : (size_t)fa;
+    *hi = fb > (double)n - 1 ? n - 1 : (size_t)fb;
+    return 1;
+}
 
 #endif
