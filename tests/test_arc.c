@@ -193,14 +193,11 @@ static double quadrature_length(rf_vec3 v, rf_vec3 a, double T)
 {
     double A = rf_v3_norm2(a);
     double ts = A > 0 ? -rf_v3_dot(v, a) / A : -1.0;
-    double e[3] = {0.0, ts, T};
-    int n = ts > 0 && ts < T ? 3 : 2;
-    if (n == 2)
-        e[1] = T;
-    double scale = speed_gauss(v, a, 0.0, T), len = 0.0;
-    for (int i = 0; i + 1 < n; i++)
-        len += speed_integral(v, a, e[i], e[i + 1], speed_gauss(v, a, e[i], e[i + 1]), scale, 0);
-    return len;
+    double scale = speed_gauss(v, a, 0.0, T);
+    if (!(ts > 0 && ts < T))
+        return speed_integral(v, a, 0.0, T, scale, scale, 0);
+    return speed_integral(v, a, 0.0, ts, speed_gauss(v, a, 0.0, ts), scale, 0) +
+           speed_integral(v, a, ts, T, speed_gauss(v, a, ts, T), scale, 0);
 }
 
 TEST(arc_length_matches_quadrature)

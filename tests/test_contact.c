@@ -261,9 +261,9 @@ TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
     rf_terrain_free(&t);
 }
 
-/* At a node of a mesh, where six columns meet, a centre on a face's offset plane is
- * lifted (rescued) onto the highest of their offset planes there: every plane passes
- * through the node, so the steepest face's, r / n.z above it. */
+/* At a node of a mesh, where six columns meet, the column whose offset plane is the
+ * highest there (the one a rescue lifts a centre onto) is found: every plane passes
+ * through the node, so it is the steepest face's, r / n.z above it. */
 TEST(contact_centre_at_a_node_takes_the_highest_column)
 {
     double z[N * N];
