@@ -31,7 +31,8 @@
 #define G_ACC RF_GRAVITY
 
 typedef enum ev_kind {
-    EV_NONE, EV_MAX_TIME, EV_REST, EV_ZERO, EV_SLIP, EV_EXIT, EV_CONTACT, EV_SCENE
+    EV_NONE, EV_MAX_TIME, EV_REST, EV_ZERO, EV_SLIP, EV_EXIT, EV_CONTACT, EV_SCENE,
+    EV_LINE /* a measure's line crossed, located on a path off the fall line */
 } ev_kind;
 
 typedef enum law { LAW_POINT, LAW_SLIDE, LAW_ROLL } law;
@@ -720,6 +721,8 @@ typedef struct seg_event {
     int edge, slot;
     rf_contact con;
     double level; /* EV_REST, EV_ZERO: the speed it falls to; EV_EXIT: how far beyond the edge */
+    double line[4]; /* EV_LINE: a point of the line and its unit normal towards the side the
+                     * rock comes from */
 } seg_event;
 
 static void consider(seg_event *ev, ev_kind kind, double t)
@@ -966,6 +969,8 @@ static double event_value(rf_motion *m, ev_kind kind, const seg_event *ev, const
         return rf_v3_norm2(y_v(y)) - ev->level * ev->level;
     case EV_CONTACT:
         return rf_feature_distance(m->terrain, &ev->con, c) - m->rho;
+    case EV_LINE:
+        return ev->line[2] * (c.x - ev->line[0]) + ev->line[3] * (c.y - ev->line[1]);
     default:
         return 0.0;
     }
@@ -997,6 +1002,8 @@ static double event_rate(rf_motion *m, const face_dyn *f, ev_kind kind, const se
         double dl = rf_v3_norm(d);
         return dl > 0 ? rf_v3_dot(d, v) / dl : 0.0;
     }
+    case EV_LINE:
+        return ev->line[2] * v.x + ev->line[3] * v.y;
     default:
         return 0.0;
     }
@@ -1128,6 +1135,33 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
     return locate_bracket(m, kind, ev, fe, c0, st, f0, guess, ye);
 }
 
+/* The time of the step's scene event found at ts on its parabola, and in ye the state
+ * there.  A measure's crossing is located on the path itself: the parabola departs from
+ * it by up to about RF_PATH_DEV, and a state a hair short of the line would have the
+ * next step find the same crossing again just after its start.  On the line (a hair
+ * beyond), the next step sees it as the one recorded. */
+static double scene_time(rf_motion *m, const face_dyn *f, seg_event *ev, const rf_face_edges *fe,
+                         rf_vec3 c0, seg_step *st, const rf_arc *arc, const double *y, double ts,
+                         double *ye)
+{
+    if (m->scene_pending == RF_SCENE_MEASURE && ts > 0.0) {
+        const rf_crossing *cr = &m->crossings[0];
+        const double *A = &m->scene->measures[cr->measure].line.xy[2 * cr->segment], *B = A + 2;
+        double nx = A[1] - B[1], ny = B[0] - A[0], len = hypot(nx, ny);
+        rf_vec3 v = rf_v3_madd(arc->v, ts, arc->a);
+        if (nx * v.x + ny * v.y > 0)
+            len = -len;
+        if (len != 0.0) {
+            ev->line[0] = A[0], ev->line[1] = A[1], ev->line[2] = nx / len, ev->line[3] = ny / len;
+            double te = locate(m, f, EV_LINE, ev, fe, c0, st, y, ts, ye);
+            if (te > 0.0)
+                return te;
+        }
+    }
+    step_at(st, ts, ye);
+    return ts;
+}
+
 static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, const rf_face_edges *fe,
                                 int holds)
 {
@@ -1222,8 +1256,7 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
             }
             te = -1.0;
             if (ev.kind == EV_SCENE) {
-                te = ts;
-                step_at(&st, te, ye);
+                te = scene_time(m, f, &ev, fe, c0, &st, &arc, y, ts, ye);
             } else if (ev.kind == EV_EXIT && tx <= 0.0) {
                 te = 0.0;
                 memcpy(ye, y, sizeof ye);
