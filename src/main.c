@@ -99,7 +99,7 @@ static int usage_error(const char *cmd, const char *fmt, const char *arg)
 {
     fprintf(stderr, "rockfall%s%s: ", cmd ? " " : "", cmd ? cmd : "");
     fprintf(stderr, fmt, arg);
-    fprintf(stderr, "\n(rockfall %s--help for usage)\n", cmd ? cmd : "");
+    fprintf(stderr, "\n(rockfall %s%s--help for usage)\n", cmd ? cmd : "", cmd ? " " : "");
     return EXIT_BAD_INPUT;
 }
 

@@ -26,11 +26,19 @@ typedef struct loader {
     rf_ynode **file_nodes;   /* YAML node of each terrain file path */
     rf_ynode **point_nodes;  /* YAML node of each release point */
     rf_ynode **line_nodes;   /* YAML node of each measure line */
+    rf_ynode *cell_node;     /* hazard: cell, when given */
     int rolling_given;       /* the terrain surface sets rolling explicitly */
 } loader;
 
 /* Room for "LIST item N", which names a list item in messages. */
 #define WHAT_SIZE 64
+
+/* Bounds of what a project may ask for: trajectories per release (as --count), the
+ * rock's radius, and the hazard map's cells. */
+#define RF_COUNT_MAX 1000000000LL
+#define RF_ROCK_RADIUS_MIN 1e-3
+#define RF_ROCK_RADIUS_MAX 100.0
+#define RF_HAZARD_CELLS_MAX 1e7
 
 static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", "rocks",
                                        "releases", "measures", "simulation", "hazard",
@@ -514,6 +522,11 @@ static int read_rock(loader *L, const rf_ynode *n, size_t i, const char *what)
         return -1;
     r->action_level = (int)level;
     r->radius = rf_body_make(r->mass, r->density, RF_MODEL_SPHERE).radius;
+    if (!(r->radius >= RF_ROCK_RADIUS_MIN && r->radius <= RF_ROCK_RADIUS_MAX))
+        return rf_ydoc_error(&L->d, mass, L->err,
+                             "'mass' and 'density' give a rock of radius %g m; it must be "
+                             "%g to %g m",
+                             r->radius, RF_ROCK_RADIUS_MIN, RF_ROCK_RADIUS_MAX);
     return 0;
 }
 
@@ -552,7 +565,7 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
     }
     long long count = 1;
     r->velocity = rf_v3(0.0, 0.0, 0.0);
-    if (rf_ydoc_opt_integer(&L->d, n, "count", RF_YR_AT_LEAST(1), &count, L->err) ||
+    if (rf_ydoc_opt_integer(&L->d, n, "count", RF_YR_BETWEEN(1, RF_COUNT_MAX), &count, L->err) ||
         rf_ydoc_opt_number(&L->d, n, "height", RF_YR_NONNEG, &r->height, L->err) ||
         rf_ydoc_opt_number(&L->d, n, "jitter", RF_YR_NONNEG, &r->jitter, L->err))
         return -1;
@@ -785,6 +798,7 @@ static int read_document(loader *L)
                    rf_ydoc_opt_number(&L->d, hazard, "cell", RF_YR_POSITIVE, &p->hazard_cell,
                                       L->err)))
         return -1;
+    L->cell_node = hazard ? rf_ydoc_get(&L->d, hazard, "cell") : NULL;
 
     rf_ynode *rules = rf_ydoc_get(&L->d, root, "rules");
     if (rules) {
@@ -917,6 +931,26 @@ static int set_paths(loader *L, const char *path)
     return p->yaml_text ? 0 : oom(L);
 }
 
+/* The hazard map's grid over the terrain stays within RF_HAZARD_CELLS_MAX cells (each
+ * thread keeps one). */
+static int check_hazard_grid(loader *L)
+{
+    const rf_terrain *t = &L->p->terrain;
+    double c = L->p->hazard_cell;
+    double cells = fmax(ceil((t->xmax - t->xmin) / c), 1.0) * fmax(ceil((t->ymax - t->ymin) / c), 1.0);
+    if (cells <= RF_HAZARD_CELLS_MAX)
+        return 0;
+    if (L->cell_node)
+        return rf_ydoc_error(&L->d, L->cell_node, L->err,
+                             "'cell' %g m makes a hazard grid of %.3g cells over the terrain; "
+                             "at most %g",
+                             c, cells, RF_HAZARD_CELLS_MAX);
+    return rf_error_set(L->err, L->p->path, 0, 0,
+                        "the default hazard cell of %g m makes a grid of %.3g cells over the "
+                        "terrain; set a larger 'hazard: {cell: ...}' (at most %g cells)",
+                        c, cells, RF_HAZARD_CELLS_MAX);
+}
+
 int rf_project_load(const char *path, rf_project *p, rf_error *err)
 {
     memset(p, 0, sizeof *p);
@@ -941,6 +975,8 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err)
         rc = place_releases(&L);
     if (rc == 0)
         rc = check_measures_on_terrain(&L);
+    if (rc == 0)
+        rc = check_hazard_grid(&L);
     free(L.file_nodes);
     free(L.point_nodes);
     free(L.line_nodes);

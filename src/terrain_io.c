@@ -148,6 +148,9 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
         else
             return rf_error_set(err, s->path, line, col, "unknown grid header key '%.*s'",
                                 (int)(k_end - k > 40 ? 40 : k_end - k), k);
+        if ((is_nodata && g->has_nodata) || (!is_nodata && have[key]))
+            return rf_error_set(err, s->path, line, col, "grid header key '%.*s' given twice",
+                                (int)(k_end - k > 40 ? 40 : k_end - k), k);
         double v;
         if (scan_number(s, 0, &v, err))
             return -1;

@@ -395,7 +395,7 @@ const char *rf_yrange_describe(rf_yrange r, int integer, char *buf, size_t size)
     int has_lo = isfinite(r.lo), has_hi = isfinite(r.hi);
     if (has_lo && has_hi) {
         if (integer)
-            snprintf(buf, size, "%s in %g..%g", kind, r.lo, r.hi);
+            snprintf(buf, size, "%s in %.0f..%.0f", kind, r.lo, r.hi);
         else
             snprintf(buf, size, "%s in %c%g, %g%c", kind, r.lo_open ? '(' : '[', r.lo, r.hi,
                      r.hi_open ? ')' : ']');
