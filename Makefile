@@ -5,6 +5,7 @@
 #   make test       build and run the tests (ends with "N passed, N failed")
 #   make test SANITIZE=1   the same under AddressSanitizer and UBSan
 #   make bench      speed against error of the motion engines
+#   make validate   the engine against the Authume quarry's measured stop points
 #   make report-check   the demo report rendered by headless chromium (a PNG to look at)
 #   make install    PREFIX=/usr/local
 
@@ -33,7 +34,7 @@ TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.o)
 TOOL_SRC := $(wildcard tools/*.c)
 TOOLS    := $(TOOL_SRC:tools/%.c=$(BUILD)/tools/%)
 
-.PHONY: all demo test bench install clean deps report-check
+.PHONY: all demo test bench validate install clean deps report-check
 all: $(BUILD)/rockfall $(TOOLS)
 
 $(BUILD)/src/%.o: src/%.c
@@ -85,6 +86,12 @@ FAST := OPT="-O3 -march=native -flto=auto -fno-math-errno" AR=gcc-ar
 bench:
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench
 	build/bench/tools/bench
+
+# The engine against real rockfalls (../shared/validation/authume, docs/validation.md).
+validate:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory $(BUILD)/tools/validate
+	$(BUILD)/tools/validate
 
 # The report in a real browser: the demo run's report rendered by Debian's headless
 # chromium (installed when missing) to $(BUILD)/report/screenshot.png.  Look at it.

@@ -51,3 +51,9 @@ int rf_read_file(const char *path, char **text, size_t *len, rf_error *err)
     *len = n;
     return 0;
 }
+
+int rf_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}

@@ -18,6 +18,7 @@
 #include "db_test_util.h"
 #include "motion_test_util.h"
 #include "test.h"
+#include "util.h"
 #include "vegetation.h"
 
 /* ---- scenes and observers ---------------------------------------------------------- */
@@ -393,12 +394,6 @@ TEST(vegetation_hits_per_metre_uniform_forest)
     ENSURE_MSG(fabs(mean - want) <= 3.0 * se, "%.5f hits/m, expected %.5f, SE %.5f", mean, want, se);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The distance to the first hit is exponential with the rate of Eq. 12
  * (Kolmogorov-Smirnov, alpha = 0.001). */
 TEST(vegetation_first_hit_distance_exponential)
@@ -412,7 +407,7 @@ TEST(vegetation_first_hit_distance_exponential)
     double mean, se;
     /* 300 m of path: a trajectory without a hit has probability e^-17 */
     hit_rate(&f, 1, point, RF_ENGINE_EXACT, 0.0, 30.0, n, &mean, &se, d);
-    qsort(d, (size_t)n, sizeof *d, cmp_double);
+    qsort(d, (size_t)n, sizeof *d, rf_cmp_double);
     double D = 0.0, sum = 0.0;
     for (long i = 0; i < n; i++) {
         double F = gsl_cdf_exponential_P(d[i], 1.0 / lambda);

@@ -22,6 +22,7 @@
 #include "rockfall/project.h"
 #include "rockfall/sim.h"
 #include "scenes.h"
+#include "util.h"
 
 #define N_STATS 2000      /* trajectories per row for the statistics */
 #define N_REFERENCE 40000 /* trajectories of the converged reference */
@@ -62,15 +63,9 @@ static void mean_se(const double *v, long n, double *mean, double *se)
     *se = sqrt(fmax(s2 / (double)n - *mean * *mean, 0) / (double)n);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double p95(double *v, size_t n)
 {
-    qsort(v, n, sizeof *v, cmp_double);
+    qsort(v, n, sizeof *v, rf_cmp_double);
     size_t rank = (size_t)ceil(0.95 * (double)n);
     return v[(rank ? rank : 1) - 1];
 }

@@ -1,0 +1,368 @@
+/* validation.c - simulated stop points against measured ones (validation.h). */
+#include "validation.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rockfall/montecarlo.h"
+#include "util.h"
+
+/* ---- reading ------------------------------------------------------------------- */
+
+int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
+{
+    memset(out, 0, sizeof *out);
+    out->ncol = ncol;
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return rf_error_set(err, path, 0, 0, "cannot open: %s", strerror(errno));
+    char buf[4096];
+    size_t cap = 0;
+    int line = 0, rc = 0;
+    while (rc == 0 && fgets(buf, sizeof buf, f)) {
+        line++;
+        size_t len = strlen(buf);
+        if (len == sizeof buf - 1 && buf[len - 1] != '\n') {
+            rc = rf_error_set(err, path, line, (int)len, "line longer than %zu characters",
+                              sizeof buf - 2);
+            break;
+        }
+        const char *p = buf;
+        while (*p && isspace((unsigned char)*p))
+            p++;
+        if (*p == '\0' || *p == '#')
+            continue;
+        if (rf_grow((void **)&out->v, &cap, (out->n + 1) * ncol, sizeof *out->v)) {
+            rc = rf_error_set(err, path, line, 0, "out of memory");
+            break;
+        }
+        double *row = out->v + out->n * ncol;
+        for (size_t k = 0; k < ncol; k++) {
+            while (*p == ' ' || *p == '\t')
+                p++;
+            int col = (int)(p - buf) + 1;
+            char *end;
+            errno = 0;
+            double x = strtod(p, &end);
+            if (end == p || (*end && !isspace((unsigned char)*end))) {
+                rc = rf_error_set(err, path, line, col, "expected a number (column %zu of %zu)",
+                                  k + 1, ncol);
+                break;
+            }
+            if (!isfinite(x) || errno == ERANGE) {
+                rc = rf_error_set(err, path, line, col, "number out of range");
+                break;
+            }
+            row[k] = x;
+            p = end;
+        }
+        if (rc == 0)
+            out->n++;
+    }
+    if (rc == 0 && ferror(f))
+        rc = rf_error_set(err, path, line, 0, "read error");
+    fclose(f);
+    if (rc)
+        rf_points_free(out);
+    return rc;
+}
+
+void rf_points_free(rf_points *p)
+{
+    free(p->v);
+    p->v = NULL;
+    p->n = 0;
+}
+
+/* ---- statistics ---------------------------------------------------------------- */
+
+double rf_quantile(const double *sorted, size_t n, double q)
+{
+    if (n == 0)
+        return NAN;
+    double h = (double)(n - 1) * q;
+    size_t lo = (size_t)floor(h);
+    if (lo >= n - 1)
+        return sorted[n - 1];
+    return sorted[lo] + (h - (double)lo) * (sorted[lo + 1] - sorted[lo]);
+}
+
+double rf_ks_distance(const double *a, size_t n, const double *b, size_t m)
+{
+    size_t i = 0, j = 0;
+    double d = 0.0;
+    while (i < n && j < m) {
+        /* step past every value equal to the smaller of the two, in both samples */
+        double x = a[i] < b[j] ? a[i] : b[j];
+        while (i < n && a[i] <= x)
+            i++;
+        while (j < m && b[j] <= x)
+            j++;
+        double gap = fabs((double)i / (double)n - (double)j / (double)m);
+        if (gap > d)
+            d = gap;
+    }
+    return d;
+}
+
+/* ---- hulls --------------------------------------------------------------------- */
+
+static int cmp_xy(const void *pa, const void *pb)
+{
+    const double *a = pa, *b = pb;
+    if (a[0] != b[0])
+        return a[0] < b[0] ? -1 : 1;
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* > 0 when o, a, b turn counter-clockwise */
+static double cross(const double *o, const double *a, const double *b)
+{
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+size_t rf_convex_hull(const double *xy, size_t n, double *hull)
+{
+    if (n == 0)
+        return 0;
+    double *p = malloc(2 * n * sizeof *p);
+    if (!p)
+        return 0;
+    memcpy(p, xy, 2 * n * sizeof *p);
+    qsort(p, n, 2 * sizeof *p, cmp_xy);
+    /* Andrew's monotone chain: the lower chain left to right, the upper right to left */
+    size_t k = 0;
+    for (size_t i = 0; i < n; i++) {
+        while (k >= 2 && cross(hull + 2 * (k - 2), hull + 2 * (k - 1), p + 2 * i) <= 0)
+            k--;
+        hull[2 * k] = p[2 * i], hull[2 * k + 1] = p[2 * i + 1];
+        k++;
+    }
+    for (size_t i = n - 1, lower = k + 1; i-- > 0;) {
+        while (k >= lower && cross(hull + 2 * (k - 2), hull + 2 * (k - 1), p + 2 * i) <= 0)
+            k--;
+        hull[2 * k] = p[2 * i], hull[2 * k + 1] = p[2 * i + 1];
+        k++;
+    }
+    free(p);
+    /* the chain closes on its first point; all points equal leave one */
+    if (k > 1)
+        k--;
+    return k;
+}
+
+int rf_hull_contains(const double *hull, size_t nh, double x, double y, double tol)
+{
+    const double q[2] = {x, y};
+    if (nh == 0)
+        return 0;
+    if (nh == 1)
+        return hypot(x - hull[0], y - hull[1]) <= tol;
+    if (nh == 2) {
+        double ex = hull[2] - hull[0], ey = hull[3] - hull[1];
+        double len2 = ex * ex + ey * ey;
+        double s = ((x - hull[0]) * ex + (y - hull[1]) * ey) / len2;
+        s = s < 0 ? 0 : (s > 1 ? 1 : s);
+        return hypot(x - hull[0] - s * ex, y - hull[1] - s * ey) <= tol;
+    }
+    for (size_t i = 0; i < nh; i++) {
+        const double *a = hull + 2 * i, *b = hull + 2 * ((i + 1) % nh);
+        double len = hypot(b[0] - a[0], b[1] - a[1]);
+        if (cross(a, b, q) < -tol * len)
+            return 0;
+    }
+    return 1;
+}
+
+size_t rf_envelope(const double *xy, size_t n, double keep, double *hull)
+{
+    if (n == 0)
+        return 0;
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < n; i++)
+        mx += xy[2 * i], my += xy[2 * i + 1];
+    mx /= (double)n, my /= (double)n;
+    double sxx = 0, sxy = 0, syy = 0;
+    for (size_t i = 0; i < n; i++) {
+        double dx = xy[2 * i] - mx, dy = xy[2 * i + 1] - my;
+        sxx += dx * dx, sxy += dx * dy, syy += dy * dy;
+    }
+    double det = sxx * syy - sxy * sxy;
+    double *d = malloc(n * sizeof *d), *sorted = malloc(n * sizeof *sorted);
+    double *kept = malloc(2 * n * sizeof *kept);
+    size_t nk = 0, nh = 0;
+    if (d && sorted && kept) {
+        for (size_t i = 0; i < n; i++) {
+            double dx = xy[2 * i] - mx, dy = xy[2 * i + 1] - my;
+            /* the squared Mahalanobis distance (up to a common factor); the Euclidean
+             * one when the points are collinear or equal */
+            d[i] = det > 0 ? (syy * dx * dx - 2 * sxy * dx * dy + sxx * dy * dy) / det
+                           : dx * dx + dy * dy;
+            sorted[i] = d[i];
+        }
+        qsort(sorted, n, sizeof *sorted, rf_cmp_double);
+        size_t want = (size_t)ceil(keep * (double)n);
+        if (want < 1)
+            want = 1;
+        if (want > n)
+            want = n;
+        double limit = sorted[want - 1];
+        for (size_t i = 0; i < n; i++)
+            if (d[i] <= limit)
+                kept[2 * nk] = xy[2 * i], kept[2 * nk + 1] = xy[2 * i + 1], nk++;
+        nh = rf_convex_hull(kept, nk, hull);
+    }
+    free(d);
+    free(sorted);
+    free(kept);
+    return nh;
+}
+
+/* ---- agreement ----------------------------------------------------------------- */
+
+static void mean_sd(const double *v, size_t n, double *mean, double *sd)
+{
+    double s = 0, s2 = 0;
+    for (size_t i = 0; i < n; i++)
+        s += v[i];
+    *mean = s / (double)n;
+    for (size_t i = 0; i < n; i++)
+        s2 += (v[i] - *mean) * (v[i] - *mean);
+    *sd = n > 1 ? sqrt(s2 / (double)(n - 1)) : 0.0;
+}
+
+/* Runout and lateral offset of n points in the frame (x0, y0, direction ux, uy). */
+static void to_frame(const double *xy, size_t n, double x0, double y0, double ux, double uy,
+                     double *runout, double *lateral)
+{
+    for (size_t i = 0; i < n; i++) {
+        double dx = xy[2 * i] - x0, dy = xy[2 * i + 1] - y0;
+        runout[i] = hypot(dx, dy);
+        lateral[i] = ux * dy - uy * dx;
+    }
+}
+
+int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_t ns, double x0,
+                         double y0, rf_agreement *out)
+{
+    memset(out, 0, sizeof *out);
+    if (nm == 0 || ns == 0)
+        return -1;
+    /* the mean direction of the measured stops from the release centre */
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < nm; i++)
+        mx += meas[2 * i] - x0, my += meas[2 * i + 1] - y0;
+    double ml = hypot(mx, my);
+    double ux = ml > 0 ? mx / ml : 1.0, uy = ml > 0 ? my / ml : 0.0;
+    size_t nmax = nm > ns ? nm : ns;
+    double *rm = malloc(nm * sizeof *rm), *lm = malloc(nm * sizeof *lm);
+    double *rs = malloc(ns * sizeof *rs), *ls = malloc(ns * sizeof *ls);
+    double *hull = malloc(2 * nmax * sizeof *hull);
+    int rc = -1;
+    if (rm && lm && rs && ls && hull) {
+        to_frame(meas, nm, x0, y0, ux, uy, rm, lm);
+        to_frame(sim, ns, x0, y0, ux, uy, rs, ls);
+        mean_sd(lm, nm, &out->lateral_mean_meas, &out->lateral_sd_meas);
+        mean_sd(ls, ns, &out->lateral_mean_sim, &out->lateral_sd_sim);
+        qsort(rm, nm, sizeof *rm, rf_cmp_double);
+        qsort(rs, ns, sizeof *rs, rf_cmp_double);
+        const double q[3] = {0.05, 0.5, 0.95};
+        for (int k = 0; k < 3; k++) {
+            out->runout_meas[k] = rf_quantile(rm, nm, q[k]);
+            out->runout_sim[k] = rf_quantile(rs, ns, q[k]);
+        }
+        out->ks = rf_ks_distance(rm, nm, rs, ns);
+        out->ks_crit = 1.358 * sqrt((double)(nm + ns) / ((double)nm * (double)ns));
+        size_t nh = rf_envelope(sim, ns, 0.95, hull);
+        size_t in = 0;
+        for (size_t i = 0; i < nm; i++)
+            in += (size_t)rf_hull_contains(hull, nh, meas[2 * i], meas[2 * i + 1], 1e-9);
+        out->inside = (double)in / (double)nm;
+        out->n_meas = nm, out->n_sim = ns;
+        rc = 0;
+    }
+    free(rm);
+    free(lm);
+    free(rs);
+    free(ls);
+    free(hull);
+    return rc;
+}
+
+/* ---- a field test -------------------------------------------------------------- */
+
+int rf_field_profile_load(const char *data, const char *name, rf_field_profile *pr, rf_error *err)
+{
+    char path[4096];
+    memset(pr, 0, sizeof *pr);
+    snprintf(pr->name, sizeof pr->name, "%s", name);
+    snprintf(path, sizeof path, "%s/Drop_conditions/positions_%s.xyz", data, name);
+    if (rf_points_read(path, 3, &pr->drop, err))
+        return -1;
+    if (pr->drop.n == 0) {
+        rf_field_profile_free(pr);
+        return rf_error_set(err, path, 0, 0, "no drop positions");
+    }
+    snprintf(path, sizeof path, "%s/EXP_endpoints/Endpoints_%s.txt", data, name);
+    if (rf_points_read(path, 7, &pr->stops, err)) {
+        rf_field_profile_free(pr);
+        return -1;
+    }
+    for (size_t k = 0; k < pr->stops.n; k++) {
+        if (!(pr->stops.v[7 * k + 3] > 0)) {
+            rf_field_profile_free(pr);
+            return rf_error_set(err, path, 0, 0, "row %zu: the mass must be > 0", k + 1);
+        }
+    }
+    if (pr->stops.n == 0 || !(pr->meas = malloc(2 * pr->stops.n * sizeof *pr->meas))) {
+        rf_field_profile_free(pr);
+        return rf_error_set(err, path, 0, 0, pr->stops.n ? "out of memory" : "no stop points");
+    }
+    pr->xlo = pr->ylo = INFINITY, pr->xhi = pr->yhi = -INFINITY;
+    for (size_t k = 0; k < pr->drop.n; k++) {
+        const double *d = pr->drop.v + 3 * k;
+        pr->xlo = fmin(pr->xlo, d[0]), pr->xhi = fmax(pr->xhi, d[0]);
+        pr->ylo = fmin(pr->ylo, d[2]), pr->yhi = fmax(pr->yhi, d[2]);
+        pr->height += d[1] / (double)pr->drop.n;
+    }
+    for (size_t k = 0; k < pr->stops.n; k++) {
+        pr->meas[2 * k] = pr->stops.v[7 * k];
+        pr->meas[2 * k + 1] = pr->stops.v[7 * k + 2];
+    }
+    return 0;
+}
+
+void rf_field_profile_free(rf_field_profile *pr)
+{
+    rf_points_free(&pr->drop);
+    rf_points_free(&pr->stops);
+    free(pr->meas);
+    pr->meas = NULL;
+}
+
+void rf_field_simulate(const rf_scene *scene, uint64_t seed, const rf_field_profile *pr,
+                       size_t stream, long n, double density, rf_workspace *ws, gsl_rng *rng,
+                       double *xy, size_t *not_rest)
+{
+    size_t k = 0;
+    *not_rest = 0;
+    for (size_t i = 0; i < pr->stops.n; i++) {
+        rf_body body = rf_body_make(pr->stops.v[7 * i + 3], density, scene->sim->model);
+        for (long j = 0; j < n; j++, k++) {
+            gsl_rng_set(rng, rf_trajectory_seed(seed, stream, (long)k));
+            rf_state s0;
+            memset(&s0, 0, sizeof s0);
+            s0.p.x = pr->xlo + (pr->xhi - pr->xlo) * gsl_rng_uniform(rng);
+            s0.p.y = pr->ylo + (pr->yhi - pr->ylo) * gsl_rng_uniform(rng);
+            s0.p.z = pr->height;
+            rf_trajectory_record rec;
+            rf_simulate(scene, &body, &s0, rng, ws, NULL, &rec);
+            xy[2 * k] = rec.stop.x, xy[2 * k + 1] = rec.stop.y;
+            *not_rest += rec.reason != RF_END_REST;
+        }
+    }
+}

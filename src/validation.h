@@ -1,0 +1,91 @@
+/* validation.h - simulated stop points against measured ones (field data).
+ *
+ * `make validate` (tools/validate.c) compares the engine with the Authume quarry
+ * tests (../shared/validation/authume, docs/validation.md).  The stop points of a
+ * release are taken in a frame of their own: the runout is the horizontal distance
+ * from the release centre, the lateral offset the signed distance across the mean
+ * direction of the measured stops.  The measures of agreement: runout percentiles,
+ * the lateral mean and spread, the two-sample Kolmogorov-Smirnov distance on runout,
+ * and the share of measured stops inside the simulated 95 % envelope (the convex hull
+ * of the 95 % of simulated stops nearest their mean in the Mahalanobis distance). */
+#ifndef ROCKFALL_VALIDATION_H
+#define ROCKFALL_VALIDATION_H
+
+#include <stddef.h>
+
+#include "rockfall/error.h"
+#include "rockfall/project.h"
+#include "rockfall/sim.h"
+
+/* Rows of at least ncol numbers from a text file (blank lines and lines starting with
+ * '#' skipped; columns beyond ncol ignored): v[row * ncol + col]. */
+typedef struct rf_points {
+    double *v;
+    size_t n, ncol;
+} rf_points;
+
+/* Reads path; a bad row is an error at its line and column. */
+int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err);
+void rf_points_free(rf_points *p);
+
+/* Quantile q in [0, 1] of n >= 1 values sorted ascending: linear between the order
+ * statistics (Hyndman and Fan's type 7, as R and numpy by default); NaN for none. */
+double rf_quantile(const double *sorted, size_t n, double q);
+
+/* Two-sample Kolmogorov-Smirnov distance sup |F_a - F_b| of two samples sorted
+ * ascending (n, m >= 1). */
+double rf_ks_distance(const double *a, size_t n, const double *b, size_t m);
+
+/* Convex hull of n points xy[2k], xy[2k+1] into hull (room for 2n numbers),
+ * counter-clockwise, without collinear points; returns its number of vertices. */
+size_t rf_convex_hull(const double *xy, size_t n, double *hull);
+
+/* 1 when (x, y) lies in the closed convex polygon of nh counter-clockwise vertices
+ * (for nh < 3, on the segment or at the point). */
+int rf_hull_contains(const double *hull, size_t nh, double x, double y, double tol);
+
+/* The envelope of n points: the convex hull (into hull, room for 2n numbers) of the
+ * ceil(keep n) nearest their mean in the Mahalanobis distance; returns its vertices. */
+size_t rf_envelope(const double *xy, size_t n, double keep, double *hull);
+
+/* How simulated stops agree with measured ones, in the release's frame. */
+typedef struct rf_agreement {
+    size_t n_meas, n_sim;
+    double runout_meas[3], runout_sim[3]; /* 5th percentile, median, 95th (m) */
+    double lateral_mean_meas, lateral_mean_sim;
+    double lateral_sd_meas, lateral_sd_sim; /* sample standard deviations (m) */
+    double ks;                              /* Kolmogorov-Smirnov distance on runout */
+    double ks_crit;                         /* its 5 % critical value, 1.358 sqrt((n+m)/(n m)) */
+    double inside;                          /* share of measured stops in the 95 % envelope */
+} rf_agreement;
+
+/* Compares nm measured and ns simulated horizontal stop points (x, y pairs) from the
+ * release centre (x0, y0); -1 when either set is empty or memory runs out. */
+int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_t ns, double x0,
+                         double y0, rf_agreement *out);
+
+/* ---- a field test: boulders released from a zone, their stops measured ---------
+ * The files of ../shared/validation/authume: Drop_conditions/positions_NAME.xyz (the
+ * release zone's corners, x y z) and EXP_endpoints/Endpoints_NAME.txt (x y z, mass,
+ * and three sizes per boulder), y up in both: project (x, y, z) = file (x, z, y). */
+typedef struct rf_field_profile {
+    char name[64];
+    rf_points drop, stops;
+    double xlo, xhi, ylo, yhi; /* the release zone (the corners' bounding rectangle) */
+    double height;             /* the centre's height at release (the corners' mean) */
+    double *meas;              /* the measured stops, horizontal (x, y) pairs */
+} rf_field_profile;
+
+/* Reads profile `name` from the directory `data`. */
+int rf_field_profile_load(const char *data, const char *name, rf_field_profile *pr, rf_error *err);
+void rf_field_profile_free(rf_field_profile *pr);
+
+/* Simulates n rocks per measured boulder (its mass, density `density`), each at rest
+ * with its centre at the release height over a uniform point of the zone, trajectory k
+ * drawing from the stream of (project seed, `stream`, k); the stops' (x, y) into xy
+ * (2 n nstops numbers), and how many did not come to rest into *not_rest. */
+void rf_field_simulate(const rf_scene *scene, uint64_t seed, const rf_field_profile *pr,
+                       size_t stream, long n, double density, rf_workspace *ws, gsl_rng *rng,
+                       double *xy, size_t *not_rest);
+
+#endif

@@ -1,0 +1,192 @@
+/* test_validation.c - the comparison of simulated with measured stop points
+ * (validation.c): statistics against hand-computed values, hulls and envelopes, the
+ * field files, and the Authume quarry's profile P1 run with the project's fitted
+ * values (projects/authume/authume.yaml, docs/validation.md). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "rockfall/montecarlo.h"
+#include "rockfall/project.h"
+#include "rockfall/sim.h"
+#include "test.h"
+#include "validation.h"
+
+TEST(validation_quantile_and_ks_by_hand)
+{
+    const double v[4] = {1.0, 2.0, 3.0, 4.0};
+    ENSURE_SMALL(rf_quantile(v, 4, 0.5) - 2.5, 1e-15);
+    ENSURE_SMALL(rf_quantile(v, 4, 0.05) - 1.15, 1e-15); /* h = 0.15 */
+    ENSURE_SMALL(rf_quantile(v, 4, 0.95) - 3.85, 1e-15);
+    ENSURE(rf_quantile(v, 4, 0.0) == 1.0 && rf_quantile(v, 4, 1.0) == 4.0);
+    ENSURE(rf_quantile(v, 1, 0.7) == 1.0);
+    ENSURE(isnan(rf_quantile(v, 0, 0.5)));
+    /* F_a - F_b after each value: 1/3, 1/12, 5/12, 1/6, 1/2, 1/4, 0 */
+    const double a[3] = {1.0, 2.0, 3.0}, b[4] = {1.5, 2.5, 3.5, 4.5};
+    ENSURE_SMALL(rf_ks_distance(a, 3, b, 4) - 0.5, 1e-15);
+    ENSURE_SMALL(rf_ks_distance(b, 4, a, 3) - 0.5, 1e-15);
+    /* ties step both samples at once: equal samples are at distance 0 */
+    const double c[3] = {1.0, 2.0, 2.0};
+    ENSURE(rf_ks_distance(c, 3, c, 3) == 0.0);
+    const double d[2] = {2.0, 2.0};
+    ENSURE_SMALL(rf_ks_distance(c, 3, d, 2) - 1.0 / 3.0, 1e-15);
+}
+
+TEST(validation_hull_and_envelope)
+{
+    /* a square's corners, its centre and a point on an edge: the hull is the corners */
+    const double sq[12] = {0, 0, 2.5, 0, 2.5, 2.5, 0, 2.5, 1.25, 1.25, 1.25, 0};
+    double hull[12];
+    size_t nh = rf_convex_hull(sq, 6, hull);
+    ENSURE_MSG(nh == 4, "%zu vertices", nh);
+    double area = 0;
+    for (size_t i = 0; i < nh; i++) {
+        const double *p = hull + 2 * i, *q = hull + 2 * ((i + 1) % nh);
+        area += p[0] * q[1] - q[0] * p[1];
+    }
+    ENSURE_SMALL(0.5 * area - 6.25, 1e-12); /* counter-clockwise: positive */
+    ENSURE(rf_hull_contains(hull, nh, 1.0, 2.0, 1e-9));
+    ENSURE(rf_hull_contains(hull, nh, 2.5, 1.0, 1e-9)); /* on an edge */
+    ENSURE(!rf_hull_contains(hull, nh, 2.6, 1.0, 1e-9));
+    ENSURE(!rf_hull_contains(hull, nh, -0.01, -0.01, 1e-9));
+    /* 100 points on a 10 x 10 lattice and 5 far away: the 95 % envelope leaves the five
+     * out and keeps the lattice whole */
+    double pts[210];
+    for (int i = 0; i < 100; i++)
+        pts[2 * i] = i % 10, pts[2 * i + 1] = i / 10;
+    const double far[10] = {60, 4, -50, 5, 4, 70, 5, -40, 45, 45};
+    memcpy(pts + 200, far, sizeof far);
+    double env[210];
+    size_t ne = rf_envelope(pts, 105, 0.95, env);
+    ENSURE(ne >= 4);
+    for (int k = 0; k < 5; k++)
+        ENSURE_MSG(!rf_hull_contains(env, ne, far[2 * k], far[2 * k + 1], 1e-9), "outlier %d kept", k);
+    ENSURE(rf_hull_contains(env, ne, 4.5, 4.5, 1e-9));
+    /* the whole set: everything inside */
+    ne = rf_envelope(pts, 105, 1.0, env);
+    for (int k = 0; k < 105; k++)
+        ENSURE(rf_hull_contains(env, ne, pts[2 * k], pts[2 * k + 1], 1e-9));
+}
+
+TEST(validation_agreement_of_a_sample_with_itself)
+{
+    /* stops spread about (30, 4) from a release at (0, 0): compared with themselves */
+    double xy[400];
+    unsigned s = 2385u;
+    for (int i = 0; i < 200; i++) {
+        s = s * 1103515245u + 12345u;
+        double u = (double)(s >> 8 & 0xffff) / 65535.0;
+        s = s * 1103515245u + 12345u;
+        double w = (double)(s >> 8 & 0xffff) / 65535.0;
+        xy[2 * i] = 20.0 + 20.0 * u, xy[2 * i + 1] = 4.0 + 6.0 * (w - 0.5);
+    }
+    rf_agreement a;
+    ENSURE(rf_agreement_compute(xy, 200, xy, 200, 0.0, 0.0, &a) == 0);
+    ENSURE(a.ks == 0.0);
+    for (int k = 0; k < 3; k++)
+        ENSURE(a.runout_meas[k] == a.runout_sim[k]);
+    ENSURE(a.runout_meas[0] > 20.0 && a.runout_meas[2] < 41.0);
+    ENSURE_SMALL(a.lateral_mean_meas, 1e-12); /* the frame follows the measured mean */
+    ENSURE(a.lateral_sd_meas == a.lateral_sd_sim && a.lateral_sd_meas > 1.0);
+    ENSURE(a.inside >= 0.95 && a.inside < 1.0); /* the outer 5 % lie outside */
+    ENSURE_SMALL(a.ks_crit - 1.358 * sqrt(400.0 / 40000.0), 1e-15);
+    /* moved 30 m further: the whole distribution is beyond, KS distance 1 */
+    double far[400];
+    for (int i = 0; i < 200; i++)
+        far[2 * i] = xy[2 * i] + 30.0, far[2 * i + 1] = xy[2 * i + 1];
+    ENSURE(rf_agreement_compute(xy, 200, far, 200, 0.0, 0.0, &a) == 0);
+    ENSURE(a.ks == 1.0 && a.inside == 0.0);
+    ENSURE(rf_agreement_compute(xy, 0, far, 200, 0.0, 0.0, &a) == -1);
+}
+
+TEST(validation_points_file_errors_name_line_and_column)
+{
+    const char *path = rf_test_write("pts.txt", "# x y z\n1 2 3\n\n4 5 x6\n");
+    rf_points p;
+    rf_error err;
+    memset(&err, 0, sizeof err);
+    ENSURE(rf_points_read(path, 3, &p, &err) != 0);
+    ENSURE_MSG(err.line == 4 && err.column == 5, "%d:%d %s", err.line, err.column, err.message);
+    ENSURE(strstr(err.message, "expected a number") != NULL);
+    ENSURE(p.v == NULL && p.n == 0);
+    path = rf_test_write("short.txt", "1 2 3\n4 5\n");
+    ENSURE(rf_points_read(path, 3, &p, &err) != 0);
+    ENSURE_MSG(err.line == 2 && err.column == 4, "%d:%d %s", err.line, err.column, err.message);
+    path = rf_test_write("ok.txt", "1 2 3 9 9\n  4.5\t5 6\n");
+    ENSURE(rf_points_read(path, 3, &p, &err) == 0);
+    ENSURE(p.n == 2 && p.v[3] == 4.5 && p.v[5] == 6.0);
+    rf_points_free(&p);
+    ENSURE(rf_points_read(rf_test_path("missing.txt"), 3, &p, &err) != 0);
+    ENSURE(strstr(err.message, "cannot open") != NULL);
+}
+
+/* The field data: 41 boulders on P1 and 48 on P2 of 170 to 1 870 kg, released
+ * from a 4 m square at the shovel's height. */
+TEST(validation_authume_profiles_load)
+{
+    const size_t want[2] = {41, 48};
+    const char *names[2] = {"P1", "P2"};
+    for (int k = 0; k < 2; k++) {
+        rf_field_profile pr;
+        rf_error err;
+        memset(&err, 0, sizeof err);
+        ENSURE_MSG(rf_field_profile_load(rf_test_shared("validation/authume"), names[k], &pr, &err) == 0,
+                   "%s:%d:%d %s", err.file, err.line, err.column, err.message);
+        ENSURE_MSG(pr.stops.n == want[k], "%s: %zu stops", names[k], pr.stops.n);
+        ENSURE(pr.drop.n == 4);
+        ENSURE(pr.xhi - pr.xlo > 3.9 && pr.xhi - pr.xlo < 4.1);
+        ENSURE(pr.yhi - pr.ylo > 3.8 && pr.yhi - pr.ylo < 4.0);
+        ENSURE(pr.height > 209.0 && pr.height < 212.0);
+        for (size_t i = 0; i < pr.stops.n; i++) {
+            double mass = pr.stops.v[7 * i + 3];
+            ENSURE_MSG(mass > 150.0 && mass < 2000.0, "%s boulder %zu: %g kg", names[k], i, mass);
+            ENSURE(pr.meas[2 * i] == pr.stops.v[7 * i] && pr.meas[2 * i + 1] == pr.stops.v[7 * i + 2]);
+        }
+        rf_field_profile_free(&pr);
+    }
+}
+
+/* The validation project (its values fitted on P1 in full contact, docs/validation.md)
+ * run on P1 with 3 rocks per boulder: the runouts within the bounds `make validate`
+ * found with 50 (KS distance 0.20, median 48.5 m against 40.6 m measured) up to the
+ * noise of 123 rocks, none off the mesh.  The paper's values (restitution 0.15,
+ * friction 0.30) send most rocks off the mesh. */
+TEST(validation_authume_p1_with_fitted_values)
+{
+    rf_project p;
+    rf_error err;
+    memset(&err, 0, sizeof err);
+    ENSURE_MSG(rf_project_load("projects/authume/authume.yaml", &p, &err) == 0, "%s:%d:%d %s",
+               err.file, err.line, err.column, err.message);
+    rf_field_profile pr;
+    ENSURE(rf_field_profile_load(rf_test_shared("validation/authume"), "P1", &pr, &err) == 0);
+    rf_workspace *ws = rf_workspace_alloc(&p.terrain);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    rf_scene scene = {&p.terrain, &p.sim, NULL, 0, NULL, 0};
+    const long n = 3;
+    size_t ns = pr.stops.n * (size_t)n, not_rest;
+    double *xy = malloc(2 * ns * sizeof *xy);
+    ENSURE(xy && ws && rng);
+    double x0 = 0.5 * (pr.xlo + pr.xhi), y0 = 0.5 * (pr.ylo + pr.yhi);
+    rf_field_simulate(&scene, p.seed, &pr, 0, n, 2650.0, ws, rng, xy, &not_rest);
+    rf_agreement a;
+    ENSURE(rf_agreement_compute(pr.meas, pr.stops.n, xy, ns, x0, y0, &a) == 0);
+    printf("    fitted: KS %.2f, median %.1f m (measured %.1f m), %zu not at rest\n", a.ks,
+           a.runout_sim[1], a.runout_meas[1], not_rest);
+    ENSURE_MSG(not_rest == 0, "%zu of %zu rocks did not come to rest", not_rest, ns);
+    ENSURE_MSG(a.ks < 0.35, "KS distance %.2f", a.ks);
+    ENSURE_MSG(fabs(a.runout_sim[1] - a.runout_meas[1]) < 15.0, "median %.1f m, measured %.1f m",
+               a.runout_sim[1], a.runout_meas[1]);
+    /* the paper's values on the same slope */
+    for (size_t k = 0; k < p.terrain.nzones; k++)
+        p.terrain.zones[k].surface = (rf_surface){{0.15, 0.05}, {0.30, 0.05}, {0.30, 0.05}};
+    rf_field_simulate(&scene, p.seed, &pr, 0, n, 2650.0, ws, rng, xy, &not_rest);
+    ENSURE(rf_agreement_compute(pr.meas, pr.stops.n, xy, ns, x0, y0, &a) == 0);
+    printf("    paper: KS %.2f, median %.1f m, %zu not at rest\n", a.ks, a.runout_sim[1], not_rest);
+    ENSURE_MSG(not_rest > ns / 2 && a.ks > 0.7, "%zu of %zu not at rest, KS %.2f", not_rest, ns, a.ks);
+    free(xy);
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+    rf_field_profile_free(&pr);
+    rf_project_free(&p);
+}
