@@ -8,18 +8,23 @@
 #include "store.h"
 #include "util.h"
 
+double rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny)
+{
+    *nx = fmax(ceil((t->xmax - t->xmin) / cell), 1.0);
+    *ny = fmax(ceil((t->ymax - t->ymin) / cell), 1.0);
+    return *nx * *ny;
+}
+
 int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell)
 {
     memset(h, 0, sizeof *h);
     h->cell = cell;
     h->x0 = t->xmin;
     h->y0 = t->ymin;
-    h->nx = (size_t)ceil((t->xmax - t->xmin) / cell);
-    h->ny = (size_t)ceil((t->ymax - t->ymin) / cell);
-    if (h->nx == 0)
-        h->nx = 1;
-    if (h->ny == 0)
-        h->ny = 1;
+    double nx, ny;
+    rf_hazard_grid(t, cell, &nx, &ny);
+    h->nx = (size_t)nx;
+    h->ny = (size_t)ny;
     size_t n = h->nx * h->ny;
     h->cells = calloc(n, sizeof *h->cells);
     h->slot_epoch = calloc(n, sizeof *h->slot_epoch);

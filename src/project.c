@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hazard.h"
 #include "yamldoc.h"
 
 #ifndef M_PI
@@ -33,12 +34,11 @@ typedef struct loader {
 /* Room for "LIST item N", which names a list item in messages. */
 #define WHAT_SIZE 64
 
-/* Bounds of what a project may ask for: trajectories per release (as --count), the
- * rock's radius, and the hazard map's cells. */
+/* Bounds of what a project may ask for: trajectories per release (as --count) and the
+ * rock's radius (the hazard map's cells: RF_HAZARD_CELLS_MAX). */
 #define RF_COUNT_MAX 1000000000LL
 #define RF_ROCK_RADIUS_MIN 1e-3
 #define RF_ROCK_RADIUS_MAX 100.0
-#define RF_HAZARD_CELLS_MAX 1e7
 
 static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", "rocks",
                                        "releases", "measures", "simulation", "hazard",
@@ -936,8 +936,8 @@ static int set_paths(loader *L, const char *path)
 static int check_hazard_grid(loader *L)
 {
     const rf_terrain *t = &L->p->terrain;
-    double c = L->p->hazard_cell;
-    double cells = fmax(ceil((t->xmax - t->xmin) / c), 1.0) * fmax(ceil((t->ymax - t->ymin) / c), 1.0);
+    double c = L->p->hazard_cell, nx, ny;
+    double cells = rf_hazard_grid(t, c, &nx, &ny);
     if (cells <= RF_HAZARD_CELLS_MAX)
         return 0;
     if (L->cell_node)
