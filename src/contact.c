@@ -175,6 +175,8 @@ typedef struct search {
      * s0 + vh t along the unit direction (ux, uy), at perpendicular offset d0 */
     int line;
     double ux, uy, s0, d0, vh;
+    double hr, reach;  /* the line's reach (line_reach) and a centre's reach of a face */
+    double zq[3];      /* the centre's height: zq[0] + zq[1] t + zq[2] t^2 */
     support_planes sp; /* a surface segment's support planes (n = 0 in a flight) */
     const rf_contact *skip; /* features passed over (rf_contact_search_near) */
     int nskip;
@@ -779,9 +781,7 @@ static void line_candidate(search *s, int32_t idx, double T, size_t *npend)
         return;
     ws->tested[idx] = ws->test_epoch;
     const rf_triangle *Tr = &m->terrain->tri[idx];
-    const rf_arc *arc = s->arc;
-    double reach = m->rho + 4 * m->tol_len;
-    double hr = line_reach(m);
+    double reach = s->reach, hr = s->hr;
     /* a point of the triangle within reach of the centre: within reach of the
      * horizontal line, the centre horizontally within reach of it meanwhile, and
      * not lower than the centre's lowest height then minus the reach */
@@ -803,9 +803,8 @@ static void line_candidate(search *s, int32_t idx, double T, size_t *npend)
         th = s->best;
     if (!(tl <= th))
         return;
-    double zq[3] = {arc->p.z, arc->v.z, 0.5 * arc->a.z};
     double zlo, zhi; /* the centre's height over [tl, th] */
-    rf_quadratic_range(zq, tl, th, &zlo, &zhi);
+    rf_quadratic_range(s->zq, tl, th, &zlo, &zhi);
     double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
     if (m->centre) {
         /* as test_candidates: the centre meets a face r / n.z above its plane */
@@ -849,7 +848,7 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
 static void walk_grid(search *s, double T)
 {
     const rf_terrain *t = s->m->terrain;
-    double hr = line_reach(s->m);
+    double hr = s->hr;
     double px = s->arc->p.x, py = s->arc->p.y, vx = s->arc->v.x, vy = s->arc->v.y;
     double c = t->cell;
     /* the time over the grid, widened by the reach (slabs in x and y) */
@@ -1024,6 +1023,9 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         s.vh = vh0;
         s.s0 = s.ux * arc->p.x + s.uy * arc->p.y;
         s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
+        s.hr = line_reach(m);
+        s.reach = m->rho + 4 * m->tol_len;
+        s.zq[0] = arc->p.z, s.zq[1] = arc->v.z, s.zq[2] = 0.5 * arc->a.z;
         rf_workspace *ws = m->ws;
         if (++ws->test_epoch == 0) { /* a new mark for the triangles tested */
             memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
@@ -1448,7 +1450,7 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
      * a nodata triangle, below) */
     double bridge = m->centre || m->point ? 0.0 : m->rho;
     if (!t->is_grid && over_gap(t, arc, 0.0) &&
-        over_gap(t, arc, vh > 0 ? dmax(bridge, 0.01 * t->bsize) / vh : 0.0))
+        (!(vh > 0) || over_gap(t, arc, dmax(bridge, 0.01 * t->bsize) / vh)))
         return 0.0;
     /* the gaps along the path, a few cells at a time */
     double cell = t->is_grid ? t->cell : t->bsize;
@@ -1594,11 +1596,10 @@ static void vertical_overlap(const rf_triangle *T, double x, double y, double rh
     if (T->n.z > 1e-12) {
         /* each offset face is met where the foot of the line's point lies in T (n.z
          * >= 0: the normals point up) */
-        rf_vec3 nu = T->n;
-        double zp = rf_triangle_z_at(T, x, y), dz = rho / nu.z;
-        if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp + dz), -rho, nu)))
+        double zp = rf_triangle_z_at(T, x, y), dz = rho / T->n.z;
+        if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp + dz), -rho, T->n)))
             *hi = dmax(*hi, zp + dz);
-        if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp - dz), rho, nu)))
+        if (inside_closed(T, rf_v3_madd(rf_v3(x, y, zp - dz), rho, T->n)))
             *lo = dmin(*lo, zp - dz);
     }
 }

@@ -235,7 +235,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
          * along another wall, it is in their corner: it meets the wall with the step's
          * velocity, which the corner stops (with its own, moving out of the corner
          * along the first wall, it went from one wall to the other at every step) */
-        if (run->wall >= 0 && edge != run->wall)
+        if (run->wall >= 0) /* the edge left over is another (column_exit skips it) */
             m->s.v = ve;
         int end = rf_wall_meet(m, &col, edge, &run->wall, &run->dir);
         if (end == RF_SURF_REST)
@@ -358,9 +358,7 @@ int rf_simulate_fixed_step(rf_motion *m)
          * around its vertex until max_time) */
         end = rf_progress(m, m->marked != marked);
         marked = m->marked;
-        if (end == RF_RESCUED)
-            run.fresh = 1;
-        else if (end >= 0)
+        if (end >= 0) /* after a rescue (RF_RESCUED), in flight: fresh as every flight */
             return end;
         double h = fmin(dt, m->t_end - m->s.t);
         if (m->sup.n == 1) {

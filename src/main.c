@@ -169,7 +169,7 @@ static int cmd_run(int argc, char **argv)
                 return usage_error("run", "--seed takes a whole number >= 0, got '%s'", optarg);
             break;
         case 'c':
-            if (parse_long(optarg, 1, 1000000000L, &count))
+            if (parse_long(optarg, 1, RF_COUNT_MAX, &count))
                 return usage_error("run", "--count takes a whole number >= 1, got '%s'", optarg);
             break;
         case 't':

@@ -34,9 +34,8 @@ typedef struct loader {
 /* Room for "LIST item N", which names a list item in messages. */
 #define WHAT_SIZE 64
 
-/* Bounds of what a project may ask for: trajectories per release (as --count) and the
- * rock's radius (the hazard map's cells: RF_HAZARD_CELLS_MAX). */
-#define RF_COUNT_MAX 1000000000LL
+/* Bounds of the rock's radius (trajectories per release: RF_COUNT_MAX; the hazard
+ * map's cells: RF_HAZARD_CELLS_MAX). */
 #define RF_ROCK_RADIUS_MIN 1e-3
 #define RF_ROCK_RADIUS_MAX 100.0
 

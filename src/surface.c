@@ -1148,15 +1148,13 @@ static double scene_time(rf_motion *m, const face_dyn *f, seg_event *ev, const r
         const rf_crossing *cr = &m->crossings[0];
         const double *A = &m->scene->measures[cr->measure].line.xy[2 * cr->segment], *B = A + 2;
         double nx = A[1] - B[1], ny = B[0] - A[0], len = hypot(nx, ny);
-        rf_vec3 v = rf_v3_madd(arc->v, ts, arc->a);
+        rf_vec3 v = rf_arc_vel(arc, ts);
         if (nx * v.x + ny * v.y > 0)
-            len = -len;
-        if (len != 0.0) {
-            ev->line[0] = A[0], ev->line[1] = A[1], ev->line[2] = nx / len, ev->line[3] = ny / len;
-            double te = locate(m, f, EV_LINE, ev, fe, c0, st, y, ts, ye);
-            if (te > 0.0)
-                return te;
-        }
+            len = -len; /* the normal towards the side the rock comes from */
+        ev->line[0] = A[0], ev->line[1] = A[1], ev->line[2] = nx / len, ev->line[3] = ny / len;
+        double te = locate(m, f, EV_LINE, ev, fe, c0, st, y, ts, ye);
+        if (te > 0.0)
+            return te;
     }
     step_at(st, ts, ye);
     return ts;

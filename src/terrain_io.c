@@ -128,6 +128,7 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
     while (scan_skip(s, 1) && !looks_numeric(*s->p)) {
         const char *k, *k_end = scan_token(s, &k);
         int line = s->line, col = scan_column(s, k);
+        int klen = (int)(k_end - k > 40 ? 40 : k_end - k); /* as much of it as messages show */
         int key = -1, is_nodata = 0;
         if (token_is(k, k_end, "ncols"))
             key = NCOLS;
@@ -147,10 +148,10 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
             is_nodata = 1;
         else
             return rf_error_set(err, s->path, line, col, "unknown grid header key '%.*s'",
-                                (int)(k_end - k > 40 ? 40 : k_end - k), k);
+                                klen, k);
         if ((is_nodata && g->has_nodata) || (!is_nodata && have[key]))
             return rf_error_set(err, s->path, line, col, "grid header key '%.*s' given twice",
-                                (int)(k_end - k > 40 ? 40 : k_end - k), k);
+                                klen, k);
         double v;
         if (scan_number(s, 0, &v, err))
             return -1;

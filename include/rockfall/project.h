@@ -37,6 +37,10 @@ typedef struct rf_rock {
     double radius;    /* derived: (3 m / (4 pi rho))^(1/3) */
 } rf_rock;
 
+/* The most trajectories of one release (the project's `count`, the command line's
+ * --count). */
+#define RF_COUNT_MAX 1000000000L
+
 typedef struct rf_release {
     char *name;
     double x, y;      /* required point */
