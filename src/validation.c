@@ -16,7 +16,6 @@
 int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
 {
     memset(out, 0, sizeof *out);
-    out->ncol = ncol;
     FILE *f = fopen(path, "r");
     if (!f)
         return rf_error_set(err, path, 0, 0, "cannot open: %s", strerror(errno));
@@ -152,6 +151,8 @@ size_t rf_convex_hull(const double *xy, size_t n, double *hull)
     /* the chain closes on its first point; all points equal leave one */
     if (k > 1)
         k--;
+    if (k == 2 && hull[0] == hull[2] && hull[1] == hull[3])
+        k = 1;
     return k;
 }
 
@@ -258,10 +259,9 @@ int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_
         mx += meas[2 * i] - x0, my += meas[2 * i + 1] - y0;
     double ml = hypot(mx, my);
     double ux = ml > 0 ? mx / ml : 1.0, uy = ml > 0 ? my / ml : 0.0;
-    size_t nmax = nm > ns ? nm : ns;
     double *rm = malloc(nm * sizeof *rm), *lm = malloc(nm * sizeof *lm);
     double *rs = malloc(ns * sizeof *rs), *ls = malloc(ns * sizeof *ls);
-    double *hull = malloc(2 * nmax * sizeof *hull);
+    double *hull = malloc(2 * (ns + 1) * sizeof *hull);
     int rc = -1;
     if (rm && lm && rs && ls && hull) {
         to_frame(meas, nm, x0, y0, ux, uy, rm, lm);
@@ -282,7 +282,7 @@ int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_
         for (size_t i = 0; i < nm; i++)
             in += (size_t)rf_hull_contains(hull, nh, meas[2 * i], meas[2 * i + 1], 1e-9);
         out->inside = (double)in / (double)nm;
-        out->n_meas = nm, out->n_sim = ns;
+        out->n_sim = ns;
         rc = 0;
     }
     free(rm);
@@ -344,14 +344,22 @@ void rf_field_profile_free(rf_field_profile *pr)
     pr->meas = NULL;
 }
 
-void rf_field_simulate(const rf_scene *scene, uint64_t seed, const rf_field_profile *pr,
-                       size_t stream, long n, double density, rf_workspace *ws, gsl_rng *rng,
-                       double *xy, size_t *not_rest)
+void rf_field_set_surface(rf_terrain *t, rf_surface s)
 {
-    size_t k = 0;
+    for (size_t k = 0; k < t->nzones; k++)
+        t->zones[k].surface = s;
+}
+
+int rf_field_run(const rf_scene *scene, uint64_t seed, const rf_field_profile *pr, size_t stream,
+                 long n, rf_workspace *ws, gsl_rng *rng, rf_agreement *out, size_t *not_rest)
+{
+    size_t ns = pr->stops.n * (size_t)n, k = 0;
+    double *xy = malloc(2 * ns * sizeof *xy);
+    if (!xy)
+        return -1;
     *not_rest = 0;
     for (size_t i = 0; i < pr->stops.n; i++) {
-        rf_body body = rf_body_make(pr->stops.v[7 * i + 3], density, scene->sim->model);
+        rf_body body = rf_body_make(pr->stops.v[7 * i + 3], RF_FIELD_DENSITY, scene->sim->model);
         for (long j = 0; j < n; j++, k++) {
             gsl_rng_set(rng, rf_trajectory_seed(seed, stream, (long)k));
             rf_state s0;
@@ -365,4 +373,8 @@ void rf_field_simulate(const rf_scene *scene, uint64_t seed, const rf_field_prof
             *not_rest += rec.reason != RF_END_REST;
         }
     }
+    double x0 = 0.5 * (pr->xlo + pr->xhi), y0 = 0.5 * (pr->ylo + pr->yhi);
+    int rc = rf_agreement_compute(pr->meas, pr->stops.n, xy, ns, x0, y0, out);
+    free(xy);
+    return rc;
 }

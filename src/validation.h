@@ -21,7 +21,7 @@
  * '#' skipped; columns beyond ncol ignored): v[row * ncol + col]. */
 typedef struct rf_points {
     double *v;
-    size_t n, ncol;
+    size_t n;
 } rf_points;
 
 /* Reads path; a bad row is an error at its line and column. */
@@ -36,7 +36,7 @@ double rf_quantile(const double *sorted, size_t n, double q);
  * ascending (n, m >= 1). */
 double rf_ks_distance(const double *a, size_t n, const double *b, size_t m);
 
-/* Convex hull of n points xy[2k], xy[2k+1] into hull (room for 2n numbers),
+/* Convex hull of n points xy[2k], xy[2k+1] into hull (room for 2 (n + 1) numbers),
  * counter-clockwise, without collinear points; returns its number of vertices. */
 size_t rf_convex_hull(const double *xy, size_t n, double *hull);
 
@@ -44,13 +44,13 @@ size_t rf_convex_hull(const double *xy, size_t n, double *hull);
  * (for nh < 3, on the segment or at the point). */
 int rf_hull_contains(const double *hull, size_t nh, double x, double y, double tol);
 
-/* The envelope of n points: the convex hull (into hull, room for 2n numbers) of the
+/* The envelope of n points: the convex hull (into hull, room for 2 (n + 1) numbers) of the
  * ceil(keep n) nearest their mean in the Mahalanobis distance; returns its vertices. */
 size_t rf_envelope(const double *xy, size_t n, double keep, double *hull);
 
 /* How simulated stops agree with measured ones, in the release's frame. */
 typedef struct rf_agreement {
-    size_t n_meas, n_sim;
+    size_t n_sim;
     double runout_meas[3], runout_sim[3]; /* 5th percentile, median, 95th (m) */
     double lateral_mean_meas, lateral_mean_sim;
     double lateral_sd_meas, lateral_sd_sim; /* sample standard deviations (m) */
@@ -80,12 +80,18 @@ typedef struct rf_field_profile {
 int rf_field_profile_load(const char *data, const char *name, rf_field_profile *pr, rf_error *err);
 void rf_field_profile_free(rf_field_profile *pr);
 
-/* Simulates n rocks per measured boulder (its mass, density `density`), each at rest
+/* No density was measured: the project default. */
+#define RF_FIELD_DENSITY 2650.0
+
+/* Simulates n rocks per measured boulder (its mass, RF_FIELD_DENSITY), each at rest
  * with its centre at the release height over a uniform point of the zone, trajectory k
- * drawing from the stream of (project seed, `stream`, k); the stops' (x, y) into xy
- * (2 n nstops numbers), and how many did not come to rest into *not_rest. */
-void rf_field_simulate(const rf_scene *scene, uint64_t seed, const rf_field_profile *pr,
-                       size_t stream, long n, double density, rf_workspace *ws, gsl_rng *rng,
-                       double *xy, size_t *not_rest);
+ * drawing from the stream of (project seed, `stream`, k), and compares their stops
+ * with the measured ones from the zone's centre; how many did not come to rest into
+ * *not_rest.  -1 when memory runs out. */
+int rf_field_run(const rf_scene *scene, uint64_t seed, const rf_field_profile *pr, size_t stream,
+                 long n, rf_workspace *ws, gsl_rng *rng, rf_agreement *out, size_t *not_rest);
+
+/* Every zone of the terrain gets surface s (one pair of values for the whole slope). */
+void rf_field_set_surface(rf_terrain *t, rf_surface s);
 
 #endif

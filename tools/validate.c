@@ -27,7 +27,6 @@
 #include "rockfall/sim.h"
 #include "validation.h"
 
-#define DENSITY 2650.0 /* kg/m^3, the project default: no density was measured */
 #define SD_RESTITUTION 0.05
 #define SD_FRICTION 0.05
 
@@ -51,16 +50,15 @@ static const double GRID_MU[] = {0.20, 0.30, 0.40, 0.50, 0.60, 0.70, 0.80, 0.90,
 /* One result: the agreement and how many simulated rocks did not come to rest. */
 typedef struct outcome {
     rf_agreement a;
-    size_t exited;
+    size_t not_rest;
 } outcome;
 
 /* Every zone of the slope gets restitution e and friction mu (rolling resistance: the
  * friction, as the project file's default). */
 static void set_surface(rf_project *p, double e, double mu)
 {
-    rf_surface s = {{e, SD_RESTITUTION}, {mu, SD_FRICTION}, {mu, SD_FRICTION}};
-    for (size_t k = 0; k < p->terrain.nzones; k++)
-        p->terrain.zones[k].surface = s;
+    rf_field_set_surface(&p->terrain, (rf_surface){{e, SD_RESTITUTION}, {mu, SD_FRICTION},
+                                                   {mu, SD_FRICTION}});
 }
 
 /* Runs n simulations per measured boulder of profile `ip` and compares the stops. */
@@ -71,15 +69,7 @@ static int run_profile(rf_project *p, const setting *st, const rf_field_profile 
     sim.model = st->model;
     sim.contact = st->contact;
     rf_scene scene = {&p->terrain, &sim, NULL, 0, NULL, 0};
-    size_t ns = pr->stops.n * (size_t)n;
-    double *xy = malloc(2 * ns * sizeof *xy);
-    if (!xy)
-        return -1;
-    rf_field_simulate(&scene, p->seed, pr, ip, n, DENSITY, ws, rng, xy, &out->exited);
-    double x0 = 0.5 * (pr->xlo + pr->xhi), y0 = 0.5 * (pr->ylo + pr->yhi);
-    int rc = rf_agreement_compute(pr->meas, pr->stops.n, xy, ns, x0, y0, &out->a);
-    free(xy);
-    return rc;
+    return rf_field_run(&scene, p->seed, pr, ip, n, ws, rng, &out->a, &out->not_rest);
 }
 
 static void print_row(const char *label, const char *fit, double e, double mu,
@@ -91,7 +81,7 @@ static void print_row(const char *label, const char *fit, double e, double mu,
            label, fit, e, mu, pr->name, a->runout_sim[0], a->runout_sim[1], a->runout_sim[2],
            a->runout_meas[0], a->runout_meas[1], a->runout_meas[2], a->lateral_mean_sim,
            a->lateral_sd_sim, a->lateral_sd_meas, a->ks, a->ks_crit,
-           100.0 * a->inside, 100.0 * (double)o->exited / (double)a->n_sim);
+           100.0 * a->inside, 100.0 * (double)o->not_rest / (double)a->n_sim);
 }
 
 int main(int argc, char **argv)
@@ -162,7 +152,7 @@ int main(int argc, char **argv)
             for (size_t j = 0; rc == 0 && j < NMU; j++) {
                 set_surface(&p, GRID_E[i], GRID_MU[j]);
                 rc = run_profile(&p, st, &pr[0], 0, fit_n, ws, rng, &o);
-                double med = fabs(o.a.runout_sim[1] - o.a.runout_meas[1]);
+                double med = rc == 0 ? fabs(o.a.runout_sim[1] - o.a.runout_meas[1]) : NAN;
                 if (rc == 0 && (o.a.ks < best_ks || (o.a.ks == best_ks && med < best_med))) {
                     best_ks = o.a.ks, best_med = med;
                     best_e = GRID_E[i], best_mu = GRID_MU[j];
