@@ -53,15 +53,26 @@ void rf_hazard_free(rf_hazard *h)
 void rf_hazard_begin(rf_hazard *h)
 {
     h->ntouched = 0;
+    h->have_last = 0;
     if (++h->epoch == 0) { /* wrapped: forget every old mark */
         memset(h->slot_epoch, 0, h->nx * h->ny * sizeof *h->slot_epoch);
         h->epoch = 1;
     }
 }
 
-void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double height_m)
+/* The cell index along one axis of a point at x (floor), a point on the grid's far
+ * edge in the last cell. */
+static double cell_index(double x, double x0, double cell, size_t n)
 {
-    double fx = floor((x - h->x0) / h->cell), fy = floor((y - h->y0) / h->cell);
+    double f = floor((x - x0) / cell);
+    if (f == (double)n && x - x0 <= cell * (double)n)
+        f -= 1.0;
+    return f;
+}
+
+/* The trajectory reached cell (fx, fy) with these values (outside the grid: nothing). */
+static void touch(rf_hazard *h, double fx, double fy, double energy_kj, double height_m)
+{
     if (!(fx >= 0 && fy >= 0 && fx < (double)h->nx && fy < (double)h->ny))
         return;
     uint32_t c = (uint32_t)((size_t)fy * h->nx + (size_t)fx);
@@ -80,6 +91,62 @@ void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double
     h->slot_epoch[c] = h->epoch;
     h->slot[c] = (uint32_t)h->ntouched;
     h->touched[h->ntouched++] = (rf_hazard_touch){c, (float)energy_kj, (float)height_m};
+}
+
+/* The most cells between two samples walked; farther apart (a sample spacing longer
+ * than many cells), only the new sample's cell is reached. */
+#define HAZARD_WALK_MAX 64
+
+/* From the last sample a to the new one b, along the straight line between them: every
+ * cell the line crosses, in order, with the largest of the values interpolated linearly
+ * over its stretch of the line (so at one of the stretch's ends). */
+static void walk(rf_hazard *h, const double a[4], const double b[4])
+{
+    double fx = cell_index(a[0], h->x0, h->cell, h->nx);
+    double fy = cell_index(a[1], h->y0, h->cell, h->ny);
+    double gx = cell_index(b[0], h->x0, h->cell, h->nx);
+    double gy = cell_index(b[1], h->y0, h->cell, h->ny);
+    double steps = fabs(gx - fx) + fabs(gy - fy);
+    if (steps > HAZARD_WALK_MAX) {
+        touch(h, gx, gy, b[2], b[3]);
+        return;
+    }
+    double dx = b[0] - a[0], dy = b[1] - a[1];
+    double sx = gx > fx ? 1.0 : gx < fx ? -1.0 : 0.0, sy = gy > fy ? 1.0 : gy < fy ? -1.0 : 0.0;
+    double s0 = 0.0;
+    for (double k = 0;; k++) {
+        /* the line's parameter where it leaves the cell in x and in y */
+        double ux = sx > 0   ? (h->x0 + (fx + 1) * h->cell - a[0]) / dx
+                    : sx < 0 ? (h->x0 + fx * h->cell - a[0]) / dx
+                             : INFINITY;
+        double uy = sy > 0   ? (h->y0 + (fy + 1) * h->cell - a[1]) / dy
+                    : sy < 0 ? (h->y0 + fy * h->cell - a[1]) / dy
+                             : INFINITY;
+        double s1 = k >= steps ? 1.0 : fmin(fmax(fmin(ux, uy), s0), 1.0);
+        touch(h, fx, fy, fmax(a[2] + (b[2] - a[2]) * s0, a[2] + (b[2] - a[2]) * s1),
+              fmax(a[3] + (b[3] - a[3]) * s0, a[3] + (b[3] - a[3]) * s1));
+        if (k >= steps)
+            break;
+        /* one cell on, towards b's cell: in x when y is there already or x is crossed
+         * first (so the walk ends in b's cell after `steps` steps) */
+        if (fx != gx && (fy == gy || ux <= uy))
+            fx += sx;
+        else
+            fy += sy;
+        s0 = s1;
+    }
+}
+
+void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double height_m)
+{
+    double b[4] = {x, y, energy_kj, height_m};
+    if (!h->have_last)
+        touch(h, cell_index(x, h->x0, h->cell, h->nx), cell_index(y, h->y0, h->cell, h->ny),
+              energy_kj, height_m);
+    else
+        walk(h, h->last, b);
+    memcpy(h->last, b, sizeof b);
+    h->have_last = 1;
 }
 
 static int cell_push(rf_hazard_cell *c, float e, float hgt)

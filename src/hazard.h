@@ -2,7 +2,8 @@
  * trajectories passed, and the distribution of their energy and passing height.
  *
  * Each trajectory contributes once per cell it crosses: its largest kinetic energy
- * and largest passing height in that cell.  Percentiles are nearest-rank over those
+ * and largest passing height in that cell.  A point on the grid's far edge belongs to
+ * the last cell.  Percentiles are nearest-rank over those
  * per-trajectory values, so they do not depend on the order of work. */
 #ifndef ROCKFALL_HAZARD_H
 #define ROCKFALL_HAZARD_H
@@ -34,6 +35,8 @@ typedef struct rf_hazard {
     uint32_t epoch;
     rf_hazard_touch *touched;
     size_t ntouched, cap_touched;
+    double last[4]; /* the last sample: x, y, energy, height */
+    int have_last;
     int oom;
 } rf_hazard;
 
@@ -46,6 +49,9 @@ double rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny);
 int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell);
 void rf_hazard_free(rf_hazard *h);
 void rf_hazard_begin(rf_hazard *h);
+/* A sample of the trajectory under way.  Between two samples the path is taken as the
+ * straight line, the values as linear along it: every cell the line crosses is
+ * reached, even one it only clips between them. */
 void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double height_m);
 /* Adds the trajectory's values to the cells; returns -1 when memory ran out. */
 int rf_hazard_end(rf_hazard *h);

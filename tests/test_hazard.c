@@ -1,0 +1,153 @@
+/* test_hazard.c - the hazard map: which cells a trajectory reaches, with what values. */
+#include <math.h>
+#include <sqlite3.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hazard.h"
+#include "rockfall/montecarlo.h"
+#include "rockfall/project.h"
+#include "store.h"
+#include "db_test_util.h"
+#include "test.h"
+
+/* A 4 x 4 grid of 1 m cells over [0, 4]^2. */
+static void grid4(rf_hazard *h)
+{
+    rf_terrain t;
+    memset(&t, 0, sizeof t);
+    t.xmin = 0, t.xmax = 4, t.ymin = 0, t.ymax = 4;
+    ENSURE(rf_hazard_init(h, &t, 1.0) == 0);
+    ENSURE(h->nx == 4 && h->ny == 4);
+}
+
+static const rf_hazard_cell *cell(const rf_hazard *h, int ix, int iy)
+{
+    return &h->cells[(size_t)iy * h->nx + (size_t)ix];
+}
+
+TEST(hazard_cell_clipped_between_two_samples_is_reached)
+{
+    rf_hazard h;
+    grid4(&h);
+    rf_hazard_begin(&h);
+    /* from (0.95, 0.5) to (1.5, 1.05): the line clips cell (1, 0) between x = 1
+     * (s = 1/11) and y = 1 (s = 10/11); neither sample lies in it */
+    rf_hazard_sample(&h, 0.95, 0.5, 10.0, 1.0);
+    rf_hazard_sample(&h, 1.5, 1.05, 21.0, 3.2);
+    ENSURE(rf_hazard_end(&h) == 0);
+    ENSURE(cell(&h, 0, 0)->n == 1 && cell(&h, 1, 0)->n == 1 && cell(&h, 1, 1)->n == 1);
+    ENSURE(cell(&h, 0, 1)->n == 0 && cell(&h, 2, 1)->n == 0);
+    int reached = 0;
+    for (size_t i = 0; i < h.nx * h.ny; i++)
+        reached += h.cells[i].n != 0;
+    ENSURE(reached == 3);
+    /* each cell the largest value over its stretch, linear between the samples */
+    ENSURE_REL(cell(&h, 0, 0)->energy_kj[0], 11.0, 1e-6);
+    ENSURE_REL(cell(&h, 1, 0)->energy_kj[0], 20.0, 1e-6);
+    ENSURE_REL(cell(&h, 1, 0)->height_m[0], 3.0, 1e-6);
+    ENSURE_REL(cell(&h, 1, 1)->energy_kj[0], 21.0, 1e-6);
+    ENSURE_REL(cell(&h, 0, 0)->height_m[0], 1.2, 1e-6);
+    rf_hazard_free(&h);
+}
+
+TEST(hazard_point_on_the_far_edge_is_in_the_last_cell)
+{
+    rf_hazard h;
+    grid4(&h);
+    rf_hazard_begin(&h);
+    rf_hazard_sample(&h, 4.0, 4.0, 5.0, 0.0); /* the terrain's far corner */
+    ENSURE(rf_hazard_end(&h) == 0);
+    ENSURE(cell(&h, 3, 3)->n == 1);
+    /* beyond the terrain: nothing; a walk there from inside reaches the cells inside */
+    rf_hazard_begin(&h);
+    rf_hazard_sample(&h, 3.5, 0.5, 1.0, 0.0);
+    rf_hazard_sample(&h, 4.5, 0.5, 1.0, 0.0);
+    rf_hazard_sample(&h, 5.5, 0.5, 1.0, 0.0);
+    ENSURE(rf_hazard_end(&h) == 0);
+    ENSURE(cell(&h, 3, 0)->n == 1);
+    int reached = 0;
+    for (size_t i = 0; i < h.nx * h.ny; i++)
+        reached += h.cells[i].n != 0;
+    ENSURE(reached == 2);
+    rf_hazard_free(&h);
+}
+
+TEST(hazard_samples_of_one_trajectory_count_once_per_cell)
+{
+    rf_hazard h;
+    grid4(&h);
+    for (int traj = 0; traj < 2; traj++) {
+        rf_hazard_begin(&h);
+        /* there and back along row 2: every cell once per trajectory, the largest
+         * value kept */
+        double xs[] = {0.5, 1.5, 2.5, 3.5, 2.5, 1.5, 0.2};
+        for (int k = 0; k < 7; k++)
+            rf_hazard_sample(&h, xs[k], 2.5, 1.0 + k, 0.5);
+        ENSURE(rf_hazard_end(&h) == 0);
+    }
+    for (int ix = 0; ix < 4; ix++)
+        ENSURE(cell(&h, ix, 2)->n == 2);
+    ENSURE_REL(cell(&h, 0, 2)->energy_kj[1], 7.0, 1e-6);
+    ENSURE_REL(cell(&h, 3, 2)->energy_kj[1], 4.5, 1e-6); /* back to x = 3 at 4.5 */
+    rf_hazard_free(&h);
+}
+
+/* One trajectory per run: its cells are one edge-connected chain that holds the
+ * release's cell and the stop's. */
+TEST(hazard_cells_of_a_trajectory_are_an_unbroken_chain)
+{
+    char db[600];
+    snprintf(db, sizeof db, "%s/chain.db", rf_test_tmpdir());
+    rf_project p;
+    rf_error err;
+    ENSURE_MSG(rf_project_load("projects/noto/noto-3.3.yaml", &p, &err) == 0, "%s", err.message);
+    rf_store *s;
+    ENSURE(rf_store_open(db, &s, &err) == 0);
+    const int nruns = 24;
+    for (int r = 0; r < nruns; r++) {
+        for (size_t i = 0; i < p.nreleases; i++)
+            p.releases[i].count = i == (size_t)r % p.nreleases ? 1 : 0;
+        p.seed = 100 + (uint64_t)r;
+        rf_run_options o = {.threads = 1};
+        rf_run_summary sum;
+        ENSURE_MSG(rf_montecarlo_run(&p, s, &o, &sum, &err) == 0, "%s", err.message);
+    }
+    double cellsz = p.hazard_cell, xmin = p.terrain.xmin, ymin = p.terrain.ymin, nx, ny;
+    rf_hazard_grid(&p.terrain, cellsz, &nx, &ny);
+    rf_store_close(s);
+    rf_project_free(&p);
+    sqlite3 *h;
+    ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
+    long broken_total = 0, stops_checked = 0;
+    for (int run = 1; run <= nruns; run++) {
+        long n = dbt_int(h, "SELECT count(*) FROM hazard_cells WHERE run_id = %d", run);
+        ENSURE_MSG(n >= 1, "run %d: no cell", run);
+        ENSURE(dbt_int(h, "SELECT max(passes) FROM hazard_cells WHERE run_id = %d", run) == 1);
+        /* the cells reached from the first by steps across an edge */
+        long connected = dbt_int(
+            h,
+            "WITH RECURSIVE c(ix, iy) AS (SELECT ix, iy FROM (SELECT ix, iy FROM hazard_cells "
+            "WHERE run_id = %d LIMIT 1) UNION SELECT h.ix, h.iy FROM hazard_cells h, c WHERE "
+            "h.run_id = %d AND abs(h.ix - c.ix) + abs(h.iy - c.iy) = 1) SELECT count(*) FROM c",
+            run, run);
+        broken_total += n - connected;
+        /* the stop's cell, when the stop lies over the grid (a rock that left the
+         * terrain can stop beyond it); on the far edge the last cell */
+        double sx = dbt_real(h, "SELECT stop_x - %.17g FROM trajectories WHERE run_id = %d",
+                             xmin, run);
+        double sy = dbt_real(h, "SELECT stop_y - %.17g FROM trajectories WHERE run_id = %d",
+                             ymin, run);
+        if (!(sx >= 0 && sy >= 0 && sx <= nx * cellsz && sy <= ny * cellsz))
+            continue;
+        double fx = fmin(floor(sx / cellsz), nx - 1), fy = fmin(floor(sy / cellsz), ny - 1);
+        ENSURE_MSG(dbt_int(h, "SELECT count(*) FROM hazard_cells WHERE run_id = %d AND ix = %.0f "
+                              "AND iy = %.0f", run, fx, fy) == 1,
+                   "run %d: the stop's cell (%.0f, %.0f) not reached", run, fx, fy);
+        stops_checked++;
+    }
+    ENSURE(stops_checked >= nruns / 2);
+    ENSURE_MSG(broken_total == 0, "%ld cells apart from their trajectory's chain", broken_total);
+    sqlite3_close(h);
+}
