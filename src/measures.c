@@ -9,10 +9,25 @@
  * vertex is on both neighbouring segments (then reported once, by time). */
 #define U_TOL 1e-12
 
-/* Earliest crossing of one segment A-B over (t_after, T]; returns the time or INFINITY. */
-static double segment_crossing(const double *A, const double *B, rf_vec3 p, rf_vec3 v, rf_vec3 a,
+/* 1 when the path, through vertex j of l (an inner one) with horizontal direction
+ * (wx, wy), leaves both neighbouring vertices on one side: it touches the polyline
+ * there without crossing it. */
+static int vertex_touch(const rf_polyline *l, size_t j, double wx, double wy)
+{
+    if (j == 0 || j + 1 >= l->n)
+        return 0;
+    const double *V = &l->xy[2 * j], *P = V - 2, *N = V + 2;
+    double sp = wx * (P[1] - V[1]) - wy * (P[0] - V[0]);
+    double sn = wx * (N[1] - V[1]) - wy * (N[0] - V[0]);
+    return sp * sn > 0.0;
+}
+
+/* Earliest crossing of segment s of l, A-B, over (t_after, T]; returns the time or
+ * INFINITY. */
+static double segment_crossing(const rf_polyline *l, size_t s, rf_vec3 p, rf_vec3 v, rf_vec3 a,
                                double t_after, double T, double *u_out)
 {
+    const double *A = &l->xy[2 * s], *B = A + 2;
     double dx = B[0] - A[0], dy = B[1] - A[1];
     double len2 = dx * dx + dy * dy;
     if (len2 == 0.0)
@@ -34,6 +49,11 @@ static double segment_crossing(const double *A, const double *B, rf_vec3 p, rf_v
         double y = p.y + v.y * t + 0.5 * a.y * t * t - A[1];
         double u = (x * dx + y * dy) / len2;
         if (u >= -U_TOL && u <= 1.0 + U_TOL) {
+            /* through an inner vertex with both arms on one side: touched (j = 0: no
+             * inner vertex; an end vertex is never touched only) */
+            size_t j = u <= U_TOL ? s : u >= 1.0 - U_TOL ? s + 1 : 0;
+            if (j && vertex_touch(l, j, v.x + a.x * t, v.y + a.y * t))
+                continue;
             *u_out = rf_fmin(rf_fmax(u, 0.0), 1.0);
             return t;
         }
@@ -69,7 +89,7 @@ int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_ve
             if (rf_fmax(A[0], B[0]) < xlo || rf_fmin(A[0], B[0]) > xhi || rf_fmax(A[1], B[1]) < ylo ||
                 rf_fmin(A[1], B[1]) > yhi)
                 continue;
-            double u = 0.0, t = segment_crossing(A, B, p, v, a, t_after, T, &u);
+            double u = 0.0, t = segment_crossing(l, s, p, v, a, t_after, T, &u);
             if (t < c.t) { /* strictly earlier: a vertex crossing stays on its first segment */
                 c.segment = s;
                 c.t = t;

@@ -89,6 +89,34 @@ TEST(measures_vertex_crossing_counted_once)
     ENSURE(!rf_measures_first_crossing(&m, 1, q, v, a, RF_CROSSING_EPS, 10.0, &c));
 }
 
+/* A path through a polyline's apex with both arms on one side of it touches the line
+ * without crossing it; through the apex between the arms it crosses, once. */
+TEST(measures_apex_touch_is_no_crossing)
+{
+    double xy[] = {0.0, 0.0, 10.0, 10.0, 20.0, 0.0};
+    rf_measure m = line_measure(xy, 3);
+    rf_crossing c;
+    rf_vec3 g = rf_v3(0, 0, -9.81);
+    /* level through the apex, both ways: both arms below */
+    ENSURE(!rf_measures_first_crossing(&m, 1, rf_v3(0, 10, 0), rf_v3(3.1, 0, 0), g,
+                                       RF_CROSSING_EPS, 10.0, &c));
+    ENSURE(!rf_measures_first_crossing(&m, 1, rf_v3(20, 10, 0), rf_v3(-3.1, 0, 0), g,
+                                       RF_CROSSING_EPS, 10.0, &c));
+    /* a curved path whose tangent at the apex is level: y = 10 + (x - 10)^2 / 8 */
+    rf_vec3 p = rf_v3(6.0, 12.0, 0), v = rf_v3(1.0, -1.0, 0), a = rf_v3(0, 0.25, 0);
+    ENSURE(!rf_measures_first_crossing(&m, 1, p, v, a, RF_CROSSING_EPS, 8.0, &c));
+    /* steeper than the arm (slope 2 against 1): between the arms, a crossing */
+    ENSURE(rf_measures_first_crossing(&m, 1, rf_v3(5, 20, 0), rf_v3(0.5, -1, 0), g,
+                                      RF_CROSSING_EPS, 20.0, &c));
+    ENSURE_REL(c.t, 10.0, 1e-14);
+    ENSURE(!rf_measures_first_crossing(&m, 1, rf_v3(5, 20, 0), rf_v3(0.5, -1, 0), g,
+                                       c.t + RF_CROSSING_EPS, 20.0, &c));
+    /* a polyline's end vertex is crossed when passed through */
+    ENSURE(rf_measures_first_crossing(&m, 1, rf_v3(-5, 5, 0), rf_v3(1, -1, 0), g,
+                                      RF_CROSSING_EPS, 10.0, &c));
+    ENSURE_REL(c.t, 5.0, 1e-14);
+}
+
 /* A polyline with a 0.1 m kink crossed at 60 m/s: every crossing is found, in order. */
 TEST(measures_kink_at_60ms)
 {
