@@ -254,29 +254,40 @@ static void *worker_main(void *vw)
     }
 }
 
+/* Writes one chunk's rows in one batch, all or none (a failed chunk is rolled back,
+ * so a failed run holds whole trajectories); by_reason counts the trajectories
+ * committed. */
 static int write_chunk(rf_store *s, const chunk *c, long by_reason[4], rf_error *err)
 {
     if (c->oom)
         return rf_error_set(err, "", 0, 0, "out of memory while simulating");
     if (rf_store_batch_begin(s, err))
         return -1;
+    long counted[4] = {0};
     for (size_t k = 0; k < c->n; k++) {
         const traj_out *o = &c->traj[k];
         int64_t tid;
         if (rf_store_add_trajectory(s, o->release, o->idx, &o->rec, &tid, err))
-            return -1;
-        by_reason[o->rec.reason]++;
+            goto fail;
+        counted[o->rec.reason]++;
         for (size_t i = o->path_begin; i < o->path_end; i++)
             if (rf_store_add_path_point(s, tid, (long)(i - o->path_begin), &c->paths.v[i], err))
-                return -1;
+                goto fail;
         for (size_t i = o->icpt_begin; i < o->icpt_end; i++)
             if (rf_store_add_interception(s, tid, &c->icpts.v[i], NULL, err))
-                return -1;
+                goto fail;
         for (size_t i = o->tree_begin; i < o->tree_end; i++)
             if (rf_store_add_tree_hit(s, tid, &c->trees.v[i], err))
-                return -1;
+                goto fail;
     }
-    return rf_store_batch_commit(s, err);
+    if (rf_store_batch_commit(s, err))
+        return -1;
+    for (int r = 0; r < 4; r++)
+        by_reason[r] += counted[r];
+    return 0;
+fail:
+    rf_store_batch_rollback(s);
+    return -1;
 }
 
 static double now_s(void)

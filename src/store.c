@@ -611,12 +611,17 @@ int rf_store_batch_begin(rf_store *s, rf_error *err)
     return step_statement(s, ST_BEGIN, "starting a batch", err);
 }
 
+void rf_store_batch_rollback(rf_store *s)
+{
+    if (!sqlite3_get_autocommit(s->db))
+        step_statement(s, ST_ROLLBACK, "rolling back a batch", NULL);
+}
+
 int rf_store_batch_commit(rf_store *s, rf_error *err)
 {
     if (step_statement(s, ST_COMMIT, "committing a batch", err) == 0)
         return 0;
-    if (!sqlite3_get_autocommit(s->db))
-        step_statement(s, ST_ROLLBACK, "rolling back a batch", NULL);
+    rf_store_batch_rollback(s);
     return -1;
 }
 

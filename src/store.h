@@ -35,6 +35,8 @@ int rf_store_run_finish(rf_store *s, const char *status, long n_trajectories, rf
 /* Batches: rows between begin and commit land in one transaction. */
 int rf_store_batch_begin(rf_store *s, rf_error *err);
 int rf_store_batch_commit(rf_store *s, rf_error *err);
+/* Drops the open batch's rows (nothing when no batch is open). */
+void rf_store_batch_rollback(rf_store *s);
 
 int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
                             const rf_trajectory_record *r, int64_t *trajectory_id,

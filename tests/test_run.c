@@ -146,3 +146,51 @@ TEST(run_writes_complete_run_with_paths_and_hazard)
     sqlite3_finalize(st);
     sqlite3_close(h);
 }
+
+/* A run that fails while writing keeps whole trajectories only: the failed chunk is
+ * rolled back, and n_trajectories counts the rows that reached the file. */
+TEST(run_failed_mid_chunk_keeps_whole_trajectories)
+{
+    char a[600];
+    snprintf(a, sizeof a, "%s/fail.db", rf_test_tmpdir());
+    run_project("projects/noto/noto-3.1-no-trees.yaml", a, 4, 1, -1);
+    sqlite3 *h;
+    ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
+    /* the 301st trajectory of the next run cannot write its crossing of the road */
+    ENSURE(sqlite3_exec(h,
+                        "CREATE TRIGGER boom BEFORE INSERT ON interceptions WHEN "
+                        "NEW.trajectory_id > (SELECT max(id) FROM trajectories WHERE run_id = 1) "
+                        "+ 300 BEGIN SELECT RAISE(ABORT, 'no room'); END",
+                        NULL, NULL, NULL) == SQLITE_OK);
+    sqlite3_close(h);
+    rf_project p;
+    rf_error err;
+    ENSURE(rf_project_load("projects/noto/noto-3.1-no-trees.yaml", &p, &err) == 0);
+    ENSURE(p.nreleases == 1);
+    p.releases[0].count = 600;
+    rf_store *s;
+    ENSURE(rf_store_open(a, &s, &err) == 0);
+    rf_run_options o = {.threads = 2};
+    rf_run_summary sum;
+    ENSURE(rf_montecarlo_run(&p, s, &o, &sum, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "no room"), "%s", err.message);
+    rf_store_close(s);
+    rf_project_free(&p);
+    ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
+    sqlite3_stmt *st;
+    ENSURE(sqlite3_prepare_v2(h,
+                              "SELECT status, n_trajectories, (SELECT count(*) FROM trajectories "
+                              "WHERE run_id = 2), (SELECT count(*) FROM trajectories t WHERE "
+                              "run_id = 2 AND NOT EXISTS (SELECT 1 FROM interceptions i WHERE "
+                              "i.trajectory_id = t.id)) FROM runs WHERE id = 2",
+                              -1, &st, NULL) == SQLITE_OK);
+    ENSURE(sqlite3_step(st) == SQLITE_ROW);
+    ENSURE(!strcmp((const char *)sqlite3_column_text(st, 0), "failed"));
+    long n = (long)sqlite3_column_int64(st, 1), rows = (long)sqlite3_column_int64(st, 2);
+    ENSURE_MSG(n == rows && rows > 0 && rows <= 300, "n_trajectories %ld, rows %ld", n, rows);
+    /* every rock of this project crosses the road: none kept without its crossing */
+    ENSURE_MSG(sqlite3_column_int64(st, 3) == 0, "%lld trajectories without their crossing",
+               (long long)sqlite3_column_int64(st, 3));
+    sqlite3_finalize(st);
+    sqlite3_close(h);
+}
