@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "rockfall/version.h"
 
@@ -339,6 +340,22 @@ static int read_schema_state(rf_store *s, int *version, int *nobjects, rf_error 
     return status;
 }
 
+/* Switches the file to the WAL journal.  The switch needs the file to itself, and
+ * SQLite returns "locked" at once, without waiting, when another connection opening
+ * the file at the same moment holds it too: tried again for up to the busy timeout. */
+static int set_wal(rf_store *s, rf_error *err)
+{
+    struct timespec pause = {0, 5 * 1000 * 1000};
+    int rc = SQLITE_BUSY;
+    for (int i = 0; i * 5 <= RF_STORE_BUSY_TIMEOUT_MS; i++) {
+        rc = sqlite3_exec(s->db, "PRAGMA journal_mode = WAL", NULL, NULL, NULL);
+        if (rc != SQLITE_BUSY && rc != SQLITE_LOCKED)
+            break;
+        nanosleep(&pause, NULL);
+    }
+    return sql_status(s->db, s->path, rc, "setting the WAL journal", err);
+}
+
 static int version_error(rf_store *s, int version, rf_error *err)
 {
     return rf_error_set(err, s->path, 0, 0,
@@ -355,7 +372,7 @@ static int prepare_schema(rf_store *s, rf_error *err)
     if (read_schema_state(s, &version, &nobjects, err))
         return -1;
     if (version == RF_STORE_SCHEMA_VERSION)
-        return exec_sql(s, "PRAGMA journal_mode = WAL", "setting the WAL journal", err) ||
+        return set_wal(s, err) ||
                        exec_sql(s, views_sql, "creating the views", err)
                    ? -1
                    : 0;
@@ -368,7 +385,7 @@ static int prepare_schema(rf_store *s, rf_error *err)
                             nobjects);
 
     /* An empty database: create the schema, unless another process just did. */
-    if (exec_sql(s, "PRAGMA journal_mode = WAL", "setting the WAL journal", err) ||
+    if (set_wal(s, err) ||
         exec_sql(s, "BEGIN IMMEDIATE", "creating the schema", err))
         return -1;
     int status = read_schema_state(s, &version, &nobjects, err);

@@ -777,3 +777,52 @@ TEST(store_survives_a_writer_killed_mid_run)
     free(after);
     free(still);
 }
+
+/* Several writers opening one new file at once: each opens it (one creates the schema,
+ * the others wait for it), none fails on the lock that switching to WAL takes. */
+TEST(store_writers_opening_a_new_file_at_once_all_succeed)
+{
+    enum { FILES = 12, WRITERS = 6 };
+    int failed = 0;
+    for (int f = 0; f < FILES; f++) {
+        char name[40];
+        snprintf(name, sizeof name, "race-%d.db", f);
+        const char *path = rf_test_path(name);
+        int go[2];
+        ENSURE(pipe(go) == 0);
+        fflush(NULL);
+        pid_t kids[WRITERS];
+        for (int k = 0; k < WRITERS; k++) {
+            kids[k] = fork();
+            ENSURE(kids[k] >= 0);
+            if (kids[k] == 0) {
+                close(go[1]);
+                char c;
+                (void)!read(go[0], &c, 1); /* all start when the pipe closes */
+                rf_store *s;
+                rf_error err = {0};
+                if (rf_store_open(path, &s, &err)) {
+                    fprintf(stderr, "writer %d: %s\n", k, err.message);
+                    _exit(1);
+                }
+                rf_store_close(s);
+                _exit(0);
+            }
+        }
+        close(go[0]);
+        close(go[1]);
+        for (int k = 0; k < WRITERS; k++) {
+            int status = 0;
+            ENSURE(waitpid(kids[k], &status, 0) == kids[k]);
+            failed += !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+        }
+        sqlite3 *db = open_raw(path);
+        ENSURE(dbt_int(db, "SELECT count(*) FROM sqlite_master WHERE name = 'runs'") == 1);
+        char *mode = dump(db, "PRAGMA journal_mode");
+        ENSURE_MSG(strcmp(mode, "wal\n") == 0, "journal mode %s", mode);
+        free(mode);
+        sqlite3_close(db);
+    }
+    ENSURE_MSG(failed == 0, "%d of %d writers could not open a new file", failed,
+               FILES * WRITERS);
+}
