@@ -12,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "hazard.h"
 #include "yamldoc.h"
@@ -135,6 +136,7 @@ static char *resolve(const char *dir, const char *rel)
     return s;
 }
 
+/* 1 when path names a file that opens for reading; otherwise 0, why set. */
 static int readable(const char *path, char *why, size_t size)
 {
     FILE *f = fopen(path, "rb");
@@ -142,8 +144,13 @@ static int readable(const char *path, char *why, size_t size)
         snprintf(why, size, "%s", strerror(errno));
         return 0;
     }
+    /* a directory opens, but is no file to read */
+    struct stat st;
+    int dir = fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode);
     fclose(f);
-    return 1;
+    if (dir)
+        snprintf(why, size, "%s", strerror(EISDIR));
+    return !dir;
 }
 
 /* The required non-empty string under "name", copied. */
