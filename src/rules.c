@@ -14,7 +14,8 @@
 static const char *const kind_names[] = {"barrier", "embankment", NULL};
 static const char *const source_names[] = {"none", "mel", "sel", "project", NULL};
 static const char *const comparison_names[] = {">", ">=", NULL};
-static const char *const value_names[] = {"share_within", "share_meeting_required", NULL};
+static const char *const value_names[] = {"share_within", "share_meeting_required",
+                                           "share_of_rockfalls_kept", NULL};
 static const char *const verdict_names[] = {"fail", "pass", NULL};
 
 /* ---- loading ------------------------------------------------------------------ */
@@ -217,13 +218,14 @@ static int read_capacities(loader *L, rf_ynode *root)
     return 0;
 }
 
-static int read_check(loader *L, rf_ynode *n, size_t i)
+/* Check i of the measures' checks, or with `layout` set of the layout's. */
+static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
 {
     static const char *const keys[] = {"rule", "value", "state", "comparison", "threshold",
                                        NULL};
-    rf_rule_check *c = &L->r->checks[i];
-    char what[32];
-    snprintf(what, sizeof what, "check %zu", i + 1);
+    rf_rule_check *c = layout ? &L->r->layout_checks[i] : &L->r->checks[i];
+    char what[48];
+    snprintf(what, sizeof what, "%s %zu", layout ? "layout check" : "check", i + 1);
     rf_ynode *name, *value, *comparison, *threshold;
     const char *text;
     int v, cmp;
@@ -231,8 +233,12 @@ static int read_check(loader *L, rf_ynode *n, size_t i)
         rf_ydoc_require(&L->d, n, "rule", what, &name, L->err) ||
         rf_ydoc_string(&L->d, name, "rule", &text, L->err))
         return -1;
-    for (size_t j = 0; j < i; j++)
+    /* rule names are unique over both lists: they name the rows of `checks` */
+    for (size_t j = 0; j < L->r->nchecks && L->r->checks[j].name; j++)
         if (!strcmp(L->r->checks[j].name, text))
+            return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
+    for (size_t j = 0; j < L->r->nlayout && L->r->layout_checks[j].name; j++)
+        if (!strcmp(L->r->layout_checks[j].name, text))
             return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
     if (!(c->name = strdup(text)))
         return out_of_memory(L);
@@ -245,13 +251,24 @@ static int read_check(loader *L, rf_ynode *n, size_t i)
         return -1;
     c->value = (rf_check_value)v;
     c->comparison = (rf_comparison)cmp;
+    if (layout && c->value != RF_VALUE_SHARE_KEPT)
+        return rf_ydoc_error(&L->d, value, L->err,
+                             "a layout check's value is share_of_rockfalls_kept (%s is a "
+                             "measure's: put it under 'checks')",
+                             value_names[v]);
+    if (!layout && c->value == RF_VALUE_SHARE_KEPT)
+        return rf_ydoc_error(&L->d, value, L->err,
+                             "share_of_rockfalls_kept judges the whole layout: put it under "
+                             "'layout_checks'");
     rf_ynode *state = rf_ydoc_get(&L->d, n, "state");
-    if (c->value == RF_VALUE_SHARE_WITHIN) {
+    if (c->value != RF_VALUE_SHARE_MEETING) {
         if (!state)
-            return rf_ydoc_error(&L->d, n, L->err,
-                                 "missing required key 'state' in %s (share_within counts "
-                                 "the interceptions within a limit state)",
-                                 what);
+            return rf_ydoc_error(&L->d, n, L->err, "missing required key 'state' in %s (%s)",
+                                 what,
+                                 layout ? "share_of_rockfalls_kept counts the rockfalls "
+                                          "kept within a limit state"
+                                        : "share_within counts the interceptions within a "
+                                          "limit state");
         if (read_state(L, state, "state", &c->state))
             return -1;
     } else if (state) {
@@ -263,25 +280,34 @@ static int read_check(loader *L, rf_ynode *n, size_t i)
     return 0;
 }
 
-static int read_checks(loader *L, rf_ynode *root)
+/* The list `key` of checks (required for the measures' checks, optional for the
+ * layout's). */
+static int read_checks(loader *L, rf_ynode *root, const char *key, int layout)
 {
     rf_ynode *seq;
     size_t n;
-    if (read_list(L, root, "checks", "checks", &seq, &n))
+    if (layout && !rf_ydoc_get(&L->d, root, key))
+        return 0;
+    if (read_list(L, root, key, key, &seq, &n))
         return -1;
-    if (!(L->r->checks = calloc(n, sizeof *L->r->checks)))
+    rf_rule_check *c = calloc(n, sizeof *c);
+    if (!c)
         return out_of_memory(L);
-    L->r->nchecks = n;
+    if (layout)
+        L->r->layout_checks = c, L->r->nlayout = n;
+    else
+        L->r->checks = c, L->r->nchecks = n;
     for (size_t i = 0; i < n; i++)
-        if (read_check(L, rf_ydoc_seq_item(&L->d, seq, i), i))
+        if (read_check(L, rf_ydoc_seq_item(&L->d, seq, i), layout, i))
             return -1;
     return 0;
 }
 
 static int read_rules(loader *L)
 {
-    static const char *const keys[] = {"name", "limit_states", "beyond_last", "required_state",
-                                       "capacities", "checks", "no_interceptions", NULL};
+    static const char *const keys[] = {"name",       "limit_states",  "beyond_last",
+                                       "required_state", "capacities", "checks",
+                                       "layout_checks", "no_interceptions", NULL};
     rf_ynode *root = rf_ydoc_root(&L->d);
     if (!root)
         return rf_ydoc_error(&L->d, NULL, L->err, "the rule file is empty");
@@ -295,7 +321,7 @@ static int read_rules(loader *L)
     if (!(L->r->name = strdup(text)))
         return out_of_memory(L);
     if (read_limit_states(L, root) || read_required(L, root) || read_capacities(L, root) ||
-        read_checks(L, root) ||
+        read_checks(L, root, "checks", 0) || read_checks(L, root, "layout_checks", 1) ||
         rf_ydoc_opt_enum(&L->d, root, "no_interceptions", verdict_names, &verdict, L->err))
         return -1;
     L->r->empty_passes = verdict;
@@ -339,6 +365,9 @@ void rf_rules_free(rf_rules *r)
     for (size_t i = 0; i < r->nchecks; i++)
         free(r->checks[i].name);
     free(r->checks);
+    for (size_t i = 0; i < r->nlayout; i++)
+        free(r->layout_checks[i].name);
+    free(r->layout_checks);
     free(r->path);
     free(r->name);
     free(r->beyond_last);
@@ -677,6 +706,32 @@ static int classify_measure(sqlite3 *db, const rf_rules *r, const measure_row *m
     return status;
 }
 
+/* One checks row: the measure's (measure_id > 0) or the layout's (NULL); the value
+ * count / n, NULL when n = 0, which passes as the rules say for nothing reached. */
+static int insert_check(sqlite3 *db, sqlite3_stmt *ins, int64_t run, int64_t measure_id,
+                        const rf_rules *r, const rf_rule_check *check, long count, long n,
+                        long *n_failed, rf_error *err)
+{
+    double value = n > 0 ? (double)count / (double)n : NAN;
+    int passed = n > 0 ? rf_rules_check_passes(check, value) : r->empty_passes;
+    *n_failed += !passed;
+    sqlite3_bind_int64(ins, 1, run);
+    if (measure_id > 0)
+        sqlite3_bind_int64(ins, 2, measure_id);
+    else
+        sqlite3_bind_null(ins, 2);
+    sqlite3_bind_text(ins, 3, check->name, -1, SQLITE_STATIC);
+    if (n > 0)
+        sqlite3_bind_double(ins, 4, value);
+    else
+        sqlite3_bind_null(ins, 4);
+    sqlite3_bind_double(ins, 5, check->threshold);
+    sqlite3_bind_int(ins, 6, passed);
+    int rc = sqlite3_step(ins);
+    sqlite3_reset(ins);
+    return rc == SQLITE_DONE ? 0 : db_error(db, "writing a check", err);
+}
+
 static int write_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measure_row *m,
                         sqlite3_stmt *ins, long n, const long *n_within, long n_meeting,
                         long *n_failed, rf_error *err)
@@ -684,22 +739,66 @@ static int write_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measu
     for (size_t c = 0; c < r->nchecks; c++) {
         const rf_rule_check *check = &r->checks[c];
         long count = check->value == RF_VALUE_SHARE_WITHIN ? n_within[c] : n_meeting;
-        double value = n > 0 ? (double)count / (double)n : NAN;
-        int passed = n > 0 ? rf_rules_check_passes(check, value) : r->empty_passes;
-        *n_failed += !passed;
-        sqlite3_bind_int64(ins, 1, run);
-        sqlite3_bind_int64(ins, 2, m->id);
-        sqlite3_bind_text(ins, 3, check->name, -1, SQLITE_STATIC);
-        if (n > 0)
-            sqlite3_bind_double(ins, 4, value);
-        else
-            sqlite3_bind_null(ins, 4);
-        sqlite3_bind_double(ins, 5, check->threshold);
-        sqlite3_bind_int(ins, 6, passed);
-        int rc = sqlite3_step(ins);
-        sqlite3_reset(ins);
-        if (rc != SQLITE_DONE)
-            return db_error(db, "writing a check", err);
+        if (insert_check(db, ins, run, m->id, r, check, count, n, n_failed, err))
+            return -1;
+    }
+    return 0;
+}
+
+/* The first integer of a query's first row; -1 on error (err set). */
+static long query_count(sqlite3 *db, const char *sql, int64_t run, rf_error *err)
+{
+    sqlite3_stmt *st;
+    if (!sql) {
+        rf_error_set(err, "", 0, 0, "out of memory");
+        return -1;
+    }
+    if (prepare(db, sql, &st, err))
+        return -1;
+    sqlite3_bind_int64(st, 1, run);
+    long n = sqlite3_step(st) == SQLITE_ROW ? (long)sqlite3_column_int64(st, 0) : -1;
+    sqlite3_finalize(st);
+    if (n < 0)
+        db_error(db, "counting the run's rockfalls", err);
+    return n;
+}
+
+/* The run's trajectories, and those kept within limit state index `state`: no crossing
+ * of a control line, every interception of a barrier or embankment classified (by
+ * evaluate, just before) into `state` or an earlier one. */
+static int layout_counts(sqlite3 *db, int64_t run, const rf_rules *r, int state, long *n,
+                         long *kept, rf_error *err)
+{
+    char *within = sqlite3_mprintf("%Q", rf_rules_state_name(r, 0));
+    for (int i = 1; within && i <= state; i++) {
+        char *more = sqlite3_mprintf("%s, %Q", within, rf_rules_state_name(r, i));
+        sqlite3_free(within);
+        within = more;
+    }
+    char *sql = within ? sqlite3_mprintf(
+                             "SELECT count(*) FROM trajectories t WHERE t.run_id = ?1 AND NOT "
+                             "EXISTS (SELECT 1 FROM interceptions i JOIN measures m ON m.id = "
+                             "i.measure_id LEFT JOIN classifications c ON c.interception_id = "
+                             "i.id WHERE i.trajectory_id = t.id AND (m.kind = 'control' OR "
+                             "c.limit_state IS NULL OR c.limit_state NOT IN (%s)))",
+                             within)
+                       : NULL;
+    sqlite3_free(within);
+    *n = query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run, err);
+    *kept = *n < 0 ? -1 : query_count(db, sql, run, err);
+    sqlite3_free(sql);
+    return *n < 0 || *kept < 0 ? -1 : 0;
+}
+
+static int write_layout_checks(sqlite3 *db, int64_t run, const rf_rules *r, sqlite3_stmt *ins,
+                               long *n_failed, rf_error *err)
+{
+    for (size_t c = 0; c < r->nlayout; c++) {
+        const rf_rule_check *check = &r->layout_checks[c];
+        long n, kept;
+        if (layout_counts(db, run, r, check->state, &n, &kept, err) ||
+            insert_check(db, ins, run, 0, r, check, kept, n, n_failed, err))
+            return -1;
     }
     return 0;
 }
@@ -741,6 +840,8 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, const run_measu
                          err))
             goto done;
     }
+    if (write_layout_checks(db, run, r, ins_check, n_failed, err))
+        goto done;
     status = 0;
 done:
     sqlite3_finalize(ins_class);
@@ -812,24 +913,31 @@ static int print_states(sqlite3 *db, const rf_rules *r, const measure_row *m, FI
     return 0;
 }
 
-static int print_checks(sqlite3 *db, const rf_rules *r, const measure_row *m, FILE *out,
-                        rf_error *err)
+/* The checks of measure m, or with m NULL the layout's checks of the run. */
+static int print_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measure_row *m,
+                        FILE *out, rf_error *err)
 {
     sqlite3_stmt *st;
-    if (prepare(db, "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
-                    " ORDER BY id",
+    if (prepare(db,
+                m ? "SELECT rule, value, threshold, passed FROM checks WHERE measure_id = ?1"
+                    " ORDER BY id"
+                  : "SELECT rule, value, threshold, passed FROM checks WHERE run_id = ?1 AND"
+                    " measure_id IS NULL ORDER BY id",
                 &st, err))
         return -1;
-    sqlite3_bind_int64(st, 1, m->id);
+    sqlite3_bind_int64(st, 1, m ? m->id : run);
+    const rf_rule_check *list = m ? r->checks : r->layout_checks;
+    size_t nlist = m ? r->nchecks : r->nlayout;
     while (sqlite3_step(st) == SQLITE_ROW) {
         const char *rule = (const char *)sqlite3_column_text(st, 0);
         const char *cmp = ">=";
-        for (size_t c = 0; c < r->nchecks; c++)
-            if (rule && !strcmp(rule, r->checks[c].name))
-                cmp = comparison_names[r->checks[c].comparison];
+        for (size_t c = 0; c < nlist; c++)
+            if (rule && !strcmp(rule, list[c].name))
+                cmp = comparison_names[list[c].comparison];
         int passed = sqlite3_column_int(st, 3);
         if (sqlite3_column_type(st, 1) == SQLITE_NULL)
-            fprintf(out, "  %s %-24s no interceptions\n", passed ? "PASS" : "FAIL", rule);
+            fprintf(out, "  %s %-24s %s\n", passed ? "PASS" : "FAIL", rule,
+                    m ? "no interceptions" : "no rockfalls");
         else
             fprintf(out, "  %s %-24s %.4f %s %g\n", passed ? "PASS" : "FAIL", rule,
                     sqlite3_column_double(st, 1), cmp, sqlite3_column_double(st, 2));
@@ -866,10 +974,31 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
         fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
                 rf_importance_name(m->importance));
         print_capacities(r, m, out);
-        if (print_states(db, r, m, out, err) || print_checks(db, r, m, out, err))
+        if (print_states(db, r, m, out, err) || print_checks(db, run, r, m, out, err))
             return -1;
     }
-    long nc = (long)(L->n * r->nchecks);
+    if (r->nlayout) {
+        long n = query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run, err);
+        long reach = query_count(db,
+                                 "SELECT count(DISTINCT i.trajectory_id) FROM interceptions i"
+                                 " JOIN measures m ON m.id = i.measure_id WHERE m.run_id = ?1"
+                                 " AND m.kind = 'control'",
+                                 run, err);
+        if (n < 0 || reach < 0)
+            return -1;
+        fprintf(out, "\nlayout: %ld rockfalls, %ld of them across a control line\n", n, reach);
+        for (size_t c = 0; c < r->nlayout; c++) {
+            long all, kept;
+            if (layout_counts(db, run, r, r->layout_checks[c].state, &all, &kept, err))
+                return -1;
+            fprintf(out, "  kept within %s: %ld (%.1f %%)\n",
+                    rf_rules_state_name(r, r->layout_checks[c].state), kept,
+                    all > 0 ? 100.0 * (double)kept / (double)all : 0.0);
+        }
+        if (print_checks(db, run, r, NULL, out, err))
+            return -1;
+    }
+    long nc = (long)(L->n * r->nchecks + r->nlayout);
     if (failed)
         fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, nc);
     else

@@ -34,7 +34,10 @@ typedef enum rf_comparison { RF_CMP_GREATER, RF_CMP_AT_LEAST } rf_comparison;
 
 typedef enum rf_check_value {
     RF_VALUE_SHARE_WITHIN,  /* share of interceptions reaching `state` or an earlier one */
-    RF_VALUE_SHARE_MEETING  /* share of interceptions within their required state */
+    RF_VALUE_SHARE_MEETING, /* share of interceptions within their required state */
+    RF_VALUE_SHARE_KEPT     /* layout: share of the run's rockfalls that cross no control
+                             * line and whose every interception with a barrier or
+                             * embankment reaches `state` or an earlier one */
 } rf_check_value;
 
 typedef struct rf_rule_check {
@@ -62,8 +65,10 @@ typedef struct rf_rules {
     int required[3][3];          /* [action level - 1][rf_importance] -> state index */
     rf_capacity_source capacity[RF_N_RULE_KINDS][RF_N_LIMIT_STATES]; /* by rf_limit_state */
     double sel_divisor;          /* barrier SEL = MEL / sel_divisor; 0 when not given */
-    rf_rule_check *checks;
+    rf_rule_check *checks;       /* of every barrier and embankment */
     size_t nchecks;
+    rf_rule_check *layout_checks; /* of the run's layout as a whole */
+    size_t nlayout;
     int empty_passes;            /* a measure without interceptions passes its checks */
 } rf_rules;
 
@@ -107,8 +112,8 @@ int rf_rules_check_passes(const rf_rule_check *c, double value);
 int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err);
 
 /* Classifies every interception of the run's barriers and embankments and writes the
- * checks of each, replacing what an earlier evaluation of the run wrote, in one
- * transaction.  When out is not NULL it then prints the evaluated run there: per
+ * checks of each and the layout's (measure_id NULL), replacing what an earlier
+ * evaluation of the run wrote, in one transaction.  When out is not NULL it then prints the evaluated run there: per
  * measure the statistics, capacities, share per limit state and each check's verdict,
  * then the overall verdict.  *n_failed (may be NULL) gets the number of failed checks. */
 int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,

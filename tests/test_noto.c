@@ -79,8 +79,18 @@ TEST(noto_layout_checked_and_stored)
     ENSURE_MSG(strstr(out, "verdict: PASS"), "%s", out);
     sqlite3 *h;
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
-    /* two checks for each of the barrier and the embankment; none for the control line */
-    ENSURE(dbt_real(h, "SELECT count(*) FROM checks") == 4);
+    /* two checks for each of the barrier and the embankment, none for the control
+     * line, and the layout's */
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks") == 5);
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks WHERE measure_id IS NULL") == 1);
+    /* the layout's share, counted again here: no crossing of the road, every
+     * interception of B1 and E1 within serviceability */
+    ENSURE(dbt_real(h, "SELECT value FROM checks WHERE measure_id IS NULL") ==
+           dbt_real(h, "SELECT 1.0 * sum(NOT EXISTS (SELECT 1 FROM interceptions i JOIN measures m"
+                       " ON m.id = i.measure_id LEFT JOIN classifications c ON"
+                       " c.interception_id = i.id WHERE i.trajectory_id = t.id AND (m.name ="
+                       " 'road' OR coalesce(c.limit_state, '') <> 'serviceability')))"
+                       " / count(*) FROM trajectories t"));
     ENSURE(dbt_real(h, "SELECT count(DISTINCT measure_id) FROM checks") == 2);
     ENSURE(dbt_real(h, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id "
                  "WHERE m.kind = 'control'") == 0);

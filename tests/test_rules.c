@@ -314,6 +314,94 @@ static double check_value(scene *t, const char *measure, const char *rule, int *
     return dbt_real(db, fmt, (long long)t->run, measure, rule);
 }
 
+/* One trajectory of the release of `level` that meets measures ms[0..n) in turn. */
+static void journey(scene *t, int level, int n, const int *ms, const double *energy,
+                    const rf_outcome *outcome)
+{
+    rf_error err = {{0}};
+    rf_trajectory_record tr = {.stop = {5.0, 5.0, 80.0}, .reason = RF_END_REST};
+    int64_t id;
+    ENSURE(rf_store_add_trajectory(t->s, (size_t)(level - 1), t->next_idx[level - 1]++, &tr,
+                                   &id, &err) == 0);
+    for (int k = 0; k < n; k++) {
+        rf_interception_record in = {.measure = ms[k], .t_s = 10.0 + k, .p = {20.0, 10.0, 82.0},
+                                     .speed_ms = 20.0, .energy_kj = energy[k],
+                                     .energy_trans_kj = energy[k], .passing_height_m = 1.0,
+                                     .outcome = outcome[k]};
+        ENSURE_MSG(rf_store_add_interception(t->s, id, &in, NULL, &err) == 0, "%s", err.message);
+    }
+}
+
+/* value and passed of the layout's check `rule` (measure_id NULL) */
+static double layout_value(scene *t, const char *rule, int *passed)
+{
+    sqlite3 *db = rf_store_db(t->s);
+    const char *q = "FROM checks WHERE run_id = %lld AND measure_id IS NULL AND rule = '%s'";
+    char fmt[512];
+    snprintf(fmt, sizeof fmt, "SELECT count(*) %s", q);
+    ENSURE_MSG(dbt_real(db, fmt, (long long)t->run, rule) == 1.0, "not one check %s", rule);
+    snprintf(fmt, sizeof fmt, "SELECT passed %s", q);
+    *passed = (int)dbt_real(db, fmt, (long long)t->run, rule);
+    snprintf(fmt, sizeof fmt, "SELECT value %s", q);
+    return dbt_real(db, fmt, (long long)t->run, rule);
+}
+
+/* The paper's aim for the layout: the share of all rockfalls kept within
+ * serviceability.  A rock that rests on the slope is kept, one that reaches the road
+ * (a control line) is not, even when every structure it met held it within
+ * serviceability; one beyond serviceability or over the top at any structure is not. */
+TEST(rules_layout_share_counts_the_rockfalls_kept)
+{
+    scene t;
+    scene_open(&t, RF_IMPORTANT, NULL, "layout.db");
+    for (int k = 0; k < 10; k++)
+        journey(&t, 1, 0, NULL, NULL, NULL);                 /* at rest on the slope: kept */
+    hits(&t, 1, M_B1, 30, 28);                               /* 28 kept */
+    for (int k = 0; k < 3; k++)
+        hit(&t, 1, M_ROAD, 100.0, RF_OUT_PASSED);           /* on the road: not kept */
+    journey(&t, 1, 2, (int[]){M_B1, M_ROAD}, (double[]){500.0, 100.0},
+            (rf_outcome[]){RF_OUT_PASSED, RF_OUT_PASSED});  /* through B1 to the road */
+    journey(&t, 2, 2, (int[]){M_B1, M_E1}, (double[]){500.0, 400.0},
+            (rf_outcome[]){RF_OUT_PASSED, RF_OUT_STOPPED}); /* held by E1: kept */
+    journey(&t, 1, 2, (int[]){M_E1, M_B2}, (double[]){400.0, 600.0},
+            (rf_outcome[]){RF_OUT_PASSED, RF_OUT_OVERTOPPED}); /* over B2: not kept */
+    hit(&t, 1, M_B1, 0.5, RF_OUT_OVERTOPPED);               /* over B1: not kept */
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    ENSURE(r.nlayout == 1 && r.layout_checks[0].value == RF_VALUE_SHARE_KEPT);
+    long failed = evaluate(&t, &r);
+    int passed;
+    /* 10 + 30 + 3 + 1 + 1 + 1 + 1 = 47 rockfalls, 10 + 28 + 1 = 39 kept */
+    ENSURE(layout_value(&t, "layout_serviceability_share", &passed) == 39.0 / 47.0 && !passed);
+    /* B1's own check: 30 + 1 + 1 + 1 interceptions, 28 + 2 within */
+    ENSURE(check_value(&t, "B1", "serviceability_share", &passed) == 30.0 / 33.0 && passed);
+    ENSURE(failed == (long)dbt_real(rf_store_db(t.s), "SELECT count(*) FROM checks WHERE"
+                                                       " passed = 0"));
+    /* the same verdict printed, with the layout's counts */
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    rf_error err = {{0}};
+    ENSURE(rf_rules_evaluate(rf_store_db(t.s), t.run, &r, out, NULL, &err) == 0);
+    fclose(out);
+    ENSURE_MSG(strstr(buf, "layout: 47 rockfalls, 4 of them across a control line") &&
+                   strstr(buf, "kept within serviceability: 39 (83.0 %)") &&
+                   strstr(buf, "FAIL layout_serviceability_share 0.8298 >= 0.9"),
+               "%s", buf);
+    free(buf);
+    rf_store_close(t.s);
+
+    /* a run without rockfalls: no value, and it passes as a measure nothing reached */
+    scene_open(&t, RF_IMPORTANT, NULL, "layout-empty.db");
+    scene_finish(&t);
+    ENSURE(evaluate(&t, &r) == 0);
+    ENSURE(dbt_real(rf_store_db(t.s), "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
+                                      " value IS NULL AND passed = 1") == 1.0);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
 /* 92 % within serviceability passes, 88 % fails. */
 TEST(rules_serviceability_92_passes_88_fails)
 {
@@ -452,7 +540,8 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
     for (int round = 0; round < 3; round++) {
         evaluate(&t, &r);
         ENSURE(dbt_real(db, "SELECT count(*) FROM classifications") == 37 + 11 + 1 + 23);
-        ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 2.0 * 4); /* B1 B2 E1 B3 */
+        /* B1 B2 E1 B3, and the layout's */
+        ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 2.0 * 4 + 1);
     }
     int passed;
     double stored = check_value(&t, "B1", "serviceability_share", &passed);
@@ -468,6 +557,8 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
     ENSURE(meeting == dbt_real(db, "SELECT avg(c.ok) FROM classifications c JOIN"
                                      " interceptions i ON i.id = c.interception_id JOIN measures"
                                      " m ON m.id = i.measure_id WHERE m.name = 'B1'"));
+    /* 72 rockfalls; 6 + 1 beyond serviceability at B1 and one over it */
+    ENSURE(layout_value(&t, "layout_serviceability_share", &passed) == 64.0 / 72.0 && !passed);
     /* the views agree */
     ENSURE(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
                           " 'B1'") == stored);
@@ -475,9 +566,11 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
            49.0);
     ENSURE(dbt_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
                           " limit_state = 'serviceability'") == stored);
-    ENSURE(dbt_real(db, "SELECT checks_failed FROM run_verdicts") == 2.0);
+    ENSURE(dbt_real(db, "SELECT checks_failed FROM run_verdicts") == 3.0); /* B1's, layout */
     ENSURE(dbt_real(db, "SELECT verdict = 'fail' FROM run_verdicts") == 1.0);
-    ENSURE(dbt_real(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 2.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 3.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM check_results WHERE measure IS NULL AND rule ="
+                          " 'layout_serviceability_share' AND verdict = 'fail'") == 1.0);
     ENSURE(dbt_real(db, "SELECT count(*) FROM classified_interceptions WHERE measure = 'B1'"
                           " AND ok = 0") == 8.0);
     rf_rules_free(&r);
@@ -611,13 +704,15 @@ TEST(rules_cli_check_exit_status)
     ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out);
     ENSURE_MSG(strstr(out, "FAIL serviceability_share") && strstr(out, "0.8000 >= 0.9"), "%s",
                out);
-    ENSURE(strstr(out, "verdict: FAIL (1 of 8 checks failed)"));
+    /* the layout: 100 rockfalls, 2 + 10 beyond serviceability */
+    ENSURE_MSG(strstr(out, "FAIL layout_serviceability_share 0.8800 >= 0.9"), "%s", out);
+    ENSURE(strstr(out, "verdict: FAIL (2 of 9 checks failed)"));
     /* again: same verdict, same rows */
     ENSURE(rf_test_rockfall(args, out, sizeof out) == 1);
     sqlite3 *db;
     ENSURE(sqlite3_open(fail_db, &db) == SQLITE_OK);
-    ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 8.0);
-    ENSURE(dbt_real(db, "SELECT count(*) FROM checks WHERE passed = 0") == 1.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 9.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM checks WHERE passed = 0") == 2.0);
     sqlite3_close(db);
     /* no --rules and no rules in the project; a bad rule file: bad input */
     snprintf(args, sizeof args, "check %s", pass_db);
