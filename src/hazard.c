@@ -61,11 +61,12 @@ void rf_hazard_begin(rf_hazard *h)
 }
 
 /* The cell index along one axis of a point at x (floor), a point on the grid's far
- * edge in the last cell. */
+ * edge in the last cell: the quotient is the one rf_hazard_grid took the cell count
+ * from, so it reaches n exactly there and nowhere on the terrain beyond. */
 static double cell_index(double x, double x0, double cell, size_t n)
 {
-    double f = floor((x - x0) / cell);
-    if (f == (double)n && x - x0 <= cell * (double)n)
+    double q = (x - x0) / cell, f = floor(q);
+    if (q == (double)n)
         f -= 1.0;
     return f;
 }
@@ -93,13 +94,16 @@ static void touch(rf_hazard *h, double fx, double fy, double energy_kj, double h
     h->touched[h->ntouched++] = (rf_hazard_touch){c, (float)energy_kj, (float)height_m};
 }
 
-/* The most cells between two samples walked; farther apart (a sample spacing longer
- * than many cells), only the new sample's cell is reached. */
+/* The most cells between two samples walked.  A run's samples are at most a quarter
+ * cell apart; two farther apart than this (never in a run) reach only the new
+ * sample's cell. */
 #define HAZARD_WALK_MAX 64
 
 /* From the last sample a to the new one b, along the straight line between them: every
  * cell the line crosses, in order, with the largest of the values interpolated linearly
- * over its stretch of the line (so at one of the stretch's ends). */
+ * over its stretch of the line (so at one of the stretch's ends).  Through a grid
+ * corner exactly the line goes on diagonally: the two cells it only touches at the
+ * corner are not reached. */
 static void walk(rf_hazard *h, const double a[4], const double b[4])
 {
     double fx = cell_index(a[0], h->x0, h->cell, h->nx);
@@ -107,31 +111,28 @@ static void walk(rf_hazard *h, const double a[4], const double b[4])
     double gx = cell_index(b[0], h->x0, h->cell, h->nx);
     double gy = cell_index(b[1], h->y0, h->cell, h->ny);
     double steps = fabs(gx - fx) + fabs(gy - fy);
-    if (steps > HAZARD_WALK_MAX) {
+    if (!(steps <= HAZARD_WALK_MAX)) {
         touch(h, gx, gy, b[2], b[3]);
         return;
     }
     double dx = b[0] - a[0], dy = b[1] - a[1];
     double sx = gx > fx ? 1.0 : gx < fx ? -1.0 : 0.0, sy = gy > fy ? 1.0 : gy < fy ? -1.0 : 0.0;
     double s0 = 0.0;
+    /* each step moves towards b's cell in x, in y or in both, never past it: the walk
+     * ends there after at most `steps` steps */
     for (double k = 0;; k++) {
+        int last = fx == gx && fy == gy;
         /* the line's parameter where it leaves the cell in x and in y */
-        double ux = sx > 0   ? (h->x0 + (fx + 1) * h->cell - a[0]) / dx
-                    : sx < 0 ? (h->x0 + fx * h->cell - a[0]) / dx
-                             : INFINITY;
-        double uy = sy > 0   ? (h->y0 + (fy + 1) * h->cell - a[1]) / dy
-                    : sy < 0 ? (h->y0 + fy * h->cell - a[1]) / dy
-                             : INFINITY;
-        double s1 = k >= steps ? 1.0 : fmin(fmax(fmin(ux, uy), s0), 1.0);
+        double ux = fx != gx ? (h->x0 + (sx > 0 ? fx + 1 : fx) * h->cell - a[0]) / dx : INFINITY;
+        double uy = fy != gy ? (h->y0 + (sy > 0 ? fy + 1 : fy) * h->cell - a[1]) / dy : INFINITY;
+        double s1 = last || k >= steps ? 1.0 : fmin(fmax(fmin(ux, uy), s0), 1.0);
         touch(h, fx, fy, fmax(a[2] + (b[2] - a[2]) * s0, a[2] + (b[2] - a[2]) * s1),
               fmax(a[3] + (b[3] - a[3]) * s0, a[3] + (b[3] - a[3]) * s1));
-        if (k >= steps)
+        if (last || k >= steps)
             break;
-        /* one cell on, towards b's cell: in x when y is there already or x is crossed
-         * first (so the walk ends in b's cell after `steps` steps) */
-        if (fx != gx && (fy == gy || ux <= uy))
+        if (ux <= uy)
             fx += sx;
-        else
+        if (uy <= ux)
             fy += sy;
         s0 = s1;
     }
@@ -139,6 +140,8 @@ static void walk(rf_hazard *h, const double a[4], const double b[4])
 
 void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double height_m)
 {
+    if (!isfinite(x) || !isfinite(y))
+        return; /* no cell, and no line to the next sample */
     double b[4] = {x, y, energy_kj, height_m};
     if (!h->have_last)
         touch(h, cell_index(x, h->x0, h->cell, h->nx), cell_index(y, h->y0, h->cell, h->ny),
@@ -233,8 +236,10 @@ int rf_hazard_write(rf_hazard *h, long n_trajectories, rf_store *s, rf_error *er
             r.energy_p95_kj = rf_percentile_nearest_rank(c->energy_kj, c->n, 0.95);
             r.energy_max_kj = c->energy_kj[c->n - 1]; /* sorted by the percentile */
             r.height_p95_m = rf_percentile_nearest_rank(c->height_m, c->n, 0.95);
-            if (rf_store_add_hazard_cell(s, &r, err))
+            if (rf_store_add_hazard_cell(s, &r, err)) {
+                rf_store_batch_rollback(s); /* all cells or none */
                 return -1;
+            }
         }
     return rf_store_batch_commit(s, err);
 }

@@ -16,7 +16,12 @@ static int vertex_touch(const rf_polyline *l, size_t j, double wx, double wy)
 {
     if (j == 0 || j + 1 >= l->n)
         return 0;
+    /* the nearest vertices on either side that are not V itself (a point repeated) */
     const double *V = &l->xy[2 * j], *P = V - 2, *N = V + 2;
+    while (P > l->xy && P[0] == V[0] && P[1] == V[1])
+        P -= 2;
+    while (N < l->xy + 2 * (l->n - 1) && N[0] == V[0] && N[1] == V[1])
+        N += 2;
     double sp = wx * (P[1] - V[1]) - wy * (P[0] - V[0]);
     double sn = wx * (N[1] - V[1]) - wy * (N[0] - V[0]);
     return sp * sn > 0.0;

@@ -136,21 +136,22 @@ static char *resolve(const char *dir, const char *rel)
     return s;
 }
 
-/* 1 when path names a file that opens for reading; otherwise 0, why set. */
+/* 1 when path names a regular file that opens for reading; otherwise 0, why set (a
+ * directory or a pipe opens too, but is no file to read). */
 static int readable(const char *path, char *why, size_t size)
 {
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        snprintf(why, size, "%s", S_ISDIR(st.st_mode) ? strerror(EISDIR) : "not a regular file");
+        return 0;
+    }
     FILE *f = fopen(path, "rb");
     if (!f) {
         snprintf(why, size, "%s", strerror(errno));
         return 0;
     }
-    /* a directory opens, but is no file to read */
-    struct stat st;
-    int dir = fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode);
     fclose(f);
-    if (dir)
-        snprintf(why, size, "%s", strerror(EISDIR));
-    return !dir;
+    return 1;
 }
 
 /* The required non-empty string under "name", copied. */

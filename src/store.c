@@ -342,14 +342,21 @@ static int read_schema_state(rf_store *s, int *version, int *nobjects, rf_error 
 
 /* Switches the file to the WAL journal.  The switch needs the file to itself, and
  * SQLite returns "locked" at once, without waiting, when another connection opening
- * the file at the same moment holds it too: tried again for up to the busy timeout. */
+ * the file at the same moment holds it too: tried again until the busy timeout has
+ * passed (each try may itself wait in the busy handler). */
 static int set_wal(rf_store *s, rf_error *err)
 {
-    struct timespec pause = {0, 5 * 1000 * 1000};
-    int rc = SQLITE_BUSY;
-    for (int i = 0; i * 5 <= RF_STORE_BUSY_TIMEOUT_MS; i++) {
+    struct timespec now, pause = {0, 5 * 1000 * 1000};
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    double deadline = (double)now.tv_sec + 1e-9 * (double)now.tv_nsec +
+                      RF_STORE_BUSY_TIMEOUT_MS / 1000.0;
+    int rc;
+    for (;;) {
         rc = sqlite3_exec(s->db, "PRAGMA journal_mode = WAL", NULL, NULL, NULL);
         if (rc != SQLITE_BUSY && rc != SQLITE_LOCKED)
+            break;
+        clock_gettime(CLOCK_MONOTONIC, &now);
+        if ((double)now.tv_sec + 1e-9 * (double)now.tv_nsec > deadline)
             break;
         nanosleep(&pause, NULL);
     }

@@ -111,6 +111,13 @@ TEST(measures_apex_touch_is_no_crossing)
     ENSURE_REL(c.t, 10.0, 1e-14);
     ENSURE(!rf_measures_first_crossing(&m, 1, rf_v3(5, 20, 0), rf_v3(0.5, -1, 0), g,
                                        c.t + RF_CROSSING_EPS, 20.0, &c));
+    /* the apex written twice: still a touch */
+    double xy2[] = {0.0, 0.0, 10.0, 10.0, 10.0, 10.0, 20.0, 0.0};
+    rf_measure m2 = line_measure(xy2, 4);
+    ENSURE(!rf_measures_first_crossing(&m2, 1, rf_v3(0, 10, 0), rf_v3(3.1, 0, 0), g,
+                                       RF_CROSSING_EPS, 10.0, &c));
+    ENSURE(rf_measures_first_crossing(&m2, 1, rf_v3(5, 20, 0), rf_v3(0.5, -1, 0), g,
+                                      RF_CROSSING_EPS, 20.0, &c));
     /* a polyline's end vertex is crossed when passed through */
     ENSURE(rf_measures_first_crossing(&m, 1, rf_v3(-5, 5, 0), rf_v3(1, -1, 0), g,
                                       RF_CROSSING_EPS, 10.0, &c));

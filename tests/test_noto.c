@@ -9,6 +9,7 @@
 
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
+#include "rules.h"
 #include "store.h"
 #include "db_test_util.h"
 #include "test.h"
@@ -91,6 +92,29 @@ TEST(noto_layout_checked_and_stored)
                        " c.interception_id = i.id WHERE i.trajectory_id = t.id AND (m.name ="
                        " 'road' OR coalesce(c.limit_state, '') <> 'serviceability')))"
                        " / count(*) FROM trajectories t"));
+    /* the same for a later state: kept within serviceability or restorability */
+    char *text = rf_test_read_text("rules/table3.yaml");
+    ENSURE(text);
+    char *at = strstr(text, "value: share_of_rockfalls_kept\n    state: serviceability");
+    ENSURE(at);
+    char rules_text[16384];
+    snprintf(rules_text, sizeof rules_text, "%.*svalue: share_of_rockfalls_kept\n    state: "
+             "restorability%s", (int)(at - text), text,
+             at + strlen("value: share_of_rockfalls_kept\n    state: serviceability"));
+    free(text);
+    rf_rules r;
+    rf_error err;
+    ENSURE_MSG(rf_rules_load_text("later.yaml", rules_text, strlen(rules_text), &r, &err) == 0,
+               "%s", err.message);
+    ENSURE(r.nlayout == 1 && r.layout_checks[0].state == 1);
+    ENSURE(rf_rules_evaluate(h, 1, &r, NULL, NULL, &err) == 0);
+    rf_rules_free(&r);
+    ENSURE(dbt_real(h, "SELECT value FROM checks WHERE measure_id IS NULL") ==
+           dbt_real(h, "SELECT 1.0 * sum(NOT EXISTS (SELECT 1 FROM interceptions i JOIN measures m"
+                       " ON m.id = i.measure_id LEFT JOIN classifications c ON"
+                       " c.interception_id = i.id WHERE i.trajectory_id = t.id AND (m.name ="
+                       " 'road' OR coalesce(c.limit_state, '') NOT IN ('serviceability',"
+                       " 'restorability'))))  / count(*) FROM trajectories t"));
     ENSURE(dbt_real(h, "SELECT count(DISTINCT measure_id) FROM checks") == 2);
     ENSURE(dbt_real(h, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id "
                  "WHERE m.kind = 'control'") == 0);
