@@ -8,7 +8,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "hazard.h"
 #include "store.h"
@@ -290,13 +289,6 @@ fail:
     return -1;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Simulates every chunk and writes them in order; returns 0 or -1 with err set. */
 static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o,
                               rf_run_summary *sum, rf_error *err)
@@ -326,7 +318,7 @@ static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o
         }
         started++;
     }
-    double t0 = now_s(), last_report = t0;
+    double t0 = rf_now_s(), last_report = t0;
     for (size_t ci = 0; status == 0 && ci < ctx->nchunks; ci++) {
         pthread_mutex_lock(&ctx->mu);
         while (!ctx->chunks[ci].done && started > 0)
@@ -342,7 +334,7 @@ static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o
         ctx->written = ci + 1;
         pthread_cond_broadcast(&ctx->cv);
         pthread_mutex_unlock(&ctx->mu);
-        double t = now_s();
+        double t = rf_now_s();
         if (o->progress && t - last_report > 1.0) {
             size_t n = (ci + 1) * CHUNK_SIZE < ctx->total ? (ci + 1) * CHUNK_SIZE : ctx->total;
             fprintf(stderr, "\r%zu / %zu trajectories", n, ctx->total);
@@ -358,7 +350,7 @@ static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o
     pthread_mutex_unlock(&ctx->mu);
     for (int i = 0; i < started; i++)
         pthread_join(tids[i], NULL);
-    sum->seconds = now_s() - t0;
+    sum->seconds = rf_now_s() - t0;
 done:
     if (workers)
         for (int i = 0; i < nthreads; i++) {

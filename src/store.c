@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "rockfall/version.h"
+#include "util.h"
 
 #define RF_STR_(x) #x
 #define RF_STR(x) RF_STR_(x)
@@ -346,17 +347,13 @@ static int read_schema_state(rf_store *s, int *version, int *nobjects, rf_error 
  * passed (each try may itself wait in the busy handler). */
 static int set_wal(rf_store *s, rf_error *err)
 {
-    struct timespec now, pause = {0, 5 * 1000 * 1000};
-    clock_gettime(CLOCK_MONOTONIC, &now);
-    double deadline = (double)now.tv_sec + 1e-9 * (double)now.tv_nsec +
-                      RF_STORE_BUSY_TIMEOUT_MS / 1000.0;
+    struct timespec pause = {0, 5 * 1000 * 1000};
+    double deadline = rf_now_s() + RF_STORE_BUSY_TIMEOUT_MS / 1000.0;
     int rc;
-    for (;;) {
-        rc = sqlite3_exec(s->db, "PRAGMA journal_mode = WAL", NULL, NULL, NULL);
-        if (rc != SQLITE_BUSY && rc != SQLITE_LOCKED)
-            break;
-        clock_gettime(CLOCK_MONOTONIC, &now);
-        if ((double)now.tv_sec + 1e-9 * (double)now.tv_nsec > deadline)
+    while ((rc = sqlite3_exec(s->db, "PRAGMA journal_mode = WAL", NULL, NULL, NULL)) ==
+               SQLITE_BUSY ||
+           rc == SQLITE_LOCKED) {
+        if (rf_now_s() > deadline)
             break;
         nanosleep(&pause, NULL);
     }

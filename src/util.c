@@ -1,10 +1,11 @@
-/* util.c - growing arrays and reading files (see util.h). */
+/* util.c - growing arrays, reading files, comparing doubles, the clock (see util.h). */
 #include "util.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 int rf_grow(void **v, size_t *cap, size_t need, size_t elem)
 {
@@ -56,4 +57,11 @@ int rf_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
+}
+
+double rf_now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }

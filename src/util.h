@@ -19,6 +19,9 @@ int rf_read_file(const char *path, char **text, size_t *len, rf_error *err);
 /* qsort comparison of doubles, ascending. */
 int rf_cmp_double(const void *a, const void *b);
 
+/* Seconds on the monotonic clock (for intervals). */
+double rf_now_s(void);
+
 /* Index range [*lo, *hi] of n cells of size `size` from c0 that [a, b] touches; 0 when
  * none. */
 static inline int rf_cell_range(double a, double b, double c0, double size, size_t n,

@@ -16,7 +16,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
@@ -28,13 +27,6 @@
 #define N_REFERENCE 40000 /* trajectories of the converged reference */
 #define MIN_TIMING_S 1.0  /* each throughput measurement runs at least this long */
 #define TIMING_ROUNDS 3   /* rounds of throughput measurements; the fastest counts */
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 typedef struct stats {
     double runout_mean, runout_p95, energy_mean, energy_p95, road_mean, road_p95;
@@ -123,9 +115,9 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
 /* Seconds one thread takes for the first n trajectories of a row's setting. */
 static double run_seconds(const rf_project *p, const rf_simulation *sim, long n)
 {
-    double t0 = now_s();
+    double t0 = rf_now_s();
     run_slope(p, sim, 0, n, NULL);
-    return now_s() - t0;
+    return rf_now_s() - t0;
 }
 
 /* Trajectories to time for one throughput measurement: doubled from 16 until a run
