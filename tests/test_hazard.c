@@ -12,19 +12,33 @@
 #include "db_test_util.h"
 #include "test.h"
 
-/* A 4 x 4 grid of 1 m cells over [0, 4]^2. */
-static void grid4(rf_hazard *h)
+/* A hazard grid of `cell` over a terrain spanning [x0, x1] x [0, y1]. */
+static void grid_over(rf_hazard *h, double x0, double x1, double y1, double cell)
 {
     rf_terrain t;
     memset(&t, 0, sizeof t);
-    t.xmin = 0, t.xmax = 4, t.ymin = 0, t.ymax = 4;
-    ENSURE(rf_hazard_init(h, &t, 1.0) == 0);
+    t.xmin = x0, t.xmax = x1, t.ymin = 0, t.ymax = y1;
+    ENSURE(rf_hazard_init(h, &t, cell) == 0);
+}
+
+/* A 4 x 4 grid of 1 m cells over [0, 4]^2. */
+static void grid4(rf_hazard *h)
+{
+    grid_over(h, 0, 4, 4, 1.0);
     ENSURE(h->nx == 4 && h->ny == 4);
 }
 
 static const rf_hazard_cell *cell(const rf_hazard *h, int ix, int iy)
 {
     return &h->cells[(size_t)iy * h->nx + (size_t)ix];
+}
+
+static int reached_cells(const rf_hazard *h)
+{
+    int reached = 0;
+    for (size_t i = 0; i < h->nx * h->ny; i++)
+        reached += h->cells[i].n != 0;
+    return reached;
 }
 
 TEST(hazard_cell_clipped_between_two_samples_is_reached)
@@ -39,10 +53,7 @@ TEST(hazard_cell_clipped_between_two_samples_is_reached)
     ENSURE(rf_hazard_end(&h) == 0);
     ENSURE(cell(&h, 0, 0)->n == 1 && cell(&h, 1, 0)->n == 1 && cell(&h, 1, 1)->n == 1);
     ENSURE(cell(&h, 0, 1)->n == 0 && cell(&h, 2, 1)->n == 0);
-    int reached = 0;
-    for (size_t i = 0; i < h.nx * h.ny; i++)
-        reached += h.cells[i].n != 0;
-    ENSURE(reached == 3);
+    ENSURE(reached_cells(&h) == 3);
     /* each cell the largest value over its stretch, linear between the samples */
     ENSURE_REL(cell(&h, 0, 0)->energy_kj[0], 11.0, 1e-6);
     ENSURE_REL(cell(&h, 1, 0)->energy_kj[0], 20.0, 1e-6);
@@ -67,10 +78,7 @@ TEST(hazard_point_on_the_far_edge_is_in_the_last_cell)
     rf_hazard_sample(&h, 5.5, 0.5, 1.0, 0.0);
     ENSURE(rf_hazard_end(&h) == 0);
     ENSURE(cell(&h, 3, 0)->n == 1);
-    int reached = 0;
-    for (size_t i = 0; i < h.nx * h.ny; i++)
-        reached += h.cells[i].n != 0;
-    ENSURE(reached == 2);
+    ENSURE(reached_cells(&h) == 2);
     rf_hazard_free(&h);
 }
 
@@ -92,14 +100,6 @@ TEST(hazard_samples_of_one_trajectory_count_once_per_cell)
     ENSURE_REL(cell(&h, 0, 2)->energy_kj[1], 7.0, 1e-6);
     ENSURE_REL(cell(&h, 3, 2)->energy_kj[1], 4.5, 1e-6); /* back to x = 3 at 4.5 */
     rf_hazard_free(&h);
-}
-
-static int reached_cells(const rf_hazard *h)
-{
-    int reached = 0;
-    for (size_t i = 0; i < h->nx * h->ny; i++)
-        reached += h->cells[i].n != 0;
-    return reached;
 }
 
 /* Through a grid corner exactly the path goes on diagonally; a sample that is not a
@@ -131,10 +131,7 @@ TEST(hazard_walk_corner_nan_and_far_samples)
     rf_hazard_free(&h);
 
     /* a grid of 1000 x 1 cells: 900 cells between two samples is beyond the walk */
-    rf_terrain t;
-    memset(&t, 0, sizeof t);
-    t.xmin = 0, t.xmax = 1000, t.ymin = 0, t.ymax = 1;
-    ENSURE(rf_hazard_init(&h, &t, 1.0) == 0);
+    grid_over(&h, 0, 1000, 1, 1.0);
     rf_hazard_begin(&h);
     rf_hazard_sample(&h, 0.5, 0.5, 1.0, 0.0);
     rf_hazard_sample(&h, 900.5, 0.5, 1.0, 0.0);
@@ -150,13 +147,11 @@ TEST(hazard_far_edge_of_inexact_grids)
     long missed = 0, tried = 0;
     for (int i = 0; i < 2000; i++) {
         double x0 = 100.0 + 0.37 * i, cell = 0.5 + 0.0137 * (i % 617), n = 1 + i % 211;
-        rf_terrain t;
-        memset(&t, 0, sizeof t);
-        t.xmin = x0, t.xmax = x0 + n * cell, t.ymin = 0, t.ymax = cell;
+        double xmax = x0 + n * cell;
         rf_hazard h;
-        ENSURE(rf_hazard_init(&h, &t, cell) == 0);
+        grid_over(&h, x0, xmax, cell, cell);
         rf_hazard_begin(&h);
-        rf_hazard_sample(&h, t.xmax, 0.5 * cell, 1.0, 0.0);
+        rf_hazard_sample(&h, xmax, 0.5 * cell, 1.0, 0.0);
         ENSURE(rf_hazard_end(&h) == 0);
         missed += reached_cells(&h) != 1;
         tried++;
@@ -164,11 +159,8 @@ TEST(hazard_far_edge_of_inexact_grids)
     }
     ENSURE_MSG(missed == 0, "%ld of %ld far edges outside the grid", missed, tried);
     /* the reviewed case */
-    rf_terrain t;
-    memset(&t, 0, sizeof t);
-    t.xmin = 154.9, t.xmax = 1172.95, t.ymin = 0, t.ymax = 1;
     rf_hazard h;
-    ENSURE(rf_hazard_init(&h, &t, 6.17) == 0);
+    grid_over(&h, 154.9, 1172.95, 1, 6.17);
     rf_hazard_begin(&h);
     rf_hazard_sample(&h, 1172.95, 0.5, 1.0, 0.0);
     ENSURE(rf_hazard_end(&h) == 0);

@@ -66,6 +66,18 @@ TEST(noto_trees_widen_the_spread_and_slow_the_rocks)
     sqlite3_close(hb);
 }
 
+/* The share of the trajectories that cross no road and, at every structure they meet,
+ * stay within one of `states` (an SQL list), counted here independently of rules.c. */
+static double kept_share(sqlite3 *h, const char *states)
+{
+    return dbt_real(h, "SELECT 1.0 * sum(NOT EXISTS (SELECT 1 FROM interceptions i JOIN measures m"
+                       " ON m.id = i.measure_id LEFT JOIN classifications c ON"
+                       " c.interception_id = i.id WHERE i.trajectory_id = t.id AND (m.name ="
+                       " 'road' OR coalesce(c.limit_state, '') NOT IN (%s)))) / count(*) FROM"
+                       " trajectories t",
+                    states);
+}
+
 TEST(noto_layout_checked_and_stored)
 {
     char a[600];
@@ -87,20 +99,16 @@ TEST(noto_layout_checked_and_stored)
     /* the layout's share, counted again here: no crossing of the road, every
      * interception of B1 and E1 within serviceability */
     ENSURE(dbt_real(h, "SELECT value FROM checks WHERE measure_id IS NULL") ==
-           dbt_real(h, "SELECT 1.0 * sum(NOT EXISTS (SELECT 1 FROM interceptions i JOIN measures m"
-                       " ON m.id = i.measure_id LEFT JOIN classifications c ON"
-                       " c.interception_id = i.id WHERE i.trajectory_id = t.id AND (m.name ="
-                       " 'road' OR coalesce(c.limit_state, '') <> 'serviceability')))"
-                       " / count(*) FROM trajectories t"));
+           kept_share(h, "'serviceability'"));
     /* the same for a later state: kept within serviceability or restorability */
     char *text = rf_test_read_text("rules/table3.yaml");
     ENSURE(text);
-    char *at = strstr(text, "value: share_of_rockfalls_kept\n    state: serviceability");
+    static const char from[] = "value: share_of_rockfalls_kept\n    state: serviceability";
+    char *at = strstr(text, from);
     ENSURE(at);
     char rules_text[16384];
     snprintf(rules_text, sizeof rules_text, "%.*svalue: share_of_rockfalls_kept\n    state: "
-             "restorability%s", (int)(at - text), text,
-             at + strlen("value: share_of_rockfalls_kept\n    state: serviceability"));
+             "restorability%s", (int)(at - text), text, at + strlen(from));
     free(text);
     rf_rules r;
     rf_error err;
@@ -110,11 +118,7 @@ TEST(noto_layout_checked_and_stored)
     ENSURE(rf_rules_evaluate(h, 1, &r, NULL, NULL, &err) == 0);
     rf_rules_free(&r);
     ENSURE(dbt_real(h, "SELECT value FROM checks WHERE measure_id IS NULL") ==
-           dbt_real(h, "SELECT 1.0 * sum(NOT EXISTS (SELECT 1 FROM interceptions i JOIN measures m"
-                       " ON m.id = i.measure_id LEFT JOIN classifications c ON"
-                       " c.interception_id = i.id WHERE i.trajectory_id = t.id AND (m.name ="
-                       " 'road' OR coalesce(c.limit_state, '') NOT IN ('serviceability',"
-                       " 'restorability'))))  / count(*) FROM trajectories t"));
+           kept_share(h, "'serviceability', 'restorability'"));
     ENSURE(dbt_real(h, "SELECT count(DISTINCT measure_id) FROM checks") == 2);
     ENSURE(dbt_real(h, "SELECT count(*) FROM checks c JOIN measures m ON m.id = c.measure_id "
                  "WHERE m.kind = 'control'") == 0);

@@ -298,20 +298,28 @@ static long evaluate(scene *t, const rf_rules *r)
     return failed;
 }
 
+/* value and passed of the run's one check row matching `where` (k: checks, m: its
+ * measure, if any) */
+static double check_row(scene *t, const char *where, int *passed)
+{
+    sqlite3 *db = rf_store_db(t->s);
+    const char *q = "FROM checks k LEFT JOIN measures m ON m.id = k.measure_id WHERE k.run_id = "
+                    "%lld AND %s";
+    char fmt[512];
+    snprintf(fmt, sizeof fmt, "SELECT count(*) %s", q);
+    ENSURE_MSG(dbt_real(db, fmt, (long long)t->run, where) == 1.0, "not one check %s", where);
+    snprintf(fmt, sizeof fmt, "SELECT passed %s", q);
+    *passed = (int)dbt_real(db, fmt, (long long)t->run, where);
+    snprintf(fmt, sizeof fmt, "SELECT value %s", q);
+    return dbt_real(db, fmt, (long long)t->run, where);
+}
+
 /* value and passed of a measure's check */
 static double check_value(scene *t, const char *measure, const char *rule, int *passed)
 {
-    sqlite3 *db = rf_store_db(t->s);
-    const char *q = "FROM checks k JOIN measures m ON m.id = k.measure_id WHERE k.run_id = %lld"
-                    " AND m.name = '%s' AND k.rule = '%s'";
-    char fmt[512];
-    snprintf(fmt, sizeof fmt, "SELECT count(*) %s", q);
-    ENSURE_MSG(dbt_real(db, fmt, (long long)t->run, measure, rule) == 1.0,
-               "not one check %s of %s", rule, measure);
-    snprintf(fmt, sizeof fmt, "SELECT passed %s", q);
-    *passed = (int)dbt_real(db, fmt, (long long)t->run, measure, rule);
-    snprintf(fmt, sizeof fmt, "SELECT value %s", q);
-    return dbt_real(db, fmt, (long long)t->run, measure, rule);
+    char where[256];
+    snprintf(where, sizeof where, "m.name = '%s' AND k.rule = '%s'", measure, rule);
+    return check_row(t, where, passed);
 }
 
 /* One trajectory of the release of `level` that meets measures ms[0..n) in turn. */
@@ -335,15 +343,9 @@ static void journey(scene *t, int level, int n, const int *ms, const double *ene
 /* value and passed of the layout's check `rule` (measure_id NULL) */
 static double layout_value(scene *t, const char *rule, int *passed)
 {
-    sqlite3 *db = rf_store_db(t->s);
-    const char *q = "FROM checks WHERE run_id = %lld AND measure_id IS NULL AND rule = '%s'";
-    char fmt[512];
-    snprintf(fmt, sizeof fmt, "SELECT count(*) %s", q);
-    ENSURE_MSG(dbt_real(db, fmt, (long long)t->run, rule) == 1.0, "not one check %s", rule);
-    snprintf(fmt, sizeof fmt, "SELECT passed %s", q);
-    *passed = (int)dbt_real(db, fmt, (long long)t->run, rule);
-    snprintf(fmt, sizeof fmt, "SELECT value %s", q);
-    return dbt_real(db, fmt, (long long)t->run, rule);
+    char where[256];
+    snprintf(where, sizeof where, "k.measure_id IS NULL AND k.rule = '%s'", rule);
+    return check_row(t, where, passed);
 }
 
 /* The paper's aim for the layout: the share of all rockfalls kept within

@@ -8,6 +8,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "store.h"
+#include "db_test_util.h"
 #include "test.h"
 
 /* Runs the project with `count` trajectories per release into `db`. */
@@ -177,20 +178,14 @@ TEST(run_failed_mid_chunk_keeps_whole_trajectories)
     rf_store_close(s);
     rf_project_free(&p);
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
-    sqlite3_stmt *st;
-    ENSURE(sqlite3_prepare_v2(h,
-                              "SELECT status, n_trajectories, (SELECT count(*) FROM trajectories "
-                              "WHERE run_id = 2), (SELECT count(*) FROM trajectories t WHERE "
-                              "run_id = 2 AND NOT EXISTS (SELECT 1 FROM interceptions i WHERE "
-                              "i.trajectory_id = t.id)) FROM runs WHERE id = 2",
-                              -1, &st, NULL) == SQLITE_OK);
-    ENSURE(sqlite3_step(st) == SQLITE_ROW);
-    ENSURE(!strcmp((const char *)sqlite3_column_text(st, 0), "failed"));
-    long n = (long)sqlite3_column_int64(st, 1), rows = (long)sqlite3_column_int64(st, 2);
+    ENSURE(dbt_int(h, "SELECT status = 'failed' FROM runs WHERE id = 2") == 1);
+    long n = (long)dbt_int(h, "SELECT n_trajectories FROM runs WHERE id = 2");
+    long rows = (long)dbt_int(h, "SELECT count(*) FROM trajectories WHERE run_id = 2");
     ENSURE_MSG(n == rows && rows > 0 && rows <= 300, "n_trajectories %ld, rows %ld", n, rows);
     /* every rock of this project crosses the road: none kept without its crossing */
-    ENSURE_MSG(sqlite3_column_int64(st, 3) == 0, "%lld trajectories without their crossing",
-               (long long)sqlite3_column_int64(st, 3));
-    sqlite3_finalize(st);
+    long long bare = dbt_int(h, "SELECT count(*) FROM trajectories t WHERE run_id = 2 AND NOT "
+                                "EXISTS (SELECT 1 FROM interceptions i WHERE i.trajectory_id = "
+                                "t.id)");
+    ENSURE_MSG(bare == 0, "%lld trajectories without their crossing", bare);
     sqlite3_close(h);
 }
