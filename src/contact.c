@@ -402,13 +402,15 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
     }
     if (!(lo <= hi))
         return;
-    int crossing = at_start && moves_in && !moves_out; /* moving in from its border there */
-    if (left && !(lo > t0 || crossing))
+    /* over the column later, or moving in from its border at a flight's start
+     * (moves_in is only set then) */
+    int enters = lo > t0 || (moves_in && !moves_out);
+    if (left && !enters)
         return; /* the face flown off, over or on its column and not moving in */
     double f_lo = f[0] + lo * (f[1] + lo * f[2]);
     double d_lo = f[1] + 2.0 * f[2] * lo;
     double t;
-    if ((lo > t0 || crossing) && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) {
+    if (enters && (f_lo < -tol || (f_lo <= tol && d_lo < -RF_APPROACH_EPS))) {
         /* the centre moves over a face already within reach of its plane (at the start
          * of a flight, when it approaches the plane: a face that falls away from a
          * flight off the column's border is left alone); met where the centre is half the
@@ -841,6 +843,13 @@ static void test_line_candidates(search *s, const int32_t *cand, size_t n, doubl
     test_pending(s, npend, T, z, z);
 }
 
+/* The far edges of a grid terrain's nodes. */
+static void grid_far(const rf_terrain *t, double *xmax, double *ymax)
+{
+    *xmax = t->x0 + (double)(t->nx - 1) * t->cell;
+    *ymax = t->y0 + (double)(t->ny - 1) * t->cell;
+}
+
 /* A flight over a grid terrain in centre mode or of a point mass (the face under the
  * centre, within the length tolerance of the line): the cells under its horizontal
  * line in the order it crosses them, each stretch of the line a piece with the cells
@@ -853,9 +862,14 @@ static void walk_grid(search *s, double T)
     double c = t->cell;
     /* the time over the grid, widened by the reach (slabs in x and y) */
     double ta = 0.0, tb = T;
+    double xmax, ymax;
+    grid_far(t, &xmax, &ymax);
     double lo[2] = {t->x0 - hr, t->y0 - hr};
-    double hi[2] = {t->x0 + c * (double)(t->nx - 1) + hr, t->y0 + c * (double)(t->ny - 1) + hr};
+    double hi[2] = {xmax + hr, ymax + hr};
     double p[2] = {px, py}, v[2] = {vx, vy};
+    /* only faces under the centre: nothing is left pending (test_face and test_left go
+     * to test_centre) */
+    size_t npend = 0;
     for (int a = 0; a < 2; a++) {
         if (v[a] == 0.0) {
             if (p[a] < lo[a] || p[a] > hi[a])
@@ -887,9 +901,6 @@ static void walk_grid(search *s, double T)
         double xa = px + vx * t0, xb = px + vx * t1, ya = py + vy * t0, yb = py + vy * t1;
         size_t n = gather_grid(s->m, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr,
                                dmax(ya, yb) + hr);
-        /* only faces under the centre: nothing is left pending (test_face and
-         * test_left go to test_centre) */
-        size_t npend = 0;
         for (size_t i = 0; i < n; i++)
             line_candidate(s, s->m->ws->cand[i], T, &npend);
         if ((s->found && s->best <= t1) || t1 >= tb)
@@ -997,7 +1008,7 @@ static void search_pieces(search *s, double T)
         arc_box(arc, ta, dmin(tb, s->best), &lo, &hi);
         if (lo.z - up > t->zmax || hi.z + reach < t->zmin)
             continue;
-        double hr = s->line ? line_reach(m) : reach;
+        double hr = s->line ? s->hr : reach;
         size_t n = rf_gather(m, lo.x - hr, lo.y - hr, hi.x + hr, hi.y + hr);
         if (s->line)
             test_line_candidates(s, ws->cand, n, T);
@@ -1429,9 +1440,8 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
     double xmin = t->xmin, xmax = t->xmax, ymin = t->ymin, ymax = t->ymax;
     if (t->is_grid) {
         xmin = t->x0;
-        xmax = t->x0 + (double)(t->nx - 1) * t->cell;
         ymin = t->y0;
-        ymax = t->y0 + (double)(t->ny - 1) * t->cell;
+        grid_far(t, &xmax, &ymax);
     }
     if (vx > 0)
         te = dmin(te, (xmax - px) / vx);
