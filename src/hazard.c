@@ -53,7 +53,7 @@ void rf_hazard_free(rf_hazard *h)
 void rf_hazard_begin(rf_hazard *h)
 {
     h->ntouched = 0;
-    h->have_last = 0;
+    h->last[0] = NAN;
     if (++h->epoch == 0) { /* wrapped: forget every old mark */
         memset(h->slot_epoch, 0, h->nx * h->ny * sizeof *h->slot_epoch);
         h->epoch = 1;
@@ -104,12 +104,9 @@ static void touch(rf_hazard *h, double fx, double fy, double energy_kj, double h
  * over its stretch of the line (so at one of the stretch's ends).  Through a grid
  * corner exactly the line goes on diagonally: the two cells it only touches at the
  * corner are not reached. */
-static void walk(rf_hazard *h, const double a[4], const double b[4])
+static void walk(rf_hazard *h, const double a[4], double fx, double fy, const double b[4],
+                 double gx, double gy)
 {
-    double fx = cell_index(a[0], h->x0, h->cell, h->nx);
-    double fy = cell_index(a[1], h->y0, h->cell, h->ny);
-    double gx = cell_index(b[0], h->x0, h->cell, h->nx);
-    double gy = cell_index(b[1], h->y0, h->cell, h->ny);
     double steps = fabs(gx - fx) + fabs(gy - fy);
     if (!(steps <= HAZARD_WALK_MAX)) {
         touch(h, gx, gy, b[2], b[3]);
@@ -121,14 +118,14 @@ static void walk(rf_hazard *h, const double a[4], const double b[4])
     /* each step moves towards b's cell in x, in y or in both, never past it: the walk
      * ends there after at most `steps` steps */
     for (double k = 0;; k++) {
-        int last = fx == gx && fy == gy;
+        int end = (fx == gx && fy == gy) || k >= steps;
         /* the line's parameter where it leaves the cell in x and in y */
         double ux = fx != gx ? (h->x0 + (sx > 0 ? fx + 1 : fx) * h->cell - a[0]) / dx : INFINITY;
         double uy = fy != gy ? (h->y0 + (sy > 0 ? fy + 1 : fy) * h->cell - a[1]) / dy : INFINITY;
-        double s1 = last || k >= steps ? 1.0 : fmin(fmax(fmin(ux, uy), s0), 1.0);
+        double s1 = end ? 1.0 : fmin(fmax(fmin(ux, uy), s0), 1.0);
         touch(h, fx, fy, fmax(a[2] + (b[2] - a[2]) * s0, a[2] + (b[2] - a[2]) * s1),
               fmax(a[3] + (b[3] - a[3]) * s0, a[3] + (b[3] - a[3]) * s1));
-        if (last || k >= steps)
+        if (end)
             break;
         if (ux <= uy)
             fx += sx;
@@ -143,13 +140,13 @@ void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double
     if (!isfinite(x) || !isfinite(y))
         return; /* no cell, and no line to the next sample */
     double b[4] = {x, y, energy_kj, height_m};
-    if (!h->have_last)
-        touch(h, cell_index(x, h->x0, h->cell, h->nx), cell_index(y, h->y0, h->cell, h->ny),
-              energy_kj, height_m);
+    double gx = cell_index(x, h->x0, h->cell, h->nx), gy = cell_index(y, h->y0, h->cell, h->ny);
+    if (isnan(h->last[0]))
+        touch(h, gx, gy, energy_kj, height_m);
     else
-        walk(h, h->last, b);
+        walk(h, h->last, h->last_fx, h->last_fy, b, gx, gy);
     memcpy(h->last, b, sizeof b);
-    h->have_last = 1;
+    h->last_fx = gx, h->last_fy = gy;
 }
 
 static int cell_push(rf_hazard_cell *c, float e, float hgt)

@@ -35,8 +35,8 @@ typedef struct rf_hazard {
     uint32_t epoch;
     rf_hazard_touch *touched;
     size_t ntouched, cap_touched;
-    double last[4]; /* the last sample: x, y, energy, height */
-    int have_last;
+    double last[4];         /* the last sample: x, y, energy, height; x NaN before one */
+    double last_fx, last_fy; /* its cell (cell_index) */
     int oom;
 } rf_hazard;
 

@@ -54,10 +54,10 @@ static double segment_crossing(const rf_polyline *l, size_t s, rf_vec3 p, rf_vec
         double y = p.y + v.y * t + 0.5 * a.y * t * t - A[1];
         double u = (x * dx + y * dy) / len2;
         if (u >= -U_TOL && u <= 1.0 + U_TOL) {
-            /* through an inner vertex with both arms on one side: touched (j = 0: no
-             * inner vertex; an end vertex is never touched only) */
+            /* through an inner vertex with both arms on one side: touched (j = 0, no
+             * vertex, is an end vertex to vertex_touch: never only touched) */
             size_t j = u <= U_TOL ? s : u >= 1.0 - U_TOL ? s + 1 : 0;
-            if (j && vertex_touch(l, j, v.x + a.x * t, v.y + a.y * t))
+            if (vertex_touch(l, j, v.x + a.x * t, v.y + a.y * t))
                 continue;
             *u_out = rf_fmin(rf_fmax(u, 0.0), 1.0);
             return t;

@@ -218,6 +218,15 @@ static int read_capacities(loader *L, rf_ynode *root)
     return 0;
 }
 
+/* 1 when one of the checks read so far (a NULL name ends them) is named `name`. */
+static int check_named(const rf_rule_check *c, size_t n, const char *name)
+{
+    for (size_t j = 0; j < n && c[j].name; j++)
+        if (!strcmp(c[j].name, name))
+            return 1;
+    return 0;
+}
+
 /* Check i of the measures' checks, or with `layout` set of the layout's. */
 static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
 {
@@ -234,12 +243,9 @@ static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
         rf_ydoc_string(&L->d, name, "rule", &text, L->err))
         return -1;
     /* rule names are unique over both lists: they name the rows of `checks` */
-    for (size_t j = 0; j < L->r->nchecks && L->r->checks[j].name; j++)
-        if (!strcmp(L->r->checks[j].name, text))
-            return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
-    for (size_t j = 0; j < L->r->nlayout && L->r->layout_checks[j].name; j++)
-        if (!strcmp(L->r->layout_checks[j].name, text))
-            return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
+    if (check_named(L->r->checks, L->r->nchecks, text) ||
+        check_named(L->r->layout_checks, L->r->nlayout, text))
+        return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
     if (!(c->name = strdup(text)))
         return out_of_memory(L);
     if (rf_ydoc_require(&L->d, n, "value", what, &value, L->err) ||
@@ -600,6 +606,8 @@ typedef struct run_measures {
     char *project;   /* runs.project; NULL when the run does not exist */
     measure_row *m;
     size_t n;
+    long n_rockfalls; /* the run's trajectories, when the rules have layout checks */
+    long *kept;       /* those each layout check kept */
 } run_measures;
 
 static void run_measures_free(run_measures *L)
@@ -607,6 +615,7 @@ static void run_measures_free(run_measures *L)
     for (size_t i = 0; i < L->n; i++)
         free(L->m[i].name);
     free(L->m);
+    free(L->kept);
     free(L->project);
     memset(L, 0, sizeof *L);
 }
@@ -749,10 +758,6 @@ static int write_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measu
 static long query_count(sqlite3 *db, const char *sql, int64_t run, rf_error *err)
 {
     sqlite3_stmt *st;
-    if (!sql) {
-        rf_error_set(err, "", 0, 0, "out of memory");
-        return -1;
-    }
     if (prepare(db, sql, &st, err))
         return -1;
     sqlite3_bind_int64(st, 1, run);
@@ -763,11 +768,10 @@ static long query_count(sqlite3 *db, const char *sql, int64_t run, rf_error *err
     return n;
 }
 
-/* The run's trajectories, and those kept within limit state index `state`: no crossing
- * of a control line, every interception of a barrier or embankment classified (by
- * evaluate, just before) into `state` or an earlier one. */
-static int layout_counts(sqlite3 *db, int64_t run, const rf_rules *r, int state, long *n,
-                         long *kept, rf_error *err)
+/* The run's trajectories kept within limit state index `state`: no crossing of a
+ * control line, every interception of a barrier or embankment classified (by
+ * evaluate, just before) into `state` or an earlier one; -1 on error (err set). */
+static long layout_kept(sqlite3 *db, int64_t run, const rf_rules *r, int state, rf_error *err)
 {
     char *within = sqlite3_mprintf("%Q", rf_rules_state_name(r, 0));
     for (int i = 1; within && i <= state; i++) {
@@ -784,26 +788,36 @@ static int layout_counts(sqlite3 *db, int64_t run, const rf_rules *r, int state,
                              within)
                        : NULL;
     sqlite3_free(within);
-    *n = query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run, err);
-    *kept = *n < 0 ? -1 : query_count(db, sql, run, err);
+    long kept = sql ? query_count(db, sql, run, err)
+                    : (rf_error_set(err, "", 0, 0, "out of memory"), -1L);
     sqlite3_free(sql);
-    return *n < 0 || *kept < 0 ? -1 : 0;
+    return kept;
 }
 
+/* The layout's checks; the run's rockfalls into L->n_rockfalls, those each check
+ * kept into L->kept[c], for print_run. */
 static int write_layout_checks(sqlite3 *db, int64_t run, const rf_rules *r, sqlite3_stmt *ins,
-                               long *n_failed, rf_error *err)
+                               run_measures *L, long *n_failed, rf_error *err)
 {
+    if (r->nlayout == 0)
+        return 0;
+    if (!(L->kept = calloc(r->nlayout, sizeof *L->kept)))
+        return rf_error_set(err, "", 0, 0, "out of memory");
+    L->n_rockfalls =
+        query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run, err);
+    if (L->n_rockfalls < 0)
+        return -1;
     for (size_t c = 0; c < r->nlayout; c++) {
         const rf_rule_check *check = &r->layout_checks[c];
-        long n, kept;
-        if (layout_counts(db, run, r, check->state, &n, &kept, err) ||
-            insert_check(db, ins, run, 0, r, check, kept, n, n_failed, err))
+        L->kept[c] = layout_kept(db, run, r, check->state, err);
+        if (L->kept[c] < 0 ||
+            insert_check(db, ins, run, 0, r, check, L->kept[c], L->n_rockfalls, n_failed, err))
             return -1;
     }
     return 0;
 }
 
-static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, const run_measures *L,
+static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, run_measures *L,
                     long *n_failed, rf_error *err)
 {
     sqlite3_stmt *ins_class = NULL, *ins_check = NULL;
@@ -840,7 +854,7 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, const run_measu
                          err))
             goto done;
     }
-    if (write_layout_checks(db, run, r, ins_check, n_failed, err))
+    if (write_layout_checks(db, run, r, ins_check, L, n_failed, err))
         goto done;
     status = 0;
 done:
@@ -978,23 +992,19 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
             return -1;
     }
     if (r->nlayout) {
-        long n = query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run, err);
+        long n = L->n_rockfalls;
         long reach = query_count(db,
                                  "SELECT count(DISTINCT i.trajectory_id) FROM interceptions i"
                                  " JOIN measures m ON m.id = i.measure_id WHERE m.run_id = ?1"
                                  " AND m.kind = 'control'",
                                  run, err);
-        if (n < 0 || reach < 0)
+        if (reach < 0)
             return -1;
         fprintf(out, "\nlayout: %ld rockfalls, %ld of them across a control line\n", n, reach);
-        for (size_t c = 0; c < r->nlayout; c++) {
-            long all, kept;
-            if (layout_counts(db, run, r, r->layout_checks[c].state, &all, &kept, err))
-                return -1;
+        for (size_t c = 0; c < r->nlayout; c++)
             fprintf(out, "  kept within %s: %ld (%.1f %%)\n",
-                    rf_rules_state_name(r, r->layout_checks[c].state), kept,
-                    all > 0 ? 100.0 * (double)kept / (double)all : 0.0);
-        }
+                    rf_rules_state_name(r, r->layout_checks[c].state), L->kept[c],
+                    n > 0 ? 100.0 * (double)L->kept[c] / (double)n : 0.0);
         if (print_checks(db, run, r, NULL, out, err))
             return -1;
     }

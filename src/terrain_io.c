@@ -444,3 +444,43 @@ int rf_mesh_read(const char *path, char up, rf_tri_list *out, rf_error *err)
         out->n = n_before;
     return rc;
 }
+
+/* ---- rows of numbers ------------------------------------------------------------ */
+
+int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
+{
+    memset(out, 0, sizeof *out);
+    char *buf;
+    size_t len, cap = 0;
+    if (rf_read_file(path, &buf, &len, err))
+        return -1;
+    scanner s;
+    scan_init(&s, path, buf, len);
+    int rc = 0;
+    while (rc == 0 && scan_skip(&s, 1)) {
+        if (*s.p == '#') {
+            scan_to_next_line(&s);
+            continue;
+        }
+        if (rf_grow((void **)&out->v, &cap, (out->n + 1) * ncol, sizeof *out->v)) {
+            rc = rf_error_set(err, path, s.line, 0, "out of memory");
+            break;
+        }
+        for (size_t k = 0; rc == 0 && k < ncol; k++)
+            rc = scan_number(&s, 0, &out->v[out->n * ncol + k], err);
+        if (rc == 0)
+            out->n++;
+        scan_to_next_line(&s);
+    }
+    free(buf);
+    if (rc)
+        rf_points_free(out);
+    return rc;
+}
+
+void rf_points_free(rf_points *p)
+{
+    free(p->v);
+    p->v = NULL;
+    p->n = 0;
+}

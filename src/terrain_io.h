@@ -35,4 +35,15 @@ typedef struct rf_tri_list {
 int rf_mesh_read(const char *path, char up, rf_tri_list *out, rf_error *err);
 void rf_tri_list_free(rf_tri_list *l);
 
+/* Rows of at least ncol numbers from a text file (blank lines and lines starting with
+ * '#' skipped; columns beyond ncol ignored): v[row * ncol + col]. */
+typedef struct rf_points {
+    double *v;
+    size_t n;
+} rf_points;
+
+/* Reads path; a bad row is an error at its line and column. */
+int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err);
+void rf_points_free(rf_points *p);
+
 #endif

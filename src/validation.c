@@ -1,8 +1,6 @@
 /* validation.c - simulated stop points against measured ones (validation.h). */
 #include "validation.h"
 
-#include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,70 +10,6 @@
 #include "util.h"
 
 /* ---- reading ------------------------------------------------------------------- */
-
-int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
-{
-    memset(out, 0, sizeof *out);
-    FILE *f = fopen(path, "r");
-    if (!f)
-        return rf_error_set(err, path, 0, 0, "cannot open: %s", strerror(errno));
-    char buf[4096];
-    size_t cap = 0;
-    int line = 0, rc = 0;
-    while (rc == 0 && fgets(buf, sizeof buf, f)) {
-        line++;
-        size_t len = strlen(buf);
-        if (len == sizeof buf - 1 && buf[len - 1] != '\n') {
-            rc = rf_error_set(err, path, line, (int)len, "line longer than %zu characters",
-                              sizeof buf - 2);
-            break;
-        }
-        const char *p = buf;
-        while (*p && isspace((unsigned char)*p))
-            p++;
-        if (*p == '\0' || *p == '#')
-            continue;
-        if (rf_grow((void **)&out->v, &cap, (out->n + 1) * ncol, sizeof *out->v)) {
-            rc = rf_error_set(err, path, line, 0, "out of memory");
-            break;
-        }
-        double *row = out->v + out->n * ncol;
-        for (size_t k = 0; k < ncol; k++) {
-            while (*p == ' ' || *p == '\t')
-                p++;
-            int col = (int)(p - buf) + 1;
-            char *end;
-            errno = 0;
-            double x = strtod(p, &end);
-            if (end == p || (*end && !isspace((unsigned char)*end))) {
-                rc = rf_error_set(err, path, line, col, "expected a number (column %zu of %zu)",
-                                  k + 1, ncol);
-                break;
-            }
-            if (!isfinite(x) || errno == ERANGE) {
-                rc = rf_error_set(err, path, line, col, "number out of range");
-                break;
-            }
-            row[k] = x;
-            p = end;
-        }
-        if (rc == 0)
-            out->n++;
-    }
-    if (rc == 0 && ferror(f))
-        rc = rf_error_set(err, path, line, 0, "read error");
-    fclose(f);
-    if (rc)
-        rf_points_free(out);
-    return rc;
-}
-
-void rf_points_free(rf_points *p)
-{
-    free(p->v);
-    p->v = NULL;
-    p->n = 0;
-}
 
 /* ---- statistics ---------------------------------------------------------------- */
 

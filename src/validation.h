@@ -16,17 +16,7 @@
 #include "rockfall/error.h"
 #include "rockfall/project.h"
 #include "rockfall/sim.h"
-
-/* Rows of at least ncol numbers from a text file (blank lines and lines starting with
- * '#' skipped; columns beyond ncol ignored): v[row * ncol + col]. */
-typedef struct rf_points {
-    double *v;
-    size_t n;
-} rf_points;
-
-/* Reads path; a bad row is an error at its line and column. */
-int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err);
-void rf_points_free(rf_points *p);
+#include "terrain_io.h"
 
 /* Quantile q in [0, 1] of n >= 1 values sorted ascending: linear between the order
  * statistics (Hyndman and Fan's type 7, as R and numpy by default); NaN for none. */
