@@ -212,6 +212,13 @@ struct rf_workspace {
     rf_feat_slot feat[RF_FEAT_SLOTS];
 };
 
+/* A measure's line the rock has just crossed (scene_events.c): the crossed segment's
+ * line, through (ax, ay) with unit normal (nx, ny) in plan. */
+typedef struct rf_passage {
+    int measure;
+    double ax, ay, nx, ny;
+} rf_passage;
+
 typedef struct rf_motion {
     const rf_scene *scene;
     const rf_terrain *terrain;
@@ -248,6 +255,8 @@ typedef struct rf_motion {
     int ncrossings;
     rf_crossing recorded[RF_MAX_COINCIDENT_CROSSINGS]; /* the last ones recorded (t absolute) */
     int nrecorded;
+    rf_passage passing[RF_MAX_COINCIDENT_CROSSINGS]; /* lines being passed (scene_events.c) */
+    int npassing;
     int tree_forest;         /* the forest of the tree collision found */
     double tree_bound;       /* summed rate bound of the forests per metre; 0: none */
     double phi_r;            /* rock diameter in Eq. 12 */

@@ -17,6 +17,7 @@
 
 #include <gsl/gsl_randist.h>
 #include <math.h>
+#include <string.h>
 
 #include "vegetation.h"
 
@@ -38,8 +39,64 @@ void rf_scene_begin(rf_motion *m)
     }
 }
 
+/* ---- one passage of a line -----------------------------------------------------------
+ *
+ * A rock that crosses a measure's line and comes back across it before its centre has
+ * been further than its radius from the crossed segment's line passes the line once:
+ * the crossings back and forth of that passage are not recorded again (a point mass
+ * running along a valley line that a control line follows wandered across it by a
+ * fraction of a millimetre and was recorded at each).  Once further than its radius
+ * from it, the passage is over and the next crossing is a new one. */
+
+/* The largest horizontal distance from the passage's line over [0, T] of the arc. */
+static double passage_reach(const rf_passage *ps, const rf_arc *arc, double T)
+{
+    double f[3] = {ps->nx * (arc->p.x - ps->ax) + ps->ny * (arc->p.y - ps->ay),
+                   ps->nx * arc->v.x + ps->ny * arc->v.y,
+                   0.5 * (ps->nx * arc->a.x + ps->ny * arc->a.y)};
+    double lo, hi;
+    rf_quadratic_range(f, 0.0, fmax(T, 0.0), &lo, &hi);
+    return fmax(-lo, hi);
+}
+
+/* The passage of measure `which`, or NULL. */
+static rf_passage *passage_of(rf_motion *m, int which)
+{
+    for (int i = 0; i < m->npassing; i++)
+        if (m->passing[i].measure == which)
+            return &m->passing[i];
+    return NULL;
+}
+
+/* A crossing of segment c->segment of its measure recorded: that measure's passage
+ * starts (the oldest passage makes room when all are taken). */
+static void passage_start(rf_motion *m, const rf_crossing *c)
+{
+    const double *A = &m->scene->measures[c->measure].line.xy[2 * c->segment], *B = A + 2;
+    double dx = B[0] - A[0], dy = B[1] - A[1], len = hypot(dx, dy);
+    rf_passage *ps = passage_of(m, c->measure);
+    if (!ps) {
+        if (m->npassing == RF_MAX_COINCIDENT_CROSSINGS) {
+            memmove(m->passing, m->passing + 1, (size_t)(m->npassing - 1) * sizeof *m->passing);
+            m->npassing--;
+        }
+        ps = &m->passing[m->npassing++];
+    }
+    /* a crossed segment has a length (measures.c passes over a zero one) */
+    *ps = (rf_passage){c->measure, A[0], A[1], -dy / len, dx / len};
+}
+
 void rf_scene_travel(rf_motion *m, const rf_arc *arc, double T)
 {
+    for (int i = 0; i < m->npassing;) {
+        if (passage_reach(&m->passing[i], arc, T) > m->body->radius) {
+            memmove(m->passing + i, m->passing + i + 1,
+                    (size_t)(m->npassing - i - 1) * sizeof *m->passing);
+            m->npassing--;
+        } else {
+            i++;
+        }
+    }
     if (m->tree_bound > 0.0)
         m->odo += rf_horizontal_length(arc->v, arc->a, T);
 }
@@ -111,6 +168,9 @@ double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
             int kept = 0;
             for (int i = 0; i < k; i++) {
                 rf_crossing c = m->crossings[i];
+                const rf_passage *ps = passage_of(m, c.measure);
+                if (ps && passage_reach(ps, arc, c.t) <= m->body->radius)
+                    continue; /* back across the line it is passing */
                 if (!crossing_recorded(m, c.measure, rf_arc_pos(arc, c.t), m->s.t + c.t))
                     m->crossings[kept++] = c;
             }
@@ -181,6 +241,7 @@ static int measure_event(rf_motion *m)
             m->recorded[m->nrecorded] = m->crossings[i];
             m->recorded[m->nrecorded++].t = m->s.t;
         }
+        passage_start(m, &m->crossings[i]);
         if (cross_measure(m, m->crossings[i].measure) >= 0)
             return RF_END_STOPPED;
     }

@@ -251,11 +251,56 @@ TEST(measures_engine_flight_passing_height)
 
 /* ---- fast crossings of a kinked polyline -------------------------------------------- */
 
-/* A polyline along y = 50 with a 0.1 m high kink at x = 50..50.1, crossed at 60 m/s in
- * flight and sliding, under the exact engine and fixed steps of 0.6 m: a path through
- * the kink's apex vertex is recorded once; a path through a leg of the kink once; a
- * diagonal path through both legs and the straight part three times, at the points
- * where the straight horizontal path meets the segments. */
+/* The crossings of polyline line (n points) that a rock of radius r on the straight
+ * horizontal path p + s d (s > 0) records, in order, as path parameters in want_s: the
+ * path's points on the segments (one at a vertex), without those back across a line
+ * passed within r of the crossed segment's line (docs/measures.md; on a straight
+ * path the distance from a line is largest at the end of a stretch). */
+static int kink_crossings(const double *line, int n, double px, double py, double dx, double dy,
+                          double r, double *want_s)
+{
+    double s_all[8];
+    int seg[8], nall = 0;
+    for (int sgi = 0; sgi + 1 < n && nall < 8; sgi++) {
+        double s, u;
+        if (!line_segment(px, py, dx, dy, &line[2 * sgi], &line[2 * sgi + 2], &s, &u) || !(s > 0))
+            continue;
+        int dup = 0;
+        for (int j = 0; j < nall; j++)
+            dup |= fabs(s_all[j] - s) < 1e-9;
+        if (!dup)
+            s_all[nall] = s, seg[nall++] = sgi;
+    }
+    for (int i = 0; i < nall; i++)
+        for (int j = i + 1; j < nall; j++)
+            if (s_all[j] < s_all[i]) {
+                double ts = s_all[i];
+                int tg = seg[i];
+                s_all[i] = s_all[j], seg[i] = seg[j];
+                s_all[j] = ts, seg[j] = tg;
+            }
+    int nwant = 0, last = -1;
+    for (int i = 0; i < nall; i++) {
+        if (last >= 0) {
+            const double *A = &line[2 * seg[last]], *B = A + 2;
+            double x = px + s_all[i] * dx - A[0], y = py + s_all[i] * dy - A[1];
+            double ex = B[0] - A[0], ey = B[1] - A[1];
+            if (fabs(ex * y - ey * x) / hypot(ex, ey) <= r)
+                continue;
+        }
+        want_s[nwant++] = s_all[i];
+        last = i;
+    }
+    return nwant;
+}
+
+/* A polyline along y = 50 with a kink at x = 50, crossed at 60 m/s in flight and
+ * sliding, under the exact engine and fixed steps of 0.6 m, each crossing at the point
+ * where the straight horizontal path meets the segments.  A notch 0.1 m wide and high:
+ * a path through its apex vertex, through the vertex at its foot, or through a leg is
+ * recorded once; a diagonal path through both legs and the straight part passes the
+ * line once (0.33 m rocks), recorded at the first leg.  The kink 20 times larger: the
+ * diagonal path is recorded three times, as are the vertices and legs once. */
 TEST(measures_engine_kink_at_60ms)
 {
     const double zf = 7.385, pts[4] = {0.0, zf, 100.0, zf};
@@ -263,66 +308,54 @@ TEST(measures_engine_kink_at_60ms)
     rf_terrain slide_t;
     mt_profile(&t, pts, 2, 100.0, surface(0.2, 0.3, 0.05));
     mt_profile(&slide_t, pts, 2, 100.0, surface(0.0, 0.1385, 0.0));
-    double line[] = {20.0, 50.0, 50.0, 50.0, 50.05, 50.1, 50.1, 50.0, 80.0, 50.0};
-    rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 5, 0.0, 0.0);
+    double kinks[2][10] = {{20.0, 50.0, 50.0, 50.0, 50.05, 50.1, 50.1, 50.0, 80.0, 50.0},
+                                 {20.0, 50.0, 50.0, 50.0, 51.0, 52.0, 52.0, 50.0, 80.0, 50.0}};
     struct {
-        double x, y, dx, dy;
-        int want;
+        double x, y, dx, dy; /* through the notch (scaled for the larger kink); from 5 m back */
+        int want[2];         /* crossings at the notch and at the kink 20 times larger */
     } paths[] = {
-        {50.05, 55.0, 0.0, -1.0, 1},                 /* through the apex vertex */
-        {50.0, 55.0, 0.0, -1.0, 1},                  /* through the vertex at the kink's foot */
-        {50.02, 55.0, 0.0, -1.0, 1},                 /* through the first leg */
-        {49.9, 50.12, 0.3, -0.14, 3},                /* both legs, then the straight part */
-        {50.075, 44.0, 0.0, 1.0, 1},                 /* upwards through the second leg */
+        {50.05, 50.1, 0.0, -1.0, {1, 1}},     /* through the apex vertex */
+        {50.0, 50.0, 0.0, -1.0, {1, 1}},      /* through the vertex at the kink's foot */
+        {50.02, 50.04, 0.0, -1.0, {1, 1}},    /* through the first leg */
+        {49.9, 50.12, 0.3, -0.14, {1, 3}},    /* both legs, then the straight part */
+        {50.075, 50.05, 0.0, 1.0, {1, 1}},    /* upwards through the second leg */
     };
-    for (size_t k = 0; k < sizeof paths / sizeof *paths; k++) {
-        double d = hypot(paths[k].dx, paths[k].dy), dx = paths[k].dx / d, dy = paths[k].dy / d;
-        /* the expected crossings: the straight path against each segment, in order */
-        double want_s[8];
-        int nwant = 0;
-        for (int sgi = 0; sgi < 4; sgi++) {
-            double s, u;
-            if (line_segment(paths[k].x, paths[k].y, dx, dy, &line[2 * sgi], &line[2 * sgi + 2],
-                             &s, &u) &&
-                s > 0) {
-                int dup = 0;
-                for (int j = 0; j < nwant; j++)
-                    dup |= fabs(want_s[j] - s) < 1e-9;
-                if (!dup)
-                    want_s[nwant++] = s;
-            }
-        }
-        for (int i = 0; i < nwant; i++)
-            for (int j = i + 1; j < nwant; j++)
-                if (want_s[j] < want_s[i]) {
-                    double tmp = want_s[i];
-                    want_s[i] = want_s[j];
-                    want_s[j] = tmp;
+    for (int big = 0; big < 2; big++) {
+        const double sc = big ? 20.0 : 1.0;
+        double *line = kinks[big];
+        rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 5, 0.0, 0.0);
+        for (size_t k = 0; k < sizeof paths / sizeof *paths; k++) {
+            double d = hypot(paths[k].dx, paths[k].dy), dx = paths[k].dx / d, dy = paths[k].dy / d;
+            double px = 50.0 + (paths[k].x - 50.0) * sc - 5.0 * dx;
+            double py = 50.0 + (paths[k].y - 50.0) * sc - 5.0 * dy;
+            for (int mode = 0; mode < 4; mode++) {
+                int flight = mode & 1, fixed = mode >> 1;
+                rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+                rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
+                                               0.01);
+                rf_body b = rf_body_make(385.0, 2650.0, model);
+                double want_s[8];
+                int nwant = kink_crossings(line, 5, px, py, dx, dy, b.radius, want_s);
+                ENSURE_MSG(nwant == paths[k].want[big], "path %zu, kink %g: %d expected crossings",
+                           k, sc, nwant);
+                double z = flight ? zf + 23.85 : zf;
+                rf_state s0 = mt_state(rf_v3(px, py, z), rf_v3(60.0 * dx, 60.0 * dy, 0));
+                icpt_run run;
+                run_scene(flight ? &t : &slide_t, &sim, &b, &m, 1, &s0, &run);
+                ENSURE_MSG(run.n == nwant, "path %zu, kink %g, %s, %s: %d crossings recorded, %d expected",
+                           k, sc, flight ? "flight" : "sliding", fixed ? "fixed step" : "exact", run.n,
+                           nwant);
+                for (int i = 0; i < run.n; i++) {
+                    const rf_interception_record *r = &run.icpt[i];
+                    check_record(r, &b);
+                    ENSURE(r->outcome == RF_OUT_PASSED);
+                    ENSURE(i == 0 || r->t_s > run.icpt[i - 1].t_s);
+                    ENSURE_MSG(fabs(r->p.x - (px + want_s[i] * dx)) < 1e-9 &&
+                                   fabs(r->p.y - (py + want_s[i] * dy)) < 1e-9,
+                               "path %zu kink %g mode %d crossing %d at (%.12g, %.12g), expected (%.12g, %.12g)",
+                               k, sc, mode, i, r->p.x, r->p.y, px + want_s[i] * dx, py + want_s[i] * dy);
+                    ENSURE(r->speed_ms > 59.0 && r->speed_ms < 61.0);
                 }
-        ENSURE_MSG(nwant == paths[k].want, "path %zu: %d expected crossings", k, nwant);
-        for (int mode = 0; mode < 4; mode++) {
-            int flight = mode & 1, fixed = mode >> 1;
-            rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
-            rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                           0.01);
-            rf_body b = rf_body_make(385.0, 2650.0, model);
-            double z = flight ? zf + 23.85 : zf;
-            rf_state s0 = mt_state(rf_v3(paths[k].x, paths[k].y, z), rf_v3(60.0 * dx, 60.0 * dy, 0));
-            icpt_run run;
-            run_scene(flight ? &t : &slide_t, &sim, &b, &m, 1, &s0, &run);
-            ENSURE_MSG(run.n == nwant, "path %zu, %s, %s: %d crossings recorded, %d expected", k,
-                       flight ? "flight" : "sliding", fixed ? "fixed step" : "exact", run.n, nwant);
-            for (int i = 0; i < run.n; i++) {
-                const rf_interception_record *r = &run.icpt[i];
-                check_record(r, &b);
-                ENSURE(r->outcome == RF_OUT_PASSED);
-                ENSURE(i == 0 || r->t_s > run.icpt[i - 1].t_s);
-                ENSURE_MSG(fabs(r->p.x - (paths[k].x + want_s[i] * dx)) < 1e-9 &&
-                               fabs(r->p.y - (paths[k].y + want_s[i] * dy)) < 1e-9,
-                           "path %zu mode %d crossing %d at (%.12g, %.12g), expected (%.12g, %.12g)",
-                           k, mode, i, r->p.x, r->p.y, paths[k].x + want_s[i] * dx,
-                           paths[k].y + want_s[i] * dy);
-                ENSURE(r->speed_ms > 59.0 && r->speed_ms < 61.0);
             }
         }
     }
@@ -836,6 +869,44 @@ TEST(measures_engine_exact_curved_path_crosses_every_line_once)
         }
         ENSURE_MSG(missed == 0 && twice == 0, "mode %d: %d of 400 lines missed, %d counted twice",
                    mode, missed, twice);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- one passage of a line ------------------------------------------------------------ */
+
+/* A point mass launched up a 30 degree plane (mu 0.2) across a control line along the
+ * contour turns and slides back across it.  When it turns within its radius beyond
+ * the line, that is one passage of the line: one crossing, on the way up (at the
+ * valley line that the example's road edge follows, a point mass wandered across it
+ * by 0.2 mm and was recorded twice).  Turning further beyond, it crosses twice: up and
+ * back down.  Both engines. */
+TEST(measures_engine_back_within_radius_is_one_passage)
+{
+    const double theta = 30.0 * M_PI / 180.0, mu = 0.2, L = 60.0, xc = 30.0, x0 = 34.0;
+    rf_terrain t;
+    mt_incline(&t, theta, L, 40.0, surface(0.0, mu, 0.0));
+    double line[] = {xc, -5.0, xc, 45.0};
+    rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    const double decel = G * (sin(theta) + mu * cos(theta)); /* sliding up (Eq. 1-2) */
+    const double beyond[6] = {0.1, 0.5, 0.8, 1.25, 2.0, 5.0}; /* turning point, in radii */
+    for (int k = 0; k < 6 * 2; k++) {
+        int engine = k & 1;
+        double e = beyond[k >> 1] * b.radius; /* horizontal, beyond the line */
+        double s = (x0 - xc + e) / cos(theta); /* along the plane to the turning point */
+        double V = sqrt(2.0 * decel * s);
+        rf_state s0 = mt_incline_state(theta, L, x0, 20.0, 0.0,
+                                       rf_v3(-V * cos(theta), 0.0, V * sin(theta)));
+        int want = beyond[k >> 1] < 1.0 ? 1 : 2;
+        icpt_run run;
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &m, 1, &s0, want, &run);
+        for (int i = 0; i < run.n; i++)
+            ENSURE_SMALL(run.icpt[i].p.x - xc, 1e-9);
+        /* the first on the way up, the second on the way back down */
+        ENSURE(run.icpt[0].t_s < (V / decel));
+        if (run.n > 1)
+            ENSURE(run.icpt[1].t_s > (V / decel));
     }
     rf_terrain_free(&t);
 }
