@@ -100,8 +100,7 @@ void rf_workspace_free(rf_workspace *ws)
 
 double rf_motion_energy(const rf_motion *m) { return rf_kinetic_energy(m->body, m->s.v, m->s.w); }
 
-/* The kinetic energy now (kJ), kept as max_energy_kj when it is the largest. */
-static double note_energy(rf_motion *m)
+double rf_motion_note_energy(rf_motion *m)
 {
     double e = rf_motion_energy(m) / 1000.0;
     if (e > m->rec->max_energy_kj)
@@ -142,13 +141,13 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
     m->s.p = rf_arc_pos(arc, T);
     m->s.v = rf_arc_vel(arc, T);
     m->s.t += T;
-    note_energy(m);
+    rf_motion_note_energy(m);
 }
 
 void rf_motion_event(rf_motion *m)
 {
     m->marked++;
-    double e = note_energy(m);
+    double e = rf_motion_note_energy(m);
     const rf_sink *sk = m->sink;
     if (!sk)
         return;

@@ -428,7 +428,8 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
 
 /* ---- motion.c --------------------------------------------------------------------- */
 /* Records the motion along an arc over [0, T] from the current state (path length,
- * energy, samples) and moves the state to its end: p, v, t; w is set by the caller. */
+ * energy, samples) and moves the state to its end: p, v, t; w is set by the caller
+ * (rf_set_spin, which notes the energy again). */
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T);
 /* A sample at p (speed |v|, energy ekj, height above the ground) to the sink. */
 void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj);
@@ -449,6 +450,11 @@ int rf_flight_contact(rf_motion *m, const rf_arc *arc, double T, rf_contact *c);
 int32_t rf_highest_column(rf_motion *m, int32_t tri);
 /* Total kinetic energy of the current state (J). */
 double rf_motion_energy(const rf_motion *m);
+/* The kinetic energy of the current state (kJ), kept as the trajectory's
+ * max_energy_kj when it is the largest: after every change of the state that
+ * rf_motion_advance does not make (the spin that follows a surface piece, a measure
+ * crossing that stops the rock). */
+double rf_motion_note_energy(rf_motion *m);
 /* The rock's progress, at every turn of either engine's loop: a rock that meets events
  * without moving in time (degenerate contact geometry) rests when slow, else moves free
  * for a moment (RF_UNSTALL_TIME) and is put back on or above the surface under it.

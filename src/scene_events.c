@@ -204,6 +204,7 @@ static int cross_measure(rf_motion *m, int which)
     double hpass = rf_terrain_height(m->terrain, m->s.p.x, m->s.p.y, &zg) >= 0 ? m->s.p.z - zg : NAN;
     double et = 0.5 * b->mass * rf_v3_norm2(m->s.v);
     double e = rf_motion_energy(m);
+    rf_motion_note_energy(m); /* before a stop takes it */
     rf_interception_record r;
     r.measure = which;
     r.t_s = m->s.t;

@@ -125,7 +125,9 @@ rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n)
     return rf_in_plane(u, n);
 }
 
-/* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r. */
+/* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r.
+ * The state is whole again: its energy is noted (rf_motion_advance took the piece's
+ * end with the spin of its start). */
 void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
 {
     if (m->point) {
@@ -135,6 +137,7 @@ void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
     double wn = rf_v3_dot(m->s.w, n);
     rf_vec3 wt = rf_v3_scale(rf_v3_cross(n, rf_v3_sub(m->s.v, u)), 1.0 / m->rho);
     m->s.w = rf_v3_madd(wt, wn, n);
+    rf_motion_note_energy(m);
 }
 
 

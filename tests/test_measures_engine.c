@@ -694,6 +694,9 @@ TEST(measures_engine_montecarlo_database)
     ENSURE_ZERO(h, "SELECT count(*) FROM interceptions"
                    " WHERE abs(energy_kj - energy_trans_kj - energy_rot_kj) > 1e-9 * energy_kj"
                    " OR energy_rot_kj < 0 OR speed_ms <= 0 OR t_s <= 0");
+    /* no trajectory's largest energy is below one of its crossings' */
+    ENSURE_ZERO(h, "SELECT count(*) FROM interceptions i JOIN trajectories t"
+                   " ON t.id = i.trajectory_id WHERE i.energy_kj > t.max_energy_kj");
     /* 1/2 m v^2 from the recorded speed */
     ENSURE_ZERO(h, "SELECT count(*) FROM interceptions i"
                    " JOIN trajectories t ON t.id = i.trajectory_id"
@@ -907,6 +910,40 @@ TEST(measures_engine_back_within_radius_is_one_passage)
         ENSURE(run.icpt[0].t_s < (V / decel));
         if (run.n > 1)
             ENSURE(run.icpt[1].t_s > (V / decel));
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- the largest energy of a trajectory ------------------------------------------------ */
+
+/* A sphere rolls from rest down a 30 degree plane (mu_r 0.1) into a barrier that stops
+ * it: the interception carries m g dh (1 - mu_r / tan(theta)), 2/7 of it rotational,
+ * and the trajectory's max_energy_kj is that energy (it was the translational energy
+ * with the spin of the last event, 15 % short, and the stop took the rest). */
+TEST(measures_engine_max_energy_is_the_stopped_rocks)
+{
+    const double theta = 30.0 * M_PI / 180.0, mu_r = 0.1, L = 100.0, x0 = 10.0, xb = 60.0;
+    rf_terrain t;
+    mt_incline(&t, theta, L, 40.0, surface(0.0, 0.9, mu_r));
+    double line[] = {xb, -5.0, xb, 45.0};
+    rf_measure m = measure(RF_BARRIER, RF_STOP, line, 2, 5.0, 1e6);
+    rf_body b = rf_body_make(1000.0, 2650.0, RF_MODEL_SPHERE);
+    rf_state s0 = mt_incline_state(theta, L, x0, 20.0, b.radius, rf_v3(0, 0, 0));
+    double dx = xb - (x0 + b.radius * sin(theta)); /* the centre's horizontal travel */
+    double E = b.mass * G * dx * tan(theta) * (1.0 - mu_r / tan(theta)) / 1000.0;
+    for (int engine = 0; engine < 2; engine++) {
+        icpt_run run;
+        run_engine(&t, RF_MODEL_SPHERE, engine, &b, &m, 1, &s0, 1, &run);
+        const rf_interception_record *r = &run.icpt[0];
+        ENSURE(r->outcome == RF_OUT_STOPPED && run.rec.reason == RF_END_STOPPED);
+        fprintf(stderr, "engine %d: interception %.9g kJ (rotational %.9g), max %.9g, want %.9g\n",
+                engine, r->energy_kj, r->energy_rot_kj, run.rec.max_energy_kj, E);
+        ENSURE(run.rec.max_energy_kj >= r->energy_kj);
+        ENSURE_REL(run.rec.max_energy_kj, r->energy_kj, engine ? 1e-3 : 1e-12);
+        if (engine == 0) {
+            ENSURE_REL(r->energy_kj, E, 1e-9);
+            ENSURE_REL(r->energy_rot_kj, 2.0 / 7.0 * E, 1e-9);
+        }
     }
     rf_terrain_free(&t);
 }

@@ -131,6 +131,11 @@ TEST(noto_layout_checked_and_stored)
     ENSURE(dbt_real(h, "SELECT count(*) FROM interceptions a JOIN measures m ON m.id = a.measure_id "
                  "JOIN interceptions b ON b.trajectory_id = a.trajectory_id AND b.t_s > a.t_s "
                  "WHERE a.outcome = 'stopped'") == 0);
+    /* a trajectory's largest energy is at least the energy of each of its crossings
+     * (rolling into the barrier, the spin of the last event was taken, and the stop
+     * took the energy before it was noted) */
+    ENSURE(dbt_real(h, "SELECT count(*) FROM interceptions i JOIN trajectories t "
+                 "ON t.id = i.trajectory_id WHERE i.energy_kj > t.max_energy_kj") == 0);
     sqlite3_close(h);
 }
 
