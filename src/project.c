@@ -686,6 +686,7 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
         return -1;
 
     rf_ynode *nodes[RF_N_LIMIT_STATES] = {NULL};
+    int sel_default = 0; /* a barrier's SEL is MEL / 3 for want of 'sel' */
     if (m->kind == RF_BARRIER) {
         rf_ynode *mel;
         if (rf_ydoc_require(&L->d, n, "mel", what, &mel, L->err) ||
@@ -701,6 +702,7 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
                                      "'sel' (%g kJ) must not exceed 'mel' (%g kJ)", m->sel,
                                      m->mel);
         }
+        sel_default = sel == NULL;
         m->capacity[RF_SERVICEABILITY] = m->sel;
         m->capacity[RF_ULTIMATE] = m->mel;
         nodes[RF_SERVICEABILITY] = sel ? sel : mel;
@@ -713,7 +715,9 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
         return -1;
     int prev = -1;
     for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
-        if (m->capacity[s] < 0.0)
+        /* a barrier's SEL of MEL / 3 without 'sel' is a default, which the rule file
+         * may set otherwise (docs/rules.md): no bound on the capacities above it */
+        if (m->capacity[s] < 0.0 || (s == RF_SERVICEABILITY && sel_default))
             continue;
         if (prev >= 0 && m->capacity[s] < m->capacity[prev])
             return rf_ydoc_error(&L->d, nodes[s], L->err,

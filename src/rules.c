@@ -592,10 +592,12 @@ static int read_measure_row(sqlite3_stmt *st, const rf_rules *r, rf_ydoc *doc, m
     double project[RF_N_LIMIT_STATES];
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)
         project[s] = rf_query_column_real(st, 6 + s);
-    /* The project loader fills sel = MEL / 3 when the project gives none; the rule
-     * file's sel_default decides instead whenever the project text shows no sel. */
-    if (m->kind == RF_BARRIER && r->sel_divisor > 0 && project_gives_sel(doc, m->name) == 0)
-        sel = NAN;
+    /* The project loader fills sel = MEL / 3 (sel_kj, and cap_serviceability_kj) when
+     * the project gives none; whenever the project text shows no sel, that value is
+     * not the project's: the rule file's sel_default decides, and without one a
+     * barrier has no SEL. */
+    if (m->kind == RF_BARRIER && project_gives_sel(doc, m->name) == 0)
+        sel = project[RF_SERVICEABILITY] = NAN;
     rf_rules_capacities(r, m->kind, mel, sel, project, m->capacity);
     return 0;
 }

@@ -93,8 +93,8 @@ void rf_rules_capacities(const rf_rules *r, rf_measure_kind kind, double mel, do
                          double capacity[RF_N_LIMIT_STATES]);
 /* The state an interception reaches: the index of the first state in order whose
  * capacity holds the energy (energy <= capacity; states without a capacity are
- * skipped), nstates beyond the last, RF_REACHED_OVERTOPPED for an overtopping and
- * nstates for a break-through. */
+ * skipped), nstates beyond the last, RF_REACHED_OVERTOPPED for an overtopping,
+ * nstates for a break-through and RF_REACHED_UNKNOWN for an energy not known (NaN). */
 int rf_rules_reached(const rf_rules *r, const double capacity[RF_N_LIMIT_STATES],
                      double energy_kj, rf_outcome outcome);
 /* Table 3: the state index required for an action level (1..3) and an importance. */

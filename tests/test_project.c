@@ -154,6 +154,8 @@ TEST(project_barrier_and_rolling_defaults)
              "releases: [{name: A, point: [5, 35], rock: r}]\n"
              "measures:\n"
              "  - {name: B, kind: barrier, line: [[0, 5], [40, 5]], height: 3, mel: 2385}\n"
+             "  - {name: B2, kind: barrier, line: [[0, 6], [40, 6]], height: 3, mel: 2385,\n"
+             "     capacity: {restorability: 500}}\n"
              "  - {name: road, kind: control, line: [[0, 1], [40, 1]], behaviour: collect}\n",
              grid);
     rf_project p;
@@ -179,6 +181,10 @@ TEST(project_barrier_and_rolling_defaults)
     ENSURE(b->capacity[RF_SERVICEABILITY] == 2385.0 / 3.0);
     ENSURE(b->capacity[RF_ULTIMATE] == 2385.0);
     ENSURE(b->capacity[RF_RESTORABILITY] < 0 && b->capacity[RF_NEAR_COLLAPSE] < 0);
+    /* without 'sel', the SEL of MEL / 3 is the rule file's to set (docs/rules.md): a
+     * restorability capacity below it is no error */
+    const rf_measure *b2 = measure_named(&p, "B2");
+    ENSURE(b2 && b2->capacity[RF_RESTORABILITY] == 500.0 && b2->sel == 2385.0 / 3.0);
     const rf_measure *road = measure_named(&p, "road");
     ENSURE(road && road->kind == RF_CONTROL && road->behaviour == RF_COLLECT);
     ENSURE(road->height == 0.0);

@@ -526,6 +526,34 @@ TEST(rules_required_state_per_interception)
     rf_store_close(t.s);
 }
 
+/* An interception without an energy reaches no limit state and counts against the
+ * share; the measure_summary view agrees with the check (it left it out: 9 of 9). */
+TEST(rules_interception_without_energy_counts_against_the_share)
+{
+    scene t;
+    scene_open(&t, RF_IMPORTANT, NULL, "noenergy.db");
+    hits(&t, 1, M_B1, 9, 9);
+    hit(&t, 1, M_B1, NAN, RF_OUT_STOPPED);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    evaluate(&t, &r);
+    sqlite3 *db = rf_store_db(t.s);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM interceptions WHERE energy_kj IS NULL") == 1.0);
+    int passed;
+    double stored = check_value(&t, "B1", "serviceability_share", &passed);
+    ENSURE(stored == 0.9 && passed);
+    ENSURE(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
+                          " 'B1'") == stored);
+    ENSURE(dbt_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
+                          " limit_state = 'serviceability'") == stored);
+    /* a measure no check has classified yet has no share */
+    ENSURE(isnan(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE"
+                                " measure = 'road'")));
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
 /* The stored fraction is a plain count over classifications; re-evaluating replaces. */
 TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
 {
@@ -601,17 +629,22 @@ TEST(rules_measure_without_interceptions)
     rf_store_close(t.s);
 }
 
-/* SEL from the rule file when the project gives none; the project's sel otherwise. */
+/* SEL from the rule file when the project gives none; the project's sel otherwise.
+ * A rule file without sel_default gives a barrier without sel no SEL, also when it
+ * takes the barrier's serviceability capacity from the project (the loader's MEL / 3
+ * in sel_kj and cap_serviceability_kj is not the project's). */
 TEST(rules_sel_default_lives_in_the_rule_file)
 {
     static const char yaml[] = "name: constructed\n"
                                "measures:\n"
                                "  - {name: B1, kind: barrier, mel: 3000, height: 5}\n"
-                               "  - {name: B2, kind: barrier, mel: 3000, sel: 1000, height: 5}\n";
+                               "  - {name: B2, kind: barrier, mel: 3000, sel: 1000, height: 5}\n"
+                               "  - {name: B3, kind: barrier, mel: 3000, height: 5}\n";
     scene t;
     scene_open(&t, RF_USUAL, yaml, "sel.db");
     hit(&t, 2, M_B1, 1250.0, RF_OUT_STOPPED);
     hit(&t, 2, M_B2, 1250.0, RF_OUT_STOPPED);
+    hit(&t, 2, M_B3, 800.0, RF_OUT_STOPPED);
     scene_finish(&t);
     rf_rules half;
     load_variant("{mel_divided_by: 3}", "{mel_divided_by: 2}", &half);
@@ -626,6 +659,26 @@ TEST(rules_sel_default_lives_in_the_rule_file)
     load_rules(TABLE3, &r);
     evaluate(&t, &r);
     ENSURE(dbt_real(db, q, "B1") == 0.0); /* SEL = 3000 / 3 */
+    ENSURE(dbt_real(db, q, "B3") == 1.0); /* 800 within SEL = 3000 / 3 */
+    static const char sel_rules[] =
+        "    serviceability: sel\n"
+        "    restorability: project   # when the project gives one (between SEL and MEL)\n"
+        "    ultimate: mel\n"
+        "    # SEL = MEL / 3 unless the project gives sel (ETAG 027 / EAD 340059-00-0106).\n"
+        "    sel_default: {mel_divided_by: 3}\n";
+    const char *no_default[2] = {"    serviceability: sel\n    ultimate: mel\n",
+                                 "    serviceability: project\n    ultimate: mel\n"};
+    const char *ultimate = "SELECT c.limit_state = 'ultimate' FROM classifications c JOIN"
+                           " interceptions i ON i.id = c.interception_id JOIN measures m ON"
+                           " m.id = i.measure_id WHERE m.name = 'B3'";
+    for (int k = 0; k < 2; k++) {
+        rf_rules none;
+        load_variant(sel_rules, no_default[k], &none);
+        evaluate(&t, &none);
+        ENSURE_MSG(dbt_int(db, "%s", ultimate) == 1, "%s: B3 at 800 kJ not at ultimate",
+                   no_default[k]);
+        rf_rules_free(&none);
+    }
     rf_rules_free(&half);
     rf_rules_free(&r);
     rf_store_close(t.s);
