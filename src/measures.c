@@ -136,8 +136,10 @@ rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, doub
 {
     if (m->kind == RF_CONTROL)
         return RF_OUT_PASSED;
-    /* above the screen it overtops, whether the measure acts or only collects */
-    if (passing_height_m >= m->height)
+    /* above the screen it overtops, whether the measure acts or only collects; with no
+     * ground under the crossing (NaN: a hole, a crack between terrain files) it is not
+     * known to pass below the screen, and is not stopped there */
+    if (!(passing_height_m < m->height))
         return RF_OUT_OVERTOPPED;
     if (m->behaviour == RF_COLLECT)
         return RF_OUT_PASSED;

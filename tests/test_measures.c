@@ -184,7 +184,11 @@ TEST(measures_outcomes)
     ENSURE(rf_measure_outcome(&b, 2.385, 3000.5) == RF_OUT_BROKE_THROUGH);
     ENSURE(rf_measure_outcome(&b, 5.0, 10.0) == RF_OUT_OVERTOPPED);
     ENSURE(rf_measure_outcome(&b, 7.5, 1e6) == RF_OUT_OVERTOPPED);
+    /* no ground under the crossing (a hole, a crack between terrain files): not known
+     * to pass below the screen, never stopped there */
+    ENSURE(rf_measure_outcome(&b, NAN, 10.0) == RF_OUT_OVERTOPPED);
     b.behaviour = RF_COLLECT;
+    ENSURE(rf_measure_outcome(&b, NAN, 10.0) == RF_OUT_OVERTOPPED);
     ENSURE(rf_measure_outcome(&b, 2.385, 1e6) == RF_OUT_PASSED);
     /* an evaluation line still records a rock passing above the screen's height */
     ENSURE(rf_measure_outcome(&b, 5.0, 10.0) == RF_OUT_OVERTOPPED);
