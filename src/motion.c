@@ -455,6 +455,8 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     rf_motion_event(&m);
 
     int end = sim->engine == RF_ENGINE_FIXED_STEP ? rf_simulate_fixed_step(&m) : run_exact(&m);
+    if (end == RF_END_EXITED && rf_scene_leaving(&m) == RF_END_STOPPED)
+        end = RF_END_STOPPED;
 
     out->reason = (rf_stop_reason)end;
     if (end == RF_END_REST) {

@@ -289,6 +289,15 @@ static int tree_event(rf_motion *m)
     return -1;
 }
 
+int rf_scene_leaving(rf_motion *m)
+{
+    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    rf_scene_horizon(m, &arc, RF_CROSSING_EPS);
+    int kind = m->scene_pending;
+    m->scene_pending = RF_SCENE_NONE;
+    return kind == RF_SCENE_MEASURE ? measure_event(m) : -1;
+}
+
 int rf_scene_event(rf_motion *m)
 {
     int kind = m->scene_pending;

@@ -947,3 +947,34 @@ TEST(measures_engine_max_energy_is_the_stopped_rocks)
     }
     rf_terrain_free(&t);
 }
+
+/* ---- a line on the terrain's edge ------------------------------------------------------ */
+
+/* A rock leaves the terrain exactly where a line is drawn along its edge: sliding off
+ * the end of a flat profile, or flying over it.  The crossing is the trajectory's last event and is recorded (it
+ * was left to the next piece of motion, which a rock that has left never takes); a
+ * stop barrier there stops the rock.  Both rock models, both engines. */
+TEST(measures_engine_line_where_the_rock_leaves)
+{
+    const double flat[4] = {0.0, 5.0, 60.0, 5.0};
+    rf_terrain t;
+    mt_profile(&t, flat, 2, 40.0, surface(0.0, 0.1, 0.01));
+    double edge[] = {60.0, -5.0, 60.0, 45.0};
+    for (int mode = 0; mode < 16; mode++) {
+        rf_rock_model model = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+        int engine = (mode >> 1) & 1, stop = (mode >> 2) & 1, fly = mode >> 3;
+        rf_measure m = stop ? measure(RF_BARRIER, RF_STOP, edge, 2, 8.0, 1e6)
+                            : measure(RF_CONTROL, RF_COLLECT, edge, 2, 0.0, 0.0);
+        rf_body b = rf_body_make(1000.0, 2650.0, model);
+        double r = rf_body_contact_radius(&b);
+        /* sliding or rolling off the end, or in flight over it (4.9 m lower there) */
+        rf_state s0 = fly ? mt_state(rf_v3(40.0, 20.0, 15.0 + r), rf_v3(20.0, 0.0, 0.0))
+                          : mt_state(rf_v3(40.0, 20.0, 5.0 + r), rf_v3(8.0, 0.0, 0.0));
+        icpt_run run;
+        run_engine(&t, model, engine, &b, &m, 1, &s0, 1, &run);
+        ENSURE_SMALL(run.icpt[0].p.x - 60.0, 1e-9);
+        ENSURE_MSG(run.icpt[0].outcome == (stop ? RF_OUT_STOPPED : RF_OUT_PASSED), "mode %d: outcome %d, height %g", mode, (int)run.icpt[0].outcome, run.icpt[0].passing_height_m);
+        ENSURE(run.rec.reason == (stop ? RF_END_STOPPED : RF_END_EXITED));
+    }
+    rf_terrain_free(&t);
+}
