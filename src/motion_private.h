@@ -253,8 +253,6 @@ typedef struct rf_motion {
     /* scene events (scene_events.c): measure crossings and tree collisions */
     rf_crossing crossings[RF_MAX_COINCIDENT_CROSSINGS]; /* the measures crossed, at once */
     int ncrossings;
-    rf_crossing recorded[RF_MAX_COINCIDENT_CROSSINGS]; /* the last ones recorded (t absolute) */
-    int nrecorded;
     rf_passage passing[RF_MAX_COINCIDENT_CROSSINGS]; /* lines being passed (scene_events.c) */
     int npassing;
     int tree_forest;         /* the forest of the tree collision found */

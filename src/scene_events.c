@@ -46,7 +46,10 @@ void rf_scene_begin(rf_motion *m)
  * the crossings back and forth of that passage are not recorded again (a point mass
  * running along a valley line that a control line follows wandered across it by a
  * fraction of a millimetre and was recorded at each).  Once further than its radius
- * from it, the passage is over and the next crossing is a new one. */
+ * from it, the passage is over and the next crossing is a new one.  The same rule
+ * passes over a crossing seen again: by the next piece of motion, which starts on the
+ * line (rounded to either side of it), and as the neighbouring segment's root of a
+ * crossing through a polyline vertex. */
 
 /* The largest horizontal distance from the passage's line over [0, T] of the arc. */
 static double passage_reach(const rf_passage *ps, const rf_arc *arc, double T)
@@ -127,29 +130,6 @@ static double tree_horizon(rf_motion *m, const rf_arc *arc, double T)
     return T;
 }
 
-/* Whether measure `which`'s crossing at p, at time t, is one recorded already: the
- * same crossing seen again by the next piece of motion (which starts on the line, the
- * crossing rounded to either side of its start), or the neighbouring segment's root of
- * a crossing through a polyline vertex. */
-static int crossing_recorded(const rf_motion *m, int which, rf_vec3 p, double t)
-{
-    for (int i = 0; i < m->nrecorded; i++) {
-        const rf_crossing *c = &m->recorded[i];
-        if (c->measure != which)
-            continue;
-        if (fabs(c->t - t) <= 4.0 * RF_CROSSING_EPS)
-            return 1;
-        if (fabs(c->t - m->s.t) > 4.0 * RF_CROSSING_EPS)
-            continue; /* only the piece right after it can see it again */
-        const rf_measure *ms = &m->scene->measures[which];
-        const double *A = &ms->line.xy[2 * c->segment], *B = A + 2;
-        double x = A[0] + c->u * (B[0] - A[0]), y = A[1] + c->u * (B[1] - A[1]);
-        if (hypot(p.x - x, p.y - y) <= m->tol_len)
-            return 1;
-    }
-    return 0;
-}
-
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
     const rf_scene *sc = m->scene;
@@ -158,7 +138,7 @@ double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
     if (sc->nmeasures > 0) {
         /* from just before the start: a crossing at the very end of the previous piece
          * that it left to this one (it ended on the line at another event) is found
-         * here; the ones already recorded are passed over */
+         * here; the ones of a passage under way are passed over */
         double after = -RF_CROSSING_EPS;
         for (;;) {
             int k = rf_measures_first_crossings(sc->measures, sc->nmeasures, arc->p, arc->v,
@@ -169,9 +149,7 @@ double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
             for (int i = 0; i < k; i++) {
                 rf_crossing c = m->crossings[i];
                 const rf_passage *ps = passage_of(m, c.measure);
-                if (ps && passage_reach(ps, arc, c.t) <= m->body->radius)
-                    continue; /* back across the line it is passing */
-                if (!crossing_recorded(m, c.measure, rf_arc_pos(arc, c.t), m->s.t + c.t))
+                if (!ps || passage_reach(ps, arc, c.t) > m->body->radius)
                     m->crossings[kept++] = c;
             }
             m->ncrossings = kept;
@@ -235,13 +213,7 @@ static int cross_measure(rf_motion *m, int which)
  * is never seen by the next. */
 static int measure_event(rf_motion *m)
 {
-    if (m->nrecorded > 0 && fabs(m->recorded[0].t - m->s.t) > 4.0 * RF_CROSSING_EPS)
-        m->nrecorded = 0;
     for (int i = 0; i < m->ncrossings; i++) {
-        if (m->nrecorded < RF_MAX_COINCIDENT_CROSSINGS) {
-            m->recorded[m->nrecorded] = m->crossings[i];
-            m->recorded[m->nrecorded++].t = m->s.t;
-        }
         passage_start(m, &m->crossings[i]);
         if (cross_measure(m, m->crossings[i].measure) >= 0)
             return RF_END_STOPPED;
