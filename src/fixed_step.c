@@ -63,18 +63,22 @@ static int leave_face(rf_motion *m, int edge, const rf_face_edges *c, rf_vec3 ac
 /* ---- one step of each phase: -1 to go on, or an end reason ------------------------- */
 
 /* Moves along the step's straight piece {p, ve} to te (<= the step h), offering it to
- * the scene events first; the velocity there is interpolated between v and ve.
+ * the scene events first; the velocity there is interpolated between v and ve, the spin
+ * follows law (NULL: it stays), and the energy of that whole state is noted.
  * Returns 1 when a scene event cut the piece: the state is at the event, which the
  * caller hands to rf_scene_event. */
-static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h)
+static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h, const rf_spin_law *law)
 {
     rf_arc arc = {m->s.p, ve, rf_v3(0, 0, 0)};
     rf_vec3 v0 = m->s.v;
     double ts = rf_scene_horizon(m, &arc, te);
     int scene = m->scene_pending && ts < te;
     double tt = scene ? ts : te;
-    rf_motion_advance(m, &arc, tt);
+    rf_motion_advance(m, &arc, tt, law);
     m->s.v = h > 0 ? rf_v3_add(v0, rf_v3_scale(rf_v3_sub(ve, v0), tt / h)) : ve;
+    if (law && !m->point)
+        m->s.w = rf_spin_at(law, m->rho, m->s.v, tt);
+    rf_motion_note_energy(m);
     if (!scene)
         m->scene_pending = RF_SCENE_NONE;
     return scene;
@@ -122,7 +126,7 @@ static int flight_step(rf_motion *m, double h)
     }
     if (!hit && pe.z < t->zmin - m->rho - 1.0)
         out = 1; /* below every face */
-    if (advance_piece(m, ve, te, h))
+    if (advance_piece(m, ve, te, h, NULL))
         return rf_scene_event(m);
     if (hit) {
         /* the velocity at the contact is v + g t; when that leaves the face but the
@@ -223,9 +227,10 @@ static int face_step(rf_motion *m, double h, face_run *run)
     int edge = 0;
     double tx = column_exit(m, &col, m->s.p, ve, hs, run->wall, &edge);
     double te = tx < hs ? tx : hs;
-    int scene = advance_piece(m, ve, te, hs);
-    if (!m->point)
-        rf_set_spin(m, n, rf_v3_add(u, rf_v3_scale(rf_v3_sub(u1, u), hs > 0 ? te / hs : 1.0)));
+    /* the slip from u to u1 over the step */
+    rf_spin_law law = hs > 0 ? rf_spin_law_of(m, n, u, rf_v3_scale(rf_v3_sub(u1, u), 1.0 / hs))
+                             : rf_spin_law_of(m, n, u1, rf_v3(0, 0, 0));
+    int scene = advance_piece(m, ve, te, hs, &law);
     if (scene)
         return rf_scene_event(m);
     if (tx == 0.0 && m->centre) {
@@ -302,9 +307,8 @@ static int crease_step(rf_motion *m, double h)
             tx = t2, edge = e2, slot = k2;
     }
     double te = tx < h ? tx : h;
-    int scene = advance_piece(m, ve, te, h);
-    if (cr.rolling)
-        rf_crease_spin(m);
+    rf_spin_law roll = rf_crease_roll(m);
+    int scene = advance_piece(m, ve, te, h, cr.rolling ? &roll : NULL);
     if (scene)
         return rf_scene_event(m);
     if (tx <= h) {

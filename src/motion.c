@@ -115,9 +115,15 @@ void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
     m->sink->sample(m->sink->ctx, p, rf_v3_norm(v), ekj, h);
 }
 
-void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
+void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law)
 {
+    if (m->point)
+        law = NULL; /* no spin */
     if (!(T > 0)) {
+        /* no motion; the spin still takes its law, so that a piece that ends at once
+         * leaves a whole state too */
+        if (law)
+            m->s.w = rf_spin_at(law, m->rho, m->s.v, 0.0);
         return;
     }
     m->rec->path_length_m += rf_arc_length(arc->v, arc->a, T);
@@ -131,8 +137,8 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
         for (long k = 0; next <= L && k < 10000000; k++) {
             double ts = T * next / L;
             rf_vec3 v = rf_arc_vel(arc, ts);
-            rf_motion_sample(m, rf_arc_pos(arc, ts), v,
-                             rf_kinetic_energy(m->body, v, m->s.w) / 1000.0);
+            rf_vec3 w = law ? rf_spin_at(law, m->rho, v, ts) : m->s.w;
+            rf_motion_sample(m, rf_arc_pos(arc, ts), v, rf_kinetic_energy(m->body, v, w) / 1000.0);
             last = next;
             next += sk->sample_spacing;
         }
@@ -141,7 +147,8 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T)
     m->s.p = rf_arc_pos(arc, T);
     m->s.v = rf_arc_vel(arc, T);
     m->s.t += T;
-    rf_motion_note_energy(m);
+    if (law)
+        m->s.w = rf_spin_at(law, m->rho, m->s.v, T);
 }
 
 void rf_motion_event(rf_motion *m)
@@ -187,18 +194,17 @@ static int flight_step(rf_motion *m)
     int hit = rf_flight_contact(m, &arc, te, &c);
     double tend = hit ? c.t : te;
     double ts = rf_scene_horizon(m, &arc, tend);
-    if (m->scene_pending && ts < tend) {
-        rf_motion_advance(m, &arc, ts);
+    int scene = m->scene_pending && ts < tend;
+    rf_motion_advance(m, &arc, scene ? ts : tend, NULL);
+    rf_motion_note_energy(m); /* before an impact takes energy */
+    if (scene)
         return rf_scene_event(m);
-    }
     if (hit) {
-        rf_motion_advance(m, &arc, c.t);
         rf_contact_resolve(m, &c); /* knows the face flown off from flight_ex */
         m->flight_ex.n = 0;
         rf_motion_event(m);
         return -1;
     }
-    rf_motion_advance(m, &arc, te);
     if (te < tc || t_fall <= T)
         return RF_END_EXITED;
     return RF_END_MAX_TIME;
@@ -324,7 +330,8 @@ static void unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    rf_motion_advance(m, &arc, RF_UNSTALL_TIME);
+    rf_motion_advance(m, &arc, RF_UNSTALL_TIME, NULL);
+    rf_motion_note_energy(m);
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];

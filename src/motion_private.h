@@ -326,6 +326,19 @@ typedef enum rf_surface_end {
     RF_SURF_STOPPED    /* stopped by a scene event (a measure) */
 } rf_surface_end;
 
+/* The spin along a piece of motion on a face with normal n: w(t) = wn n +
+ * n x (v(t) - u(t)) / r, the slip u(t) = u0 + t du (none when rolling) and the spin wn
+ * about the normal, which the face's friction leaves alone. */
+typedef struct rf_spin_law {
+    rf_vec3 n;
+    double wn;
+    rf_vec3 u0, du;
+} rf_spin_law;
+/* The law of a piece on face n from the current state, its slip u0 at the start
+ * changing at the rate du. */
+rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du);
+/* The spin by law l at time t, at velocity v, of a sphere of contact radius rho. */
+rf_vec3 rf_spin_at(const rf_spin_law *l, double rho, rf_vec3 v, double t);
 /* Handles a contact found by the search (or a concave face change): impact (Eq. 8),
  * then flight, landing on a face or in a crease, or a roll over an edge or vertex. */
 void rf_contact_resolve(rf_motion *m, const rf_contact *c);
@@ -352,7 +365,9 @@ typedef struct rf_crease {
 /* Sets the velocity along the crease and decides between rolling and sliding (a
  * rolling sphere slides when friction cannot make it roll down the crease). */
 rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr);
-/* The spin of a sphere rolling along a crease: w = n_m x v / r, n_m the mean normal. */
+/* The spin law of a sphere rolling along a crease: w = n_m x v / r, n_m the mean
+ * normal; rf_crease_spin sets it. */
+rf_spin_law rf_crease_roll(const rf_motion *m);
 void rf_crease_spin(rf_motion *m);
 /* Edge functions of a face: E_k(c) = m_k . c - o_k >= 0 while a point c is inside
  * edge k (the face's xy column: horizontal m_k). */
@@ -409,7 +424,7 @@ int rf_surface_holds(const rf_motion *m);
  * the plane. */
 rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n);
 /* Spin from v and the slip u on a face (w . n kept): w_t = n x (v - u) / r; none for
- * the point model. */
+ * the point model.  The state is whole again: its energy is noted. */
 void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u);
 /* 1 when faces A and B lie in one plane (normals within RF_COPLANAR_EPS, offsets
  * within tol). */
@@ -426,9 +441,12 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
 
 /* ---- motion.c --------------------------------------------------------------------- */
 /* Records the motion along an arc over [0, T] from the current state (path length,
- * energy, samples) and moves the state to its end: p, v, t; w is set by the caller
- * (rf_set_spin, which notes the energy again). */
-void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T);
+ * samples) and moves the state to its end: p, v, t, and w by the spin law (NULL: the
+ * spin stays, as in flight).  The caller notes the energy once the state is whole
+ * (rf_motion_note_energy, or rf_set_spin after a surface piece whose end it corrects):
+ * noted in between, the end's velocity with the start's spin was more than the rock
+ * ever had where slip spun it down while it sped up. */
+void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law);
 /* A sample at p (speed |v|, energy ekj, height above the ground) to the sink. */
 void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj);
 /* A path point at the current state. */
@@ -449,9 +467,8 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri);
 /* Total kinetic energy of the current state (J). */
 double rf_motion_energy(const rf_motion *m);
 /* The kinetic energy of the current state (kJ), kept as the trajectory's
- * max_energy_kj when it is the largest: after every change of the state that
- * rf_motion_advance does not make (the spin that follows a surface piece, a measure
- * crossing that stops the rock). */
+ * max_energy_kj when it is the largest: at every whole state (the end of a piece of
+ * motion, before an impact or a measure's stop takes energy). */
 double rf_motion_note_energy(rf_motion *m);
 /* The rock's progress, at every turn of either engine's loop: a rock that meets events
  * without moving in time (degenerate contact geometry) rests when slow, else moves free

@@ -125,18 +125,27 @@ rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n)
     return rf_in_plane(u, n);
 }
 
-/* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r.
- * The state is whole again: its energy is noted (rf_motion_advance took the piece's
- * end with the spin of its start). */
+rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du)
+{
+    return (rf_spin_law){n, rf_v3_dot(m->s.w, n), u0, du};
+}
+
+rf_vec3 rf_spin_at(const rf_spin_law *l, double rho, rf_vec3 v, double t)
+{
+    rf_vec3 u = rf_v3_madd(l->u0, t, l->du);
+    rf_vec3 wt = rf_v3_scale(rf_v3_cross(l->n, rf_v3_sub(v, u)), 1.0 / rho);
+    return rf_v3_madd(wt, l->wn, l->n);
+}
+
+/* Angular velocity from v and slip u on a face (w . n kept): w_t = n x (v - u) / r. */
 void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
 {
     if (m->point) {
         m->s.w = rf_v3(0, 0, 0);
-        return;
+    } else {
+        rf_spin_law l = rf_spin_law_of(m, n, u, rf_v3(0, 0, 0));
+        m->s.w = rf_spin_at(&l, m->rho, m->s.v, 0.0);
     }
-    double wn = rf_v3_dot(m->s.w, n);
-    rf_vec3 wt = rf_v3_scale(rf_v3_cross(n, rf_v3_sub(m->s.v, u)), 1.0 / m->rho);
-    m->s.w = rf_v3_madd(wt, wn, n);
     rf_motion_note_energy(m);
 }
 
@@ -775,8 +784,10 @@ static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const r
 
 /* The end of a constant-acceleration segment along arc (face or crease), whose other
  * events are in ev: contacts with the terrain (full contact; ex ignored) and scene
- * events come first when earlier; the state is moved to the event. */
-static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex, seg_event *ev)
+ * events come first when earlier; the state is moved to the event, the spin by its
+ * law (NULL: it stays), and its energy noted. */
+static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_spin_law *spin,
+                          const rf_support *ex, seg_event *ev)
 {
     if (!m->point && !m->centre && ev->t > 0) {
         rf_contact con;
@@ -788,7 +799,8 @@ static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_support *ex,
     double ts = rf_scene_horizon(m, arc, ev->t);
     if (m->scene_pending && ts < ev->t)
         consider(ev, EV_SCENE, ts);
-    rf_motion_advance(m, arc, ev->t);
+    rf_motion_advance(m, arc, ev->t, spin);
+    rf_motion_note_energy(m);
 }
 
 /* A segment of constant acceleration on one face; along the wall at its column edge
@@ -828,11 +840,10 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
         ev.edge = edge;
         ev.slot = 0;
     }
-    closed_finish(m, &arc, &ex, &ev);
-    if (!m->point) {
-        rf_vec3 u = f->mode == LAW_SLIDE ? rf_v3_madd(u0, ev.t, du) : rf_v3(0, 0, 0);
-        rf_set_spin(m, f->n, u);
-    }
+    rf_vec3 z = rf_v3(0, 0, 0);
+    rf_spin_law spin = f->mode == LAW_SLIDE ? rf_spin_law_of(m, f->n, u0, du)
+                                            : rf_spin_law_of(m, f->n, z, z);
+    closed_finish(m, &arc, &spin, &ex, &ev);
     return dispatch(m, &ev, a, fe);
 }
 
@@ -878,6 +889,27 @@ static rf_arc fit_arc(rf_vec3 p, rf_vec3 v, rf_vec3 dc, double h)
 {
     rf_vec3 a = h > 0 ? rf_v3_scale(rf_v3_madd(dc, -h, v), 2.0 / (h * h)) : rf_v3(0, 0, 0);
     return (rf_arc){p, v, a};
+}
+
+/* The spin along a path's step from y to ye over h, for the step's parabola: the slip
+ * linear between them. */
+static rf_spin_law step_spin(const rf_motion *m, const face_dyn *f, const double *y,
+                             const double *ye, double h)
+{
+    rf_vec3 u0 = y_u(y);
+    rf_vec3 du = h > 0 ? rf_v3_scale(rf_v3_sub(y_u(ye), u0), 1.0 / h) : rf_v3(0, 0, 0);
+    return rf_spin_law_of(m, f->n, u0, du);
+}
+
+/* The spin at a path step's end ye (the path's velocity and slip there, not the
+ * parabola's), its part about the normal the step's; the energy of the state noted. */
+static void step_end(rf_motion *m, const rf_spin_law *spin, const double *ye)
+{
+    if (!m->point) {
+        rf_spin_law end = {spin->n, spin->wn, y_u(ye), rf_v3(0, 0, 0)};
+        m->s.w = rf_spin_at(&end, m->rho, m->s.v, 0.0);
+    }
+    rf_motion_note_energy(m);
 }
 
 /* The state at parameter lam in y; returns its time from the segment's start. */
@@ -1276,18 +1308,18 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
         if (te >= 0.0) {
             rf_vec3 ce = y_c(ye);
             rf_arc ea = fit_arc(ck, vk, rf_v3_sub(ce, y_c(y)), te);
-            rf_motion_advance(m, &ea, te);
+            rf_spin_law spin = step_spin(m, f, y, ye, te);
+            rf_motion_advance(m, &ea, te, &spin);
             m->s.p = rf_v3_add(c0, ce);
             m->s.v = y_v(ye);
-            if (!m->point)
-                rf_set_spin(m, f->n, y_u(ye));
+            step_end(m, &spin, ye);
             return dispatch(m, &ev, law_accel(f, f->e1), fe);
         }
-        rf_motion_advance(m, &arc, hs);
+        rf_spin_law spin = step_spin(m, f, y, yn, hs);
+        rf_motion_advance(m, &arc, hs, &spin);
         m->s.p = cabs;
         m->s.v = vn;
-        if (!m->point)
-            rf_set_spin(m, f->n, y_u(yn));
+        step_end(m, &spin, yn);
         memcpy(y, yn, sizeof y);
         lam = st.lb;
         t = tb;
@@ -1523,11 +1555,18 @@ rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr)
     return RF_CREASE_MOVES;
 }
 
-void rf_crease_spin(rf_motion *m)
+rf_spin_law rf_crease_roll(const rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     rf_vec3 nm = rf_v3_unit(rf_v3_add(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n));
-    m->s.w = rf_v3_scale(rf_v3_cross(nm, m->s.v), 1.0 / m->rho);
+    rf_vec3 z = rf_v3(0, 0, 0);
+    return (rf_spin_law){nm, 0.0, z, z};
+}
+
+void rf_crease_spin(rf_motion *m)
+{
+    rf_spin_law l = rf_crease_roll(m);
+    m->s.w = rf_spin_at(&l, m->rho, m->s.v, 0.0);
 }
 
 static rf_surface_end crease_step(rf_motion *m)
@@ -1567,9 +1606,8 @@ static rf_surface_end crease_step(rf_motion *m)
             ev.slot = slot;
         }
     }
-    closed_finish(m, &arc, &ex, &ev);
-    if (cr.rolling)
-        rf_crease_spin(m);
+    rf_spin_law roll = rf_crease_roll(m);
+    closed_finish(m, &arc, cr.rolling ? &roll : NULL, &ex, &ev);
     return dispatch(m, &ev, a, &fe[ev.slot]);
 }
 

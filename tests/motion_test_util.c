@@ -124,6 +124,12 @@ static void on_sample(void *ctx, rf_vec3 p, double speed, double ekj, double h)
         if (d > r->max_sample_gap)
             r->max_sample_gap = d;
     }
+    if ((size_t)r->samples == r->scap) {
+        r->scap = r->scap ? 2 * r->scap : 64;
+        r->sample = realloc(r->sample, r->scap * sizeof *r->sample);
+        ENSURE(r->sample != NULL);
+    }
+    r->sample[r->samples] = (mt_sample){p, speed, ekj};
     r->samples++;
     r->last_sample = p;
 }
@@ -170,6 +176,7 @@ void mt_run_free(mt_run *r)
 {
     free(r->points);
     free(r->impacts);
+    free(r->sample);
     memset(r, 0, sizeof *r);
 }
 

@@ -6,6 +6,12 @@
 
 #include "rockfall/sim.h"
 
+/* A sample the sink was given: the centre, speed and kinetic energy there. */
+typedef struct mt_sample {
+    rf_vec3 p;
+    double speed_ms, energy_kj;
+} mt_sample;
+
 /* One simulated trajectory and what its sink saw. */
 typedef struct mt_run {
     rf_trajectory_record rec;
@@ -20,6 +26,8 @@ typedef struct mt_run {
     long samples;
     double max_sample_gap;   /* largest horizontal distance between samples (m) */
     rf_vec3 last_sample;
+    mt_sample *sample;       /* every sample */
+    size_t scap;
 } mt_run;
 
 /* Builds a profile terrain (distance, elevation pairs) of the given width; ENSUREs. */

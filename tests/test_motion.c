@@ -510,6 +510,100 @@ TEST(motion_samples_every_spacing)
     rf_terrain_free(&t);
 }
 
+/* Every sample's energy is the state of its time, spin included: the spin follows the
+ * velocity along a piece on a face (taken from the piece's start, a rolling sphere's
+ * samples had 5/7 of its energy after a start from rest).  A rolling sphere has
+ * 7/10 m v^2 everywhere (on the fall line, along the hodograph's path across it, and in
+ * fixed steps), and on the fall line 7/5 m a d after d from rest; a sphere sliding from
+ * rest down a steep face spins up at 5/2 mu g cos(theta) / r. */
+TEST(motion_samples_carry_the_spin_of_their_time)
+{
+    const double mass = 2385.0;
+    rf_body b = rf_body_make(mass, 2650.0, RF_MODEL_SPHERE);
+    for (int k = 0; k < 5; k++) {
+        /* 0, 1: rolling down the fall line (full, centre contact); 2: rolling across it;
+         * 3: fixed steps; 4: sliding down a steep face */
+        double theta = (k == 4 ? 62.0 : 27.3) * PI / 180.0, mu = k == 4 ? 0.2 : 0.9;
+        double mu_r = k == 4 ? 0.05 : 0.115;
+        rf_terrain t;
+        mt_incline(&t, theta, 300.0, 400.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
+        rf_simulation sim = mt_sim(RF_MODEL_SPHERE, k == 1 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL,
+                                   k == 2 ? 2.6 : 4.1);
+        if (k == 3)
+            sim.engine = RF_ENGINE_FIXED_STEP, sim.contact = RF_CONTACT_CENTRE, sim.dt = 0.01;
+        rf_vec3 n = rf_v3(sin(theta), 0.0, cos(theta));
+        rf_vec3 v0 = k == 2 ? rf_v3_madd(rf_v3(0.0, 8.0, 0.0), -1.5, rf_v3(cos(theta), 0, -sin(theta)))
+                            : rf_v3(0, 0, 0);
+        rf_state s = mt_incline_state(theta, 300.0, 30.0, 150.0, b.radius, v0);
+        s.w = rf_v3_scale(rf_v3_cross(n, v0), 1.0 / b.radius); /* rolling */
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, 1, 0.5, &r);
+        ENSURE_MSG(r.rec.reason == RF_END_MAX_TIME, "case %d: reason %d", k, (int)r.rec.reason);
+        ENSURE_MSG(r.samples > 20, "case %d: %ld samples", k, r.samples);
+        double worst = 0.0;
+        for (long i = 0; i < r.samples; i++) {
+            const mt_sample *q = &r.sample[i];
+            double want;
+            if (k < 4) {
+                want = 0.7 * mass * q->speed_ms * q->speed_ms / 1000.0;
+                if (k < 2) {
+                    double a = 5.0 / 7.0 * G * (sin(theta) - mu_r * cos(theta));
+                    double d = rf_v3_norm(rf_v3_sub(q->p, s.p));
+                    ENSURE_REL(q->energy_kj, 1.4 * mass * a * d / 1000.0, 1e-9);
+                }
+            } else {
+                double a = G * (sin(theta) - mu * cos(theta));
+                double d = rf_v3_norm(rf_v3_sub(q->p, s.p)), ts = sqrt(2.0 * d / a);
+                double w = 2.5 * mu * G * cos(theta) * ts / b.radius;
+                want = (mass * a * d + 0.5 * b.inertia * w * w) / 1000.0;
+            }
+            double e = fabs(q->energy_kj - want) / want;
+            if (e > worst)
+                worst = e;
+        }
+        ENSURE_MSG(worst <= 1e-9, "case %d: a sample's energy off by %.3g", k, worst);
+        mt_run_free(&r);
+        rf_terrain_free(&t);
+    }
+}
+
+/* A sphere set on an incline at rest with top spin W / r: its slip runs up the slope,
+ * so friction speeds it up (a = g (sin + mu cos)) while spinning it down
+ * (r w = W - 5/2 mu g cos(theta) t); stopped by max_time before the slip ends, the
+ * largest energy along it is its start's (E(t) is convex), not the end's speed with the
+ * start's spin.  Both engines. */
+TEST(motion_max_energy_of_a_sphere_spun_down_while_it_speeds_up)
+{
+    const double theta = 30.0 * PI / 180.0, mu = 0.3, W = 6.0, T = 0.3, mass = 2385.0;
+    rf_terrain t;
+    mt_incline(&t, theta, 300.0, 60.0, (rf_surface){{0.0, 0.0}, {mu, 0.0}, {0.05, 0.0}});
+    rf_body b = rf_body_make(mass, 2650.0, RF_MODEL_SPHERE);
+    rf_vec3 n = rf_v3(sin(theta), 0.0, cos(theta)), e1 = rf_v3(cos(theta), 0.0, -sin(theta));
+    rf_state s = mt_incline_state(theta, 300.0, 100.0, 30.0, b.radius, rf_v3(0, 0, 0));
+    s.w = rf_v3_scale(rf_v3_cross(n, e1), W / b.radius);
+    double a = G * (sin(theta) + mu * cos(theta));
+    double rw = W - 2.5 * mu * G * cos(theta) * T;
+    ENSURE(T < W / (G * sin(theta) + 3.5 * mu * G * cos(theta))); /* the slip is not over */
+    double e0 = 0.2 * mass * W * W / 1000.0;
+    double eT = (0.5 * mass * a * a * T * T + 0.2 * mass * rw * rw) / 1000.0;
+    for (int fixed = 0; fixed < 2; fixed++) {
+        rf_simulation sim = mt_sim(RF_MODEL_SPHERE, RF_CONTACT_FULL, T);
+        if (fixed)
+            sim.engine = RF_ENGINE_FIXED_STEP, sim.contact = RF_CONTACT_CENTRE, sim.dt = 0.01;
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, 1, 0.0, &r);
+        ENSURE_MSG(r.rec.reason == RF_END_MAX_TIME, "reason %d", (int)r.rec.reason);
+        ENSURE(r.rec.n_impacts == 0);
+        ENSURE_REL(r.last.speed_ms, a * T, 1e-9);
+        ENSURE_REL(r.last.energy_kj, eT, 1e-9);
+        ENSURE_MSG(fabs(r.rec.max_energy_kj - fmax(e0, eT)) <= 1e-9 * e0,
+                   "engine %d: max energy %.12g kJ, want %.12g (start %.12g, end %.12g)", fixed,
+                   r.rec.max_energy_kj, fmax(e0, eT), e0, eT);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
 TEST(motion_max_time_ends_a_trajectory)
 {
     const double theta = 30.0 * PI / 180.0;
