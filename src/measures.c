@@ -9,22 +9,59 @@
  * vertex is on both neighbouring segments (then reported once, by time). */
 #define U_TOL 1e-12
 
+/* Which side of the path through vertex V, along the horizontal direction (wx, wy),
+ * vertex k of l lies on: > 0 left, < 0 right, 0 on the path's line. */
+static double side_of(const rf_polyline *l, const double *V, size_t k, double wx, double wy)
+{
+    const double *Q = &l->xy[2 * k];
+    return wx * (Q[1] - V[1]) - wy * (Q[0] - V[0]);
+}
+
+/* Walking l from vertex k away from V (step -1 or +1) past the vertices on the path's
+ * line: the side of the first vertex off it, or 0 when the line ends on it. */
+static double side_beyond(const rf_polyline *l, const double *V, size_t k, int step, double wx,
+                          double wy)
+{
+    for (;;) {
+        double sk = side_of(l, V, k, wx, wy);
+        if (sk != 0.0 || (step < 0 ? k == 0 : k + 1 == l->n))
+            return sk;
+        k = step < 0 ? k - 1 : k + 1;
+    }
+}
+
 /* 1 when the path, through vertex j of l (an inner one) with horizontal direction
- * (wx, wy), leaves both neighbouring vertices on one side: it touches the polyline
- * there without crossing it. */
+ * (wx, wy), does not cross the polyline there: it leaves both neighbouring vertices on
+ * one side (it touches the polyline), or it runs along a segment from there or to there
+ * (exactly collinear, as on a profile terrain).  Such a stretch is one crossing, at its
+ * far end, when the polyline goes on to the other side of the path there than the side
+ * it came from, and none when to the same side; a line that ends on the stretch is
+ * crossed once, where the path meets its other part. */
 static int vertex_touch(const rf_polyline *l, size_t j, double wx, double wy)
 {
     if (j == 0 || j + 1 >= l->n)
         return 0;
     /* the nearest vertices on either side that are not V itself (a point repeated) */
-    const double *V = &l->xy[2 * j], *P = V - 2, *N = V + 2;
-    while (P > l->xy && P[0] == V[0] && P[1] == V[1])
-        P -= 2;
-    while (N < l->xy + 2 * (l->n - 1) && N[0] == V[0] && N[1] == V[1])
-        N += 2;
-    double sp = wx * (P[1] - V[1]) - wy * (P[0] - V[0]);
-    double sn = wx * (N[1] - V[1]) - wy * (N[0] - V[0]);
-    return sp * sn > 0.0;
+    const double *V = &l->xy[2 * j];
+    size_t ip = j - 1, in = j + 1;
+    while (ip > 0 && l->xy[2 * ip] == V[0] && l->xy[2 * ip + 1] == V[1])
+        ip--;
+    while (in + 1 < l->n && l->xy[2 * in] == V[0] && l->xy[2 * in + 1] == V[1])
+        in++;
+    double sp = side_of(l, V, ip, wx, wy), sn = side_of(l, V, in, wx, wy);
+    if (sp != 0.0 && sn != 0.0)
+        return sp * sn > 0.0;
+    if (sp == 0.0 && sn == 0.0)
+        return 1; /* inside a stretch along the path */
+    /* one arm X along the path, the other on side so */
+    size_t ix = sp == 0.0 ? ip : in;
+    int step = sp == 0.0 ? -1 : 1;
+    double so = sp == 0.0 ? sn : sp;
+    double sx = side_beyond(l, V, ix, step, wx, wy);
+    const double *X = &l->xy[2 * ix];
+    if (wx * (X[0] - V[0]) + wy * (X[1] - V[1]) > 0.0)
+        return sx != 0.0; /* the stretch ahead: decided at its far end, if it has one */
+    return sx != 0.0 && sx * so > 0.0; /* behind: the side the polyline came from */
 }
 
 /* Earliest crossing of segment s of l, A-B, over (t_after, T]; returns the time or

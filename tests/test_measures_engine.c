@@ -363,6 +363,61 @@ TEST(measures_engine_kink_at_60ms)
     rf_terrain_free(&slide_t);
 }
 
+/* A path exactly along a segment of the line (x = 50, as on a profile terrain), in
+ * flight and sliding, under both engines, down from y = 60 or up from y = 30: the
+ * stretch is one crossing, at its far end, when the line goes on to the other side there
+ * than it came from (a step), and none when it returns to the same side (a bay); a line
+ * that ends on the stretch is crossed once, where the path meets its other part.  Each
+ * stretch was two crossings, one at either end. */
+TEST(measures_engine_path_along_a_segment)
+{
+    const double zf = 7.385, pts[4] = {0.0, zf, 100.0, zf};
+    rf_terrain t, slide_t;
+    mt_profile(&t, pts, 2, 100.0, surface(0.2, 0.3, 0.05));
+    mt_profile(&slide_t, pts, 2, 100.0, surface(0.0, 0.1385, 0.0));
+    struct {
+        double xy[10];
+        int n;
+        double dir;   /* -1: down from y = 60, +1: up from y = 30 */
+        int want;     /* crossings */
+        double y;     /* where the one crossing is */
+    } cases[] = {
+        {{20.0, 50.0, 50.0, 50.0, 50.0, 40.0, 80.0, 40.0}, 4, -1.0, 1, 40.0},   /* step */
+        {{20.0, 50.0, 50.0, 50.0, 50.0, 40.0, 80.0, 40.0}, 4, 1.0, 1, 50.0},
+        {{20.0, 50.0, 50.0, 50.0, 50.0, 45.0, 50.0, 40.0, 80.0, 40.0}, 5, -1.0, 1, 40.0},
+        {{20.0, 50.0, 50.0, 50.0, 50.0, 40.0, 20.0, 40.0}, 4, -1.0, 0, 0.0},    /* bay */
+        {{20.0, 50.0, 50.0, 50.0, 50.0, 40.0, 20.0, 40.0}, 4, 1.0, 0, 0.0},
+        {{50.0, 50.0, 50.0, 40.0, 80.0, 40.0}, 3, -1.0, 1, 40.0},                /* ends on it */
+        {{50.0, 50.0, 50.0, 40.0, 80.0, 40.0}, 3, 1.0, 1, 40.0},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+        rf_measure m = measure(RF_CONTROL, RF_COLLECT, cases[k].xy, (size_t)cases[k].n, 0.0, 0.0);
+        double y0 = cases[k].dir < 0 ? 60.0 : 30.0;
+        for (int mode = 0; mode < 4; mode++) {
+            int flight = mode & 1, fixed = mode >> 1;
+            rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+            rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
+                                           0.01);
+            rf_body b = rf_body_make(385.0, 2650.0, model);
+            rf_state s0 = mt_state(rf_v3(50.0, y0, flight ? zf + 23.85 : zf),
+                                   rf_v3(0.0, 60.0 * cases[k].dir, 0.0));
+            icpt_run run;
+            run_scene(flight ? &t : &slide_t, &sim, &b, &m, 1, &s0, &run);
+            ENSURE_MSG(run.n == cases[k].want, "case %zu, %s, %s: %d crossings recorded, %d expected",
+                       k, flight ? "flight" : "sliding", fixed ? "fixed step" : "exact", run.n,
+                       cases[k].want);
+            if (run.n == 1) {
+                check_record(&run.icpt[0], &b);
+                ENSURE_MSG(run.icpt[0].p.x == 50.0 && fabs(run.icpt[0].p.y - cases[k].y) < 1e-9,
+                           "case %zu mode %d: at (%.12g, %.12g)", k, mode, run.icpt[0].p.x,
+                           run.icpt[0].p.y);
+            }
+        }
+    }
+    rf_terrain_free(&t);
+    rf_terrain_free(&slide_t);
+}
+
 /* ---- stop, overtop, break through ---------------------------------------------------- */
 
 /* The flat frictionless plane of the outcome scenes: a point mass slides on it at
