@@ -1044,6 +1044,44 @@ static double event_rate(rf_motion *m, const face_dyn *f, ev_kind kind, const se
     }
 }
 
+/* A bracket of the event on a step: parameters and times where the event function is
+ * still positive (lo) and no longer (hi). */
+typedef struct ev_bracket {
+    double llo, lo, flo, lhi, hi, fhi;
+} ev_bracket;
+
+/* The bracket b narrowed (regula falsi, Illinois, in the parameter) to within
+ * RF_TIME_TOL, ye holding the state at its hi on entry and on return; returns hi, a
+ * time where the event has happened. */
+static double narrow(rf_motion *m, ev_kind kind, const seg_event *ev, const rf_face_edges *fe,
+                     rf_vec3 c0, seg_step *st, ev_bracket b, double x, double *ye)
+{
+    double tmp[9];
+    int side = 0;
+    for (int it = 0; it < 60 && b.hi - b.lo > RF_TIME_TOL; it++) {
+        double t = step_eval(st, x, tmp);
+        double ft = event_value(m, kind, ev, fe, c0, tmp);
+        if (ft > 0) {
+            b.llo = x, b.lo = t, b.flo = ft;
+            if (side == 1)
+                b.fhi *= 0.5; /* Illinois */
+            side = 1;
+        } else {
+            b.lhi = x, b.hi = t, b.fhi = ft;
+            memcpy(ye, tmp, sizeof tmp);
+            if (side == -1)
+                b.flo *= 0.5;
+            side = -1;
+            if (ft == 0.0)
+                break;
+        }
+        x = step_between(st, b.llo, b.lhi, b.lo, b.hi, b.flo / (b.flo - b.fhi));
+        if (!(x > b.llo && x < b.lhi))
+            x = step_between(st, b.llo, b.lhi, b.lo, b.hi, 0.5);
+    }
+    return b.hi; /* the event has happened at hi */
+}
+
 /* Time in (0, h] where the event function crosses zero on the step from y, on
  * the closed-form path (regula falsi, Illinois, in the parameter), and in ye the state
  * there; -1 when it does not (the step's parabola was only close). */
@@ -1052,7 +1090,6 @@ static double locate_bracket(rf_motion *m, ev_kind kind, const seg_event *ev,
                              double flo, double guess, double *ye)
 {
     double h = st->h;
-    double tmp[9];
     double llo = st->la, lo = 0.0, lhi = st->lb, hi = h;
     double fhi = 1.0;
     if (guess > 0 && guess < h) {
@@ -1070,29 +1107,7 @@ static double locate_bracket(rf_motion *m, ev_kind kind, const seg_event *ev,
         return -1.0;
     double x = (guess > lo && guess < hi) ? step_lam(st, guess)
                                           : step_between(st, llo, lhi, lo, hi, flo / (flo - fhi));
-    int side = 0;
-    for (int it = 0; it < 60 && hi - lo > RF_TIME_TOL; it++) {
-        double t = step_eval(st, x, tmp);
-        double ft = event_value(m, kind, ev, fe, c0, tmp);
-        if (ft > 0) {
-            llo = x, lo = t, flo = ft;
-            if (side == 1)
-                fhi *= 0.5; /* Illinois */
-            side = 1;
-        } else {
-            lhi = x, hi = t, fhi = ft;
-            memcpy(ye, tmp, sizeof tmp);
-            if (side == -1)
-                flo *= 0.5;
-            side = -1;
-            if (ft == 0.0)
-                break;
-        }
-        x = step_between(st, llo, lhi, lo, hi, flo / (flo - fhi));
-        if (!(x > llo && x < lhi))
-            x = step_between(st, llo, lhi, lo, hi, 0.5);
-    }
-    return hi; /* the event has happened at hi */
+    return narrow(m, kind, ev, fe, c0, st, (ev_bracket){llo, lo, flo, lhi, hi, fhi}, x, ye);
 }
 
 /* Time in [0, h] where the event function crosses zero on the closed-form path, and in
@@ -1134,32 +1149,44 @@ static double locate(rf_motion *m, const face_dyn *f, ev_kind kind, const seg_ev
         return 0.0;
     }
     if (found_later) {
-        double lo = 0.0, hi = -1.0, lam = step_lam(st, guess);
+        ev_bracket b = {st->la, 0.0, f0, st->lb, -1.0, 0.0};
+        double lam = step_lam(st, guess);
         double tmp[9];
         for (int it = 0; it < 8; it++) {
             double t = step_eval(st, lam, tmp);
             double ft = event_value(m, kind, ev, fe, c0, tmp);
             double rate = event_rate(m, f, kind, ev, fe, c0, tmp);
             if (ft <= 0.0) {
-                hi = t;
+                b.lhi = lam, b.hi = t, b.fhi = ft;
                 memcpy(ye, tmp, sizeof tmp);
                 /* past the crossing: done when it lies within the tolerance before */
                 if (rate < 0.0 && -ft / rate >= -0.5 * RF_TIME_TOL)
-                    return hi;
+                    return b.hi;
             } else {
-                lo = t;
+                b.llo = lam, b.lo = t, b.flo = ft;
             }
-            if (hi >= 0.0 && hi - lo <= RF_TIME_TOL)
-                return hi;
+            if (b.hi >= 0.0 && b.hi - b.lo <= RF_TIME_TOL)
+                return b.hi;
             if (!(rate < 0.0))
                 break;
             double dt = -ft / rate;
             if (ft > 0.0 && dt < 0.25 * RF_TIME_TOL)
                 dt = 0.25 * RF_TIME_TOL; /* just past the crossing */
             double tn = t + dt;
-            if (!(tn > lo && tn <= h && (hi < 0.0 || tn < hi)))
+            if (!(tn > b.lo && tn <= h && (b.hi < 0.0 || tn < b.hi)))
                 break;
             lam = rf_fmax(st->la, rf_fmin(st->lb, lam + dt * step_pace(st, tmp)));
+        }
+        if (b.hi >= 0.0 && !reentry) {
+            /* Newton's method stopped short of the tolerance (the event function's
+             * rounding at the root, a step's worth in time), with the event happened at
+             * hi: narrowed within its bracket.  The parabola's estimate and the step's
+             * end, which the search below starts from, can both lie before the path's
+             * crossing and after its return (a short excursion over an edge): a point
+             * mass left its face over the one edge, was taken out over another, and fell
+             * through the face beyond. */
+            return narrow(m, kind, ev, fe, c0, st, b, step_between(st, b.llo, b.lhi, b.lo, b.hi, 0.5),
+                          ye);
         }
     }
     if (reentry) {
@@ -1268,7 +1295,11 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
             /* rest, or a speed so small that friction's direction is undefined: stop
              * there and go on from rest (along the fall line) */
             double level = holds ? stop : RF_SPEED_EPS;
-            if (!slide && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level) {
+            /* unless the rock leaves the face first, still faster than that (its speed
+             * falls all along): a point mass slowing to rest beyond an edge of its face
+             * rested 2.5 mm under the steeper face beyond a valley line */
+            if (!slide && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level &&
+                !(ev.kind == EV_EXIT && rf_v3_norm(rf_arc_vel(&arc, ev.t)) > level)) {
                 ev.kind = holds ? EV_REST : EV_ZERO, ev.t = hs, ev.level = level;
                 guess = -1;
             }
