@@ -294,6 +294,36 @@ static int kink_crossings(const double *line, int n, double px, double py, doubl
     return nwant;
 }
 
+/* The ground of the line scenes: flat at LINE_Z, rough for flights (fly) and of low
+ * friction for sliding (slide). */
+#define LINE_Z 7.385
+static void line_grounds(rf_terrain *fly, rf_terrain *slide)
+{
+    const double pts[4] = {0.0, LINE_Z, 100.0, LINE_Z};
+    mt_profile(fly, pts, 2, 100.0, surface(0.2, 0.3, 0.05));
+    mt_profile(slide, pts, 2, 100.0, surface(0.0, 0.1385, 0.0));
+}
+
+/* A rock of 385 kg sent at 60 m/s along (dx, dy) from (px, py) over the line grounds
+ * with measure m, in mode bits: 1, a sphere 23.85 m up in flight (else a point mass
+ * sliding); 2, fixed steps of 0.01 s (else the exact engine).  Returns the body. */
+static rf_body run_line_mode(const rf_terrain *fly, const rf_terrain *slide, int mode,
+                             const rf_measure *m, double px, double py, double dx, double dy,
+                             icpt_run *run)
+{
+    int flight = mode & 1, fixed = mode >> 1;
+    rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+    rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.01);
+    rf_body b = rf_body_make(385.0, 2650.0, model);
+    rf_state s0 = mt_state(rf_v3(px, py, flight ? LINE_Z + 23.85 : LINE_Z),
+                           rf_v3(60.0 * dx, 60.0 * dy, 0));
+    run_scene(flight ? fly : slide, &sim, &b, m, 1, &s0, run);
+    return b;
+}
+
+static const char *const line_modes[4] = {"sliding, exact", "flight, exact",
+                                          "sliding, fixed step", "flight, fixed step"};
+
 /* A polyline along y = 50 with a kink at x = 50, crossed at 60 m/s in flight and
  * sliding, under the exact engine and fixed steps of 0.6 m, each crossing at the point
  * where the straight horizontal path meets the segments.  A notch 0.1 m wide and high:
@@ -303,11 +333,8 @@ static int kink_crossings(const double *line, int n, double px, double py, doubl
  * diagonal path is recorded three times, as are the vertices and legs once. */
 TEST(measures_engine_kink_at_60ms)
 {
-    const double zf = 7.385, pts[4] = {0.0, zf, 100.0, zf};
-    rf_terrain t;
-    rf_terrain slide_t;
-    mt_profile(&t, pts, 2, 100.0, surface(0.2, 0.3, 0.05));
-    mt_profile(&slide_t, pts, 2, 100.0, surface(0.0, 0.1385, 0.0));
+    rf_terrain t, slide_t;
+    line_grounds(&t, &slide_t);
     double kinks[2][10] = {{20.0, 50.0, 50.0, 50.0, 50.05, 50.1, 50.1, 50.0, 80.0, 50.0},
                                  {20.0, 50.0, 50.0, 50.0, 51.0, 52.0, 52.0, 50.0, 80.0, 50.0}};
     struct {
@@ -329,22 +356,14 @@ TEST(measures_engine_kink_at_60ms)
             double px = 50.0 + (paths[k].x - 50.0) * sc - 5.0 * dx;
             double py = 50.0 + (paths[k].y - 50.0) * sc - 5.0 * dy;
             for (int mode = 0; mode < 4; mode++) {
-                int flight = mode & 1, fixed = mode >> 1;
-                rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
-                rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                               0.01);
-                rf_body b = rf_body_make(385.0, 2650.0, model);
+                icpt_run run;
+                rf_body b = run_line_mode(&t, &slide_t, mode, &m, px, py, dx, dy, &run);
                 double want_s[8];
                 int nwant = kink_crossings(line, 5, px, py, dx, dy, b.radius, want_s);
                 ENSURE_MSG(nwant == paths[k].want[big], "path %zu, kink %g: %d expected crossings",
                            k, sc, nwant);
-                double z = flight ? zf + 23.85 : zf;
-                rf_state s0 = mt_state(rf_v3(px, py, z), rf_v3(60.0 * dx, 60.0 * dy, 0));
-                icpt_run run;
-                run_scene(flight ? &t : &slide_t, &sim, &b, &m, 1, &s0, &run);
-                ENSURE_MSG(run.n == nwant, "path %zu, kink %g, %s, %s: %d crossings recorded, %d expected",
-                           k, sc, flight ? "flight" : "sliding", fixed ? "fixed step" : "exact", run.n,
-                           nwant);
+                ENSURE_MSG(run.n == nwant, "path %zu, kink %g, %s: %d crossings recorded, %d expected",
+                           k, sc, line_modes[mode], run.n, nwant);
                 for (int i = 0; i < run.n; i++) {
                     const rf_interception_record *r = &run.icpt[i];
                     check_record(r, &b);
@@ -371,10 +390,8 @@ TEST(measures_engine_kink_at_60ms)
  * stretch was two crossings, one at either end. */
 TEST(measures_engine_path_along_a_segment)
 {
-    const double zf = 7.385, pts[4] = {0.0, zf, 100.0, zf};
     rf_terrain t, slide_t;
-    mt_profile(&t, pts, 2, 100.0, surface(0.2, 0.3, 0.05));
-    mt_profile(&slide_t, pts, 2, 100.0, surface(0.0, 0.1385, 0.0));
+    line_grounds(&t, &slide_t);
     struct {
         double xy[10];
         int n;
@@ -394,18 +411,10 @@ TEST(measures_engine_path_along_a_segment)
         rf_measure m = measure(RF_CONTROL, RF_COLLECT, cases[k].xy, (size_t)cases[k].n, 0.0, 0.0);
         double y0 = cases[k].dir < 0 ? 60.0 : 30.0;
         for (int mode = 0; mode < 4; mode++) {
-            int flight = mode & 1, fixed = mode >> 1;
-            rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
-            rf_simulation sim = engine_sim(model, fixed ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT,
-                                           0.01);
-            rf_body b = rf_body_make(385.0, 2650.0, model);
-            rf_state s0 = mt_state(rf_v3(50.0, y0, flight ? zf + 23.85 : zf),
-                                   rf_v3(0.0, 60.0 * cases[k].dir, 0.0));
             icpt_run run;
-            run_scene(flight ? &t : &slide_t, &sim, &b, &m, 1, &s0, &run);
-            ENSURE_MSG(run.n == cases[k].want, "case %zu, %s, %s: %d crossings recorded, %d expected",
-                       k, flight ? "flight" : "sliding", fixed ? "fixed step" : "exact", run.n,
-                       cases[k].want);
+            rf_body b = run_line_mode(&t, &slide_t, mode, &m, 50.0, y0, 0.0, cases[k].dir, &run);
+            ENSURE_MSG(run.n == cases[k].want, "case %zu, %s: %d crossings recorded, %d expected",
+                       k, line_modes[mode], run.n, cases[k].want);
             if (run.n == 1) {
                 check_record(&run.icpt[0], &b);
                 ENSURE_MSG(run.icpt[0].p.x == 50.0 && fabs(run.icpt[0].p.y - cases[k].y) < 1e-9,
