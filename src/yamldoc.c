@@ -57,47 +57,50 @@ static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error 
     }
 }
 
-/* The text at a mark (line and column count characters: UTF-8 continuation bytes are
- * not columns). */
-static const char *text_at(const rf_ydoc *d, yaml_mark_t m)
-{
-    const char *c = d->text, *end = d->text + d->len;
-    for (size_t line = 0; line < m.line && c < end; c++)
-        if (*c == '\n')
-            line++;
-    for (size_t col = 0; col < m.column && c < end; col++)
-        while (++c < end && (*c & 0xC0) == 0x80)
-            ;
-    return c;
-}
-
-/* A scalar tagged as anything but a number, boolean or null (!!str 100, !local 100) is
- * a string, as a quoted scalar is: it is given a quoted style, so that no number or
- * boolean is read from it.  The loaded document keeps no trace of an explicit tag (the
- * loader gives every untagged scalar the string tag too), so the text before the value
- * tells: its node starts with the tag, after an anchor if it has one. */
+/* A scalar tagged as anything but a number, boolean or null (!!str 100, !local 100,
+ * ! 100) is a string, as a quoted scalar is: it is given a quoted style, so that no
+ * number or boolean is read from it.  The loaded document keeps no trace of an explicit
+ * tag (the loader gives every untagged scalar the string tag too), so the text's events
+ * are read again: the loader made one node of each scalar and each start of a sequence
+ * or mapping, in their order. */
 static void quote_tagged_strings(rf_ydoc *d)
 {
     static const char *const typed[] = {YAML_INT_TAG, YAML_FLOAT_TAG, YAML_BOOL_TAG,
                                         YAML_NULL_TAG};
-    for (yaml_node_t *n = d->doc.nodes.start; n < d->doc.nodes.top; n++) {
-        if (n->type != YAML_SCALAR_NODE || n->data.scalar.style != YAML_PLAIN_SCALAR_STYLE)
-            continue;
-        const char *c = text_at(d, n->start_mark), *end = d->text + d->len;
-        if (c < end && *c == '&') {
-            while (c < end && !isspace((unsigned char)*c))
-                c++;
-            while (c < end && isspace((unsigned char)*c))
-                c++;
+    yaml_parser_t parser;
+    if (!yaml_parser_initialize(&parser))
+        return;
+    yaml_parser_set_input_string(&parser, (const unsigned char *)d->text, d->len);
+    size_t k = 0, n = (size_t)(d->doc.nodes.top - d->doc.nodes.start);
+    for (int done = 0; !done;) {
+        yaml_event_t e;
+        if (!yaml_parser_parse(&parser, &e))
+            break;
+        switch (e.type) {
+        case YAML_SCALAR_EVENT:
+            if (k < n && e.data.scalar.tag && d->doc.nodes.start[k].type == YAML_SCALAR_NODE) {
+                int is_typed = 0;
+                for (size_t i = 0; i < sizeof typed / sizeof *typed; i++)
+                    is_typed |= strcmp((const char *)e.data.scalar.tag, typed[i]) == 0;
+                if (!is_typed)
+                    d->doc.nodes.start[k].data.scalar.style = YAML_SINGLE_QUOTED_SCALAR_STYLE;
+            }
+            k++;
+            break;
+        case YAML_SEQUENCE_START_EVENT:
+        case YAML_MAPPING_START_EVENT:
+            k++;
+            break;
+        case YAML_DOCUMENT_END_EVENT:
+        case YAML_STREAM_END_EVENT:
+            done = 1;
+            break;
+        default:
+            break;
         }
-        if (c >= end || *c != '!')
-            continue;
-        int is_typed = 0;
-        for (size_t k = 0; k < sizeof typed / sizeof *typed; k++)
-            is_typed |= n->tag && strcmp((const char *)n->tag, typed[k]) == 0;
-        if (!is_typed)
-            n->data.scalar.style = YAML_SINGLE_QUOTED_SCALAR_STYLE;
+        yaml_event_delete(&e);
     }
+    yaml_parser_delete(&parser);
 }
 
 static int parse_text(rf_ydoc *d, rf_error *err)

@@ -435,3 +435,46 @@ TEST(yamldoc_syntax_errors)
     ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
     ENSURE(err.line == 1 && strstr(err.message, "YAML syntax error"));
 }
+
+/* A scalar with an explicit tag other than a number's, a boolean's or null's is a
+ * string, whatever the file's line breaks (LF, CR, U+2028 in a quoted string), a byte
+ * order mark, anchors, comments between anchor and tag, or aliases: no number is read
+ * from it; !!int and untagged numbers still are. */
+TEST(project_tagged_scalars_are_strings)
+{
+    static const struct {
+        const char *text;
+        const char *key;
+        int number; /* 1: read as a number (100), 0: refused */
+    } cases[] = {
+        {"a: !!str 100\n", "a", 0},
+        {"a: !!int 100\n", "a", 1},
+        {"a: !!float 100\n", "a", 1},
+        {"a: !foo 100\n", "a", 0},
+        {"a: ! 100\n", "a", 0},
+        {"a: &x !!str 100\nb: *x\n", "b", 0},
+        {"a: &x 100\nb: *x\n", "b", 1},
+        {"s: \"x\xe2\x80\xa8y\"\nb: !!str 5\na: 100\n", "a", 1},
+        {"s: \"x\xe2\x80\xa8y\"\na: !!str 100\n", "a", 0},
+        {"s: x\rb: 5\ra: !!str 100\r", "a", 0},
+        {"s: x\rb: !!str 5\ra: 100\r", "a", 1},
+        {"\xef\xbb\xbf" "a: !!str 100\n", "a", 0},
+        {"a: &x # comment\n  !!str 100\n", "a", 0},
+        {"q: [&y , !!str 5]\na: 100\n", "a", 1},
+        {"n: \xc3\xbc\xc3\xbc\na: {b: !!str 1, c: 2}\nc: 100\n", "c", 1},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+        rf_ydoc d;
+        rf_error err;
+        ENSURE_MSG(rf_ydoc_load_text(&d, "t.yaml", cases[k].text, strlen(cases[k].text), &err) == 0,
+                   "case %zu: %s", k, err.message);
+        rf_ynode *n = rf_ydoc_get(&d, rf_ydoc_root(&d), cases[k].key);
+        ENSURE_MSG(n != NULL, "case %zu: no '%s'", k, cases[k].key);
+        double v = 0.0;
+        int rc = rf_ydoc_number(&d, n, cases[k].key, RF_YR_POSITIVE, &v, &err);
+        ENSURE_MSG((rc == 0) == cases[k].number, "case %zu: read %s", k, rc == 0 ? "a number" : "no number");
+        if (cases[k].number)
+            ENSURE(v == 100.0);
+        rf_ydoc_free(&d);
+    }
+}
