@@ -307,7 +307,9 @@ static int crease_step(rf_motion *m, double h)
             tx = t2, edge = e2, slot = k2;
     }
     double te = tx < h ? tx : h;
-    rf_spin_law roll = rf_crease_roll(m);
+    rf_spin_law roll;
+    if (cr.rolling)
+        roll = rf_crease_roll(m);
     int scene = advance_piece(m, ve, te, h, cr.rolling ? &roll : NULL);
     if (scene)
         return rf_scene_event(m);

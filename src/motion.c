@@ -117,15 +117,10 @@ void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
 
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law)
 {
+    if (!(T > 0))
+        return;
     if (m->point)
         law = NULL; /* no spin */
-    if (!(T > 0)) {
-        /* no motion; the spin still takes its law, so that a piece that ends at once
-         * leaves a whole state too */
-        if (law)
-            m->s.w = rf_spin_at(law, m->rho, m->s.v, 0.0);
-        return;
-    }
     m->rec->path_length_m += rf_arc_length(arc->v, arc->a, T);
     rf_scene_travel(m, arc, T);
     const rf_sink *sk = m->sink;
@@ -147,8 +142,6 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_
     m->s.p = rf_arc_pos(arc, T);
     m->s.v = rf_arc_vel(arc, T);
     m->s.t += T;
-    if (law)
-        m->s.w = rf_spin_at(law, m->rho, m->s.v, T);
 }
 
 void rf_motion_event(rf_motion *m)

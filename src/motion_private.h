@@ -441,11 +441,11 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
 
 /* ---- motion.c --------------------------------------------------------------------- */
 /* Records the motion along an arc over [0, T] from the current state (path length,
- * samples) and moves the state to its end: p, v, t, and w by the spin law (NULL: the
- * spin stays, as in flight).  The caller notes the energy once the state is whole
- * (rf_motion_note_energy, or rf_set_spin after a surface piece whose end it corrects):
- * noted in between, the end's velocity with the start's spin was more than the rock
- * ever had where slip spun it down while it sped up. */
+ * samples, their spin by the law: NULL, it stays, as in flight) and moves the state to
+ * its end: p, v, t.  The caller sets the end's spin and notes the energy once the state
+ * is whole (rf_set_spin, or rf_motion_note_energy): noted in between, the end's velocity
+ * with the start's spin was more than the rock ever had where slip spun it down while
+ * it sped up. */
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law);
 /* A sample at p (speed |v|, energy ekj, height above the ground) to the sink. */
 void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj);

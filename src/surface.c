@@ -800,6 +800,8 @@ static void closed_finish(rf_motion *m, const rf_arc *arc, const rf_spin_law *sp
     if (m->scene_pending && ts < ev->t)
         consider(ev, EV_SCENE, ts);
     rf_motion_advance(m, arc, ev->t, spin);
+    if (spin && !m->point)
+        m->s.w = rf_spin_at(spin, m->rho, m->s.v, ev->t > 0 ? ev->t : 0.0);
     rf_motion_note_energy(m);
 }
 
@@ -899,17 +901,6 @@ static rf_spin_law step_spin(const rf_motion *m, const face_dyn *f, const double
     rf_vec3 u0 = y_u(y);
     rf_vec3 du = h > 0 ? rf_v3_scale(rf_v3_sub(y_u(ye), u0), 1.0 / h) : rf_v3(0, 0, 0);
     return rf_spin_law_of(m, f->n, u0, du);
-}
-
-/* The spin at a path step's end ye (the path's velocity and slip there, not the
- * parabola's), its part about the normal the step's; the energy of the state noted. */
-static void step_end(rf_motion *m, const rf_spin_law *spin, const double *ye)
-{
-    if (!m->point) {
-        rf_spin_law end = {spin->n, spin->wn, y_u(ye), rf_v3(0, 0, 0)};
-        m->s.w = rf_spin_at(&end, m->rho, m->s.v, 0.0);
-    }
-    rf_motion_note_energy(m);
 }
 
 /* The state at parameter lam in y; returns its time from the segment's start. */
@@ -1343,14 +1334,14 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
             rf_motion_advance(m, &ea, te, &spin);
             m->s.p = rf_v3_add(c0, ce);
             m->s.v = y_v(ye);
-            step_end(m, &spin, ye);
+            rf_set_spin(m, f->n, y_u(ye)); /* the path's end, not the parabola's */
             return dispatch(m, &ev, law_accel(f, f->e1), fe);
         }
         rf_spin_law spin = step_spin(m, f, y, yn, hs);
         rf_motion_advance(m, &arc, hs, &spin);
         m->s.p = cabs;
         m->s.v = vn;
-        step_end(m, &spin, yn);
+        rf_set_spin(m, f->n, y_u(yn));
         memcpy(y, yn, sizeof y);
         lam = st.lb;
         t = tb;
@@ -1637,7 +1628,9 @@ static rf_surface_end crease_step(rf_motion *m)
             ev.slot = slot;
         }
     }
-    rf_spin_law roll = rf_crease_roll(m);
+    rf_spin_law roll;
+    if (cr.rolling)
+        roll = rf_crease_roll(m);
     closed_finish(m, &arc, cr.rolling ? &roll : NULL, &ex, &ev);
     return dispatch(m, &ev, a, &fe[ev.slot]);
 }

@@ -68,8 +68,8 @@ static void quote_tagged_strings(rf_ydoc *d)
     static const char *const typed[] = {YAML_INT_TAG, YAML_FLOAT_TAG, YAML_BOOL_TAG,
                                         YAML_NULL_TAG};
     yaml_parser_t parser;
-    if (!yaml_parser_initialize(&parser))
-        return;
+    if (!memchr(d->text, '!', d->len) || !yaml_parser_initialize(&parser))
+        return; /* no tag anywhere */
     yaml_parser_set_input_string(&parser, (const unsigned char *)d->text, d->len);
     size_t k = 0, n = (size_t)(d->doc.nodes.top - d->doc.nodes.start);
     for (int done = 0; !done;) {
