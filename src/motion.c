@@ -319,7 +319,9 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
     return tri;
 }
 
-static void unstall(rf_motion *m)
+/* Returns 1 when the rock is wedged: its centre under the offset plane of a column it
+ * cannot pay the lift onto (centre mode). */
+static int unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
@@ -333,15 +335,16 @@ static void unstall(rf_motion *m)
             T = &t->tri[tri];
             double gap;
             /* onto the offset plane of the column now under the centre, as a centre
-             * moving over a column is lifted; wedged among walls it cannot pay the
-             * lift onto, it is stopped there.  Pushed along the normal, it could end
-             * under the next column's plane (and fall through the terrain), in
-             * either engine. */
+             * moving over a column is lifted (pushed along the normal, it could end
+             * under the next column's plane and fall through the terrain, in either
+             * engine); wedged among walls it cannot pay the lift onto, it is put on
+             * that plane and rests there.  Stopped there and left to go on, it fell
+             * back into the pit it was wedged in, gaining the height of the lift for
+             * nothing, and was wedged again, until the rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_centre_pay_lift(m, move)) {
                 m->s.p = rf_v3_add(m->s.p, move);
-                m->s.v = rf_v3(0, 0, 0);
-                m->s.w = rf_v3(0, 0, 0);
+                return 1;
             }
         } else {
             double dp = rf_triangle_plane_distance(T, m->s.p);
@@ -354,6 +357,7 @@ static void unstall(rf_motion *m)
     }
     m->sup.n = 0;
     m->flight_ex.n = 0;
+    return 0;
 }
 
 int rf_progress(rf_motion *m, int events)
@@ -383,7 +387,8 @@ int rf_rescue(rf_motion *m)
 {
     if (++m->rescues > RF_MAX_RESCUES)
         return RF_END_MAX_TIME;
-    unstall(m);
+    if (unstall(m))
+        return RF_END_REST;
     m->stall = 0;
     m->stall_t = m->s.t;
     return RF_RESCUED;

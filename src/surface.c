@@ -345,6 +345,34 @@ int rf_centre_pay_lift(rf_motion *m, rf_vec3 move)
     return 1;
 }
 
+/* 1 when the centre, moving horizontally along v from where it is, goes on into the
+ * column of a face other than `skip` whose offset plane is above it: another wall,
+ * meeting the one it was reflected off where the centre is. */
+static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
+{
+    double h = rf_v3_hnorm(v), tol = m->tol_len;
+    if (!(h > 0))
+        return 0;
+    rf_vec3 q = m->s.p;
+    q.x += 4.0 * tol * v.x / h;
+    q.y += 4.0 * tol * v.y / h;
+    size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
+    for (size_t i = 0; i < n; i++) {
+        int32_t k = m->ws->cand[i];
+        const rf_triangle *U = &m->terrain->tri[k];
+        if (k == skip || !(U->n.z > 0) || !(m->rho - rf_triangle_plane_distance(U, m->s.p) > tol))
+            continue;
+        rf_face_edges fe;
+        rf_column_edges(U, &fe);
+        int in = 1;
+        for (int e = 0; e < 3 && in; e++)
+            in = rf_v3_dot(fe.m[e], q) - fe.o[e] > 0.5 * tol;
+        if (in)
+            return 1;
+    }
+    return 0;
+}
+
 /* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
  * over a face whose plane it is already closer to than r.  It is lifted onto that
  * face's offset plane, and the lift is paid from the kinetic energy; when the rock
@@ -378,14 +406,14 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
         rf_vec3 v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
         /* at a corner of the column, a reflection off one edge that leaves the rock
          * moving in over the other (along the first: it ran on between two walls,
-         * under both) takes the whole horizontal velocity instead, which leaves the
-         * corner */
-        for (int k = 0; k < 3; k++) {
-            if (fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS) {
-                v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
-                vin = rf_v3_hnorm(m->s.v);
-                break;
-            }
+         * under both), or into the column of another wall that meets this one there,
+         * takes the whole horizontal velocity instead, which leaves the corner */
+        int corner = 0;
+        for (int k = 0; k < 3 && !corner; k++)
+            corner = fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS;
+        if (corner || wall_ahead(m, c->tri, v)) {
+            v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
+            vin = rf_v3_hnorm(m->s.v);
         }
         m->s.v = v;
     }

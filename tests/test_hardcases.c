@@ -1072,6 +1072,29 @@ TEST(hard_replay_centre_contact_flight_back_over_the_face_flown_off_meets_it)
     replay_sphere_rests(76, 2, 68);
 }
 
+/* Centre contact: a sphere reflected off a wall at a grid node, where the column of a
+ * second wall (its offset plane above the centre too) meets the first: the reflection
+ * sent it on into the second column, which sent it back, across the line between the
+ * two ever less and never back out along it, and it ran between them under both and
+ * fell 45 m through the terrain (325/12/46).  A reflection that leaves the rock moving
+ * into another wall's column reverses the whole horizontal velocity, as at a corner of
+ * one column. */
+TEST(hard_replay_centre_contact_reflected_into_a_second_wall_leaves_both)
+{
+    replay_sphere_rests(325, 12, 46);
+}
+
+/* Centre contact: a sphere at a grid node at the bottom of a pit, walls on two sides:
+ * it slid into the node, left its face there, was reflected by the walls and landed
+ * on its face again, in no time.  The rescue lifted it onto a wall's plane for nothing
+ * and stopped it there, from where it fell back into the pit with that height's
+ * energy, over and over until the rescues ran out (max_time at 77 s, 320/34/272).  A
+ * rock that cannot pay the lift is now at rest there. */
+TEST(hard_replay_centre_contact_wedged_in_a_pit_rests)
+{
+    replay_sphere_rests(320, 34, 272);
+}
+
 /* Centre contact: spheres rolling along a wall on a face too steep for rolling (the
  * part of gravity across the wall counted): they slid, had no slip along the wall and
  * so rolled again, in no time, until the rescue moved them out of their column and
