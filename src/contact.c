@@ -275,9 +275,9 @@ static void test_edge(search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, do
         if (t >= s->best)
             return;
         rf_vec3 w = rf_v3_sub(rf_arc_pos(arc, t), va);
-        double sp = rf_v3_dot(w, e);
-        if (sp >= 0.0 && sp <= len) {
-            take(s, t, idx, RF_FEAT_EDGE, ei, rf_v3_madd(va, sp, e));
+        double sp = rf_v3_dot(w, e), tol = s->m->tol_len;
+        if (sp >= -tol && sp <= len + tol) {
+            take(s, t, idx, RF_FEAT_EDGE, ei, rf_v3_madd(va, dmin(dmax(sp, 0.0), len), e));
             return;
         }
     }

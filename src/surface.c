@@ -632,6 +632,30 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
 }
 
 /* The contact point crossed edge `edge` of the support face at the current state. */
+/* 1 when a sphere whose contact point q crosses an edge, moving across it at vp, can
+ * roll over it onto the face of normal n: its centre's arc about the edge (from over q
+ * to over the face) rises over the edge's top when the edge is a ridge, and the
+ * rock's energy of the motion across the edge must pay that rise.  Rolled over a sharp
+ * ridge along which it ran, with a hair of a velocity across it, a sphere was turned
+ * onto the other face, where it crossed back at once, from side to side in no time. */
+static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
+{
+    rf_vec3 u0 = rf_v3_unit(rf_v3_sub(m->s.p, q));
+    /* the arc u(th) = u0 cos th + w sin th for th in [0, ang] (w: towards n) */
+    rf_vec3 w = rf_v3_madd(n, -rf_v3_dot(n, u0), u0);
+    double wl = rf_v3_norm(w);
+    if (!(wl > 0))
+        return 1;
+    w = rf_v3_scale(w, 1.0 / wl);
+    double ang = atan2(wl, rf_v3_dot(u0, n)), top = atan2(w.z, u0.z);
+    if (!(top > 0 && top < ang))
+        return 1; /* highest at an end: no rise over the edge */
+    double rise = m->rho * (hypot(u0.z, w.z) - u0.z);
+    const rf_body *b = m->body;
+    double mass = b->mass + (m->sup.rolling ? b->inertia / (m->rho * m->rho) : 0.0);
+    return 0.5 * mass * rf_v3_norm2(vp) > b->mass * G_ACC * rise;
+}
+
 rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
                              rf_vec3 acc)
 {
@@ -691,14 +715,16 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         go_flight(m, from); /* fast enough to fly off the edge */
         return RF_SURF_FLIGHT;
     }
-    if (!pivot_clear(m, q, to)) {
-        hop(m, F->n);
-        return RF_SURF_FLIGHT;
-    }
-    if (rf_pivot(m, q, to) == 0) {
-        rf_support_single(m, to, 0);
-        m->sup.rolling = 1;
-        return RF_SURF_CONTINUE;
+    if (climbs_over(m, q, Tn->n, vp)) {
+        if (!pivot_clear(m, q, to)) {
+            hop(m, F->n);
+            return RF_SURF_FLIGHT;
+        }
+        if (rf_pivot(m, q, to) == 0) {
+            rf_support_single(m, to, 0);
+            m->sup.rolling = 1;
+            return RF_SURF_CONTINUE;
+        }
     }
     /* cannot climb over: rolls back onto the face */
     rf_vec3 mo = rf_v3_scale(fe->m[edge], -1.0);

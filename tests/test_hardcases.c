@@ -969,7 +969,19 @@ TEST(hard_replay_spheres_stay_out)
         /* touching an edge and moving apart from it by a few um/s, then curving in
          * hard: an 8 t sphere starting on a steep face in a pocket passed through the
          * edge, never having been clear of it (sank to 0.73 r, then fell through) */
-        {43, 59, 138});
+        {43, 59, 138},
+        /* a 2.8 t sphere on a face at the terrain's border, its contact point on the
+         * border edge at that edge's end and moving along it: it left the face over
+         * the edge, and the flight met the edge at once, curving in, but a hair before
+         * its end by rounding, which was not taken; the face flown off left out, it
+         * sank into it (to 0.81 r) */
+        {326, 57, 174},
+        /* a 10 kg sphere rolling along a sharp ridge (110 degrees between the normals),
+         * a hair of a velocity across it: rolled over the ridge onto the other face,
+         * whose slope sent it back at once, from side to side in no time, until it was
+         * put onto the other face's plane along its normal and then over a third edge
+         * (to 0.99 r).  The roll over a ridge is now paid: it stays on its face */
+        {303, 7, 186});
 }
 
 /* Spheres released overlapping the terrain (their centre r above the ground point
