@@ -117,6 +117,12 @@ void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
 
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law)
 {
+    rf_motion_advance_split(m, arc, arc, T, law);
+}
+
+void rf_motion_advance_split(rf_motion *m, const rf_arc *arc, const rf_arc *vel, double T,
+                             const rf_spin_law *law)
+{
     if (!(T > 0))
         return;
     if (m->point)
@@ -131,7 +137,7 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_
         double next = sk->sample_spacing - m->sample_acc, last = -1.0;
         for (long k = 0; next <= L && k < 10000000; k++) {
             double ts = T * next / L;
-            rf_vec3 v = rf_arc_vel(arc, ts);
+            rf_vec3 v = rf_arc_vel(vel, ts);
             rf_vec3 w = law ? rf_spin_at(law, m->rho, v, ts) : m->s.w;
             rf_motion_sample(m, rf_arc_pos(arc, ts), v, rf_kinetic_energy(m->body, v, w) / 1000.0);
             last = next;
@@ -140,7 +146,7 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_
         m->sample_acc = last >= 0 ? L - last : m->sample_acc + L;
     }
     m->s.p = rf_arc_pos(arc, T);
-    m->s.v = rf_arc_vel(arc, T);
+    m->s.v = rf_arc_vel(vel, T);
     m->s.t += T;
 }
 

@@ -447,6 +447,11 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
  * with the start's spin was more than the rock ever had where slip spun it down while
  * it sped up. */
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law);
+/* rf_motion_advance with the velocity along the way from `vel` (its v + a t) rather
+ * than from the arc of the positions: a step of the fixed-step engine moves the centre
+ * with the step's end velocity, while its velocity changes linearly over the step. */
+void rf_motion_advance_split(rf_motion *m, const rf_arc *arc, const rf_arc *vel, double T,
+                             const rf_spin_law *law);
 /* A sample at p (speed |v|, energy ekj, height above the ground) to the sink. */
 void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj);
 /* A path point at the current state. */
