@@ -369,6 +369,78 @@ static int version_error(rf_store *s, int version, rf_error *err)
                         version, ROCKFALL_VERSION, RF_STORE_SCHEMA_VERSION);
 }
 
+/* Brings the views of a database of this schema version up to date: each view whose
+ * stored definition differs from this version's (both as SQLite stores them: the
+ * current ones are made in a scratch database in memory) is dropped, and the missing
+ * ones are created.  Views hold no data: a file written by an earlier rockfall kept
+ * its old measure_summary, without the columns the report and docs name.  A file
+ * whose views are current is not written to. */
+static int refresh_views(rf_store *s, rf_error *err)
+{
+    static const char list[] = "SELECT name, sql FROM sqlite_master WHERE type = 'view'";
+    const char *doing = "updating the views";
+    sqlite3 *mem = NULL;
+    sqlite3_stmt *cur = NULL, *old = NULL;
+    char *drops = NULL;
+    size_t ndrop = 0;
+    int missing = 0, rc = sqlite3_open(":memory:", &mem);
+    if (rc == SQLITE_OK && (rc = sqlite3_exec(mem, schema_sql, NULL, NULL, NULL)) == SQLITE_OK)
+        rc = sqlite3_exec(mem, views_sql, NULL, NULL, NULL);
+    if (rc != SQLITE_OK) {
+        /* a fault of this build, not of the file */
+        rc = rf_error_set(err, s->path, 0, 0, "%s: %s", doing,
+                          mem ? sqlite3_errmsg(mem) : "out of memory");
+        sqlite3_close(mem);
+        return rc;
+    }
+    rc = sqlite3_prepare_v2(mem, list, -1, &cur, NULL);
+    if (rc == SQLITE_OK)
+        rc = sqlite3_prepare_v2(s->db, "SELECT sql FROM sqlite_master WHERE type = 'view' AND name = ?",
+                                -1, &old, NULL);
+    while (rc == SQLITE_OK && (rc = sqlite3_step(cur)) == SQLITE_ROW) {
+        const char *name = (const char *)sqlite3_column_text(cur, 0);
+        const char *sql = (const char *)sqlite3_column_text(cur, 1);
+        sqlite3_bind_text(old, 1, name, -1, SQLITE_TRANSIENT);
+        rc = sqlite3_step(old);
+        if (rc == SQLITE_DONE) {
+            missing = 1;
+            rc = SQLITE_OK;
+        } else if (rc == SQLITE_ROW) {
+            const char *have = (const char *)sqlite3_column_text(old, 0);
+            rc = SQLITE_OK;
+            if (!have || strcmp(have, sql) != 0) {
+                char *more = sqlite3_mprintf("%sDROP VIEW IF EXISTS \"%w\";\n", drops ? drops : "", name);
+                sqlite3_free(drops);
+                drops = more;
+                rc = more ? SQLITE_OK : SQLITE_NOMEM;
+                ndrop++;
+            }
+        }
+        sqlite3_reset(old);
+    }
+    if (rc == SQLITE_DONE)
+        rc = SQLITE_OK;
+    sqlite3_finalize(old);
+    sqlite3_finalize(cur);
+    sqlite3_close(mem);
+    int status = sql_status(s->db, s->path, rc, doing, err);
+    if (status == 0 && (ndrop > 0 || missing)) {
+        /* another process may have done it meanwhile: the drops are IF EXISTS and the
+         * creations IF NOT EXISTS */
+        status = exec_sql(s, "BEGIN IMMEDIATE", doing, err);
+        if (status == 0 && drops)
+            status = exec_sql(s, drops, doing, err);
+        if (status == 0)
+            status = exec_sql(s, views_sql, doing, err);
+        if (status == 0)
+            status = exec_sql(s, "COMMIT", doing, err);
+        if (status != 0 && !sqlite3_get_autocommit(s->db))
+            sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
+    }
+    sqlite3_free(drops);
+    return status;
+}
+
 /* Checks the version of an existing database or creates the schema of a new (empty)
  * one.  Nothing is written to a file that is rejected. */
 static int prepare_schema(rf_store *s, rf_error *err)
@@ -377,10 +449,7 @@ static int prepare_schema(rf_store *s, rf_error *err)
     if (read_schema_state(s, &version, &nobjects, err))
         return -1;
     if (version == RF_STORE_SCHEMA_VERSION)
-        return set_wal(s, err) ||
-                       exec_sql(s, views_sql, "creating the views", err)
-                   ? -1
-                   : 0;
+        return set_wal(s, err) || refresh_views(s, err) ? -1 : 0;
     if (version != 0)
         return version_error(s, version, err);
     if (nobjects != 0)

@@ -601,6 +601,47 @@ TEST(store_reopen_adds_a_third_run)
     free(second_after);
 }
 
+/* A file written by an earlier rockfall, with an older measure_summary and without
+ * run_verdicts: opened, it gets this version's views, its data untouched; a file whose
+ * views are current is not written to on opening. */
+TEST(store_reopen_brings_old_views_up_to_date)
+{
+    test_project t;
+    const char *path;
+    rf_store *s = open_project_store(&t, "oldviews.db", &path);
+    write_run(s, &t.p, 4, "complete");
+    rf_store_close(s);
+
+    sqlite3 *db = open_raw(path);
+    exec_raw(db, "DROP VIEW measure_summary");
+    exec_raw(db, "CREATE VIEW measure_summary AS SELECT m.id AS measure_id, count(i.id) AS "
+                 "interceptions FROM measures m LEFT JOIN interceptions i ON "
+                 "i.measure_id = m.id GROUP BY m.id");
+    exec_raw(db, "DROP VIEW run_verdicts");
+    ENSURE(!has_column(db, "measure_summary", "checks_failed"));
+    char *before = run_dump(db, 1);
+    sqlite3_close(db);
+
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(has_column(db, "measure_summary", "checks_failed"));
+    ENSURE(has_column(db, "measure_summary", "share_serviceability"));
+    ENSURE(dbt_int(db, "SELECT count(*) FROM run_verdicts") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measure_summary WHERE run_id = 1") ==
+           dbt_int(db, "SELECT count(*) FROM measures WHERE run_id = 1"));
+    char *after = run_dump(db, 1);
+    ENSURE(strcmp(before, after) == 0);
+    int cookie = dbt_int(db, "PRAGMA schema_version");
+    sqlite3_close(db);
+
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "PRAGMA schema_version") == cookie);
+    sqlite3_close(db);
+    free(before);
+    free(after);
+}
+
 /* ---- foreign files ------------------------------------------------------------------- */
 
 TEST(store_rejects_another_schema_version)
