@@ -1222,6 +1222,51 @@ TEST(hard_replay_sphere_along_a_convex_edge_goes_on)
     replay_ends(88, 44, 66, RF_MODEL_SPHERE, RF_END_EXITED);
 }
 
+/* A 10 kg sphere rolling along the crest of a sharp ridge (its faces 55 degrees either
+ * side, 110 degrees between their normals) on one face, its contact point on the crest,
+ * moving across it towards the other face at up to 0.7 m/s: rolling over the crest
+ * would lift its centre by 0.43 r, more than that motion can pay, so it rolls back
+ * down its own face, never moving from face to face in no time and never into the
+ * terrain.  It was rolled over onto the other face, whose slope sent it back at once,
+ * over and over (up to 15 events in no time, then a rescue), and it ended down either
+ * side (cf. 303/7/186 of the random scenes). */
+TEST(hard_sphere_along_a_sharp_ridge_rolls_down_its_own_side)
+{
+    const double slope = tan(3.0 * PI / 180.0), side = tan(55.0 * PI / 180.0);
+    rf_terrain t;
+    v_gully(&t, slope, -side, 40.0, 6.0, (rf_surface){{0.0, 0.0}, {0.6, 0.0}, {0.0, 0.0}});
+    static const double across[] = {1e-8, 1e-5, 1e-3, 0.05, 0.3, 0.7};
+    rf_body b = rf_body_make(10.0, 2650.0, RF_MODEL_SPHERE);
+    double rho = b.radius, x0 = 2.0;
+    double cn = sqrt(1.0 + slope * slope), nn = sqrt(1.0 + slope * slope + side * side);
+    rf_vec3 n0 = rf_v3(slope / nn, -side / nn, 1.0 / nn); /* the face on the side y < 0 */
+    rf_vec3 along = rf_v3(1.0 / cn, 0.0, -slope / cn);
+    rf_vec3 up = rf_v3(0.0, 1.0 / sqrt(1.0 + side * side), side / sqrt(1.0 + side * side));
+    for (size_t k = 0; k < sizeof across / sizeof *across; k++) {
+        /* on the face y < 0, touching the crest at x0, 2 m/s along it */
+        rf_vec3 q = rf_v3(x0, 0.0, -slope * x0);
+        rf_state s = mt_state(rf_v3_madd(q, rho, n0),
+                              rf_v3_madd(rf_v3_scale(along, 2.0), across[k], up));
+        mt_run r;
+        mt_simulate(&t, RF_MODEL_SPHERE, 10.0, RF_CONTACT_FULL, &s, 5, &r);
+        double vy = across[k];
+        ensure_sane(&r, 300);
+        ENSURE_MSG(r.rec.reason == RF_END_EXITED, "%g m/s: reason %d", vy, (int)r.rec.reason);
+        ENSURE_MSG(longest_stall(&r) <= 2, "%g m/s: %zu events in no time", vy,
+                   longest_stall(&r));
+        ENSURE_MSG(r.rec.stop.y < -5.0, "%g m/s: ends at y = %.3g", vy, r.rec.stop.y);
+        double e0 = rf_kinetic_energy(&b, s.v, s.w) + b.mass * G * s.p.z;
+        for (size_t i = 1; i < r.npoints; i++) {
+            rf_vec3 c = r.points[i].p;
+            ENSURE_MSG(mt_terrain_distance(&t, c) >= rho * (1.0 - 1e-6),
+                       "%g m/s: point %zu at %.6g r", vy, i, mt_terrain_distance(&t, c) / rho);
+            ENSURE(r.points[i].energy_kj * 1000.0 + b.mass * G * c.z <= e0 * (1.0 + 1e-9) + 1e-9);
+        }
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
 /* The fixed-step engine with a point mass that comes to a grid node at the bottom of a
  * pit (a height rounded down beside higher ones), where every step crosses into the
  * next of the six faces around the node after less than a nanosecond: it ends.  It
