@@ -79,6 +79,7 @@ static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h, const rf
      * 0.8 % above max_energy_kj) */
     rf_arc vel = {m->s.p, h > 0 ? v0 : ve, h > 0 ? rf_v3_scale(rf_v3_sub(ve, v0), 1.0 / h) : rf_v3(0, 0, 0)};
     rf_motion_advance_split(m, &arc, &vel, tt, law);
+    /* the end as the step's own interpolation rounds it (its results are kept) */
     m->s.v = h > 0 ? rf_v3_add(v0, rf_v3_scale(rf_v3_sub(ve, v0), tt / h)) : ve;
     if (law && !m->point)
         m->s.w = rf_spin_at(law, m->rho, m->s.v, tt);

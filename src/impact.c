@@ -75,6 +75,28 @@ double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu)
     return e * (-vn);
 }
 
+/* The centre's arc of a roll about q onto a face of normal n: u(th) = u0 cos th +
+ * w sin th for th in [0, ang], from over q (u0) to over the face (n); returns ang. */
+static double pivot_arc(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 *u0, rf_vec3 *w)
+{
+    *u0 = rf_v3_unit(rf_v3_sub(m->s.p, q));
+    *w = rf_v3_madd(n, -rf_v3_dot(n, *u0), *u0);
+    double wl = rf_v3_norm(*w);
+    if (wl > 0)
+        *w = rf_v3_scale(*w, 1.0 / wl);
+    return atan2(rf_v3_norm(rf_v3_cross(*u0, n)), rf_v3_dot(*u0, n));
+}
+
+double rf_pivot_rise(const rf_motion *m, rf_vec3 q, rf_vec3 n)
+{
+    rf_vec3 u0, w;
+    double ang = pivot_arc(m, q, n, &u0, &w);
+    /* z(th) = u0.z cos th + w.z sin th is highest at th = atan2(w.z, u0.z) */
+    double top = atan2(w.z, u0.z);
+    double zmax = top > 0 && top < ang ? hypot(u0.z, w.z) : fmax(u0.z, n.z);
+    return m->rho * fmax(0.0, zmax - u0.z);
+}
+
 int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
 {
     const rf_body *b = m->body;
@@ -93,8 +115,8 @@ int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
     /* after the roll the sphere rolls on `to`: e = 1/2 (m + I / r^2) s^2 */
     double s = sqrt(2.0 * e / (b->mass + b->inertia / (m->rho * m->rho)));
     /* the centre's arc about q: its length, and samples along it */
-    rf_vec3 u0 = rf_v3_unit(rf_v3_sub(m->s.p, q));
-    double ang = atan2(rf_v3_norm(rf_v3_cross(u0, n)), rf_v3_dot(u0, n));
+    rf_vec3 u0, w;
+    double ang = pivot_arc(m, q, n, &u0, &w);
     m->rec->path_length_m += m->rho * ang;
     const rf_sink *sk = m->sink;
     if (sk && sk->sample && sk->sample_spacing > 0 && ang > 0) {

@@ -312,14 +312,7 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
         if (k == tri || !(T->n.z > 0))
             continue;
         double z = offset_plane_z(m, T, p);
-        if (!(z > best))
-            continue;
-        rf_face_edges fe;
-        rf_column_edges(T, &fe);
-        int in = 1;
-        for (int e = 0; e < 3 && in; e++)
-            in = rf_v3_dot(fe.m[e], p) - fe.o[e] >= -tol;
-        if (in)
+        if (z > best && rf_in_column(T, p, -tol))
             best = z, tri = k;
     }
     return tri;
@@ -343,13 +336,15 @@ static int unstall(rf_motion *m)
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted (pushed along the normal, it could end
              * under the next column's plane and fall through the terrain, in either
-             * engine); wedged among walls it cannot pay the lift onto, it is put on
-             * that plane and rests there.  Stopped there and left to go on, it fell
-             * back into the pit it was wedged in, gaining the height of the lift for
-             * nothing, and was wedged again, until the rescues ran out. */
+             * engine); wedged among walls it cannot pay the lift onto, it rests where
+             * it is, or on that plane when it is under the face itself.  Lifted onto
+             * the plane and left to go on, it fell back into the pit it was wedged
+             * in, gaining the height of the lift for nothing, and was wedged again,
+             * until the rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_centre_pay_lift(m, move)) {
-                m->s.p = rf_v3_add(m->s.p, move);
+                if (rf_triangle_plane_distance(T, m->s.p) < 0)
+                    m->s.p = rf_v3_add(m->s.p, move);
                 return 1;
             }
         } else {

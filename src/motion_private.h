@@ -315,6 +315,9 @@ void rf_support_draw(rf_motion *m, int32_t tri);
  * goes from q + rho u to q + rho n_to, conserving total energy.  Returns 0, or -1 when
  * it cannot climb there (the state is untouched). */
 int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to);
+/* How far (m) the centre rises above where it is on the way of such a roll onto a face
+ * of normal n: over the top of a ridge, or to the end of a roll up onto a shoulder. */
+double rf_pivot_rise(const rf_motion *m, rf_vec3 q, rf_vec3 n);
 
 /* ---- surface.c -------------------------------------------------------------------- */
 typedef enum rf_surface_end {
@@ -376,6 +379,9 @@ typedef struct rf_face_edges {
     double o[3];
 } rf_face_edges;
 void rf_column_edges(const rf_triangle *T, rf_face_edges *fe);
+/* 1 when the point p lies in triangle T's column, more than `margin` inside each of
+ * its edges (a negative margin: within -margin outside). */
+int rf_in_column(const rf_triangle *T, rf_vec3 p, double margin);
 /* The face a rock enters when its contact point q (the centre in centre mode) leaves
  * face `from` over edge `edge` (fe: the face's edge functions), moving with the
  * velocity, or the acceleration acc from rest; -1 when there is none. */
@@ -485,7 +491,9 @@ double rf_motion_note_energy(rf_motion *m);
  * end reason, RF_RESCUED after a rescue, or -1. */
 #define RF_RESCUED -2
 int rf_progress(rf_motion *m, int events);
-/* The rescue of rf_progress, at once: RF_RESCUED, or max_time after RF_MAX_RESCUES. */
+/* The rescue of rf_progress, at once: RF_RESCUED; rest for a rock in centre mode
+ * wedged among walls (it cannot pay the lift onto the column under it); max_time
+ * after RF_MAX_RESCUES. */
 int rf_rescue(rf_motion *m);
 
 /* Events of the scene beyond the terrain (tree collisions, measure crossings): the

@@ -345,10 +345,19 @@ int rf_centre_pay_lift(rf_motion *m, rf_vec3 move)
     return 1;
 }
 
-/* 1 when the centre, moving horizontally along v from where it is, goes on into the
- * column of a face other than `skip` whose offset plane is above it: another wall,
+/* Centre mode: 1 when face `to`'s offset plane is above the centre's reach and a rock
+ * of kinetic energy ke (J) cannot pay the lift onto it: a wall. */
+static int wall_for(const rf_motion *m, int32_t to, double ke)
+{
+    double gap;
+    rf_vec3 move = rf_centre_lift_move(m, &m->terrain->tri[to], &gap);
+    return gap > m->tol_len && lift_cost(m, move) >= ke;
+}
+
+/* 1 when the centre, moving horizontally along v (spin w) from where it is, goes on
+ * into the column of a face other than `skip` that is a wall to it: another wall,
  * meeting the one it was reflected off where the centre is. */
-static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
+static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v, rf_vec3 w)
 {
     double h = rf_v3_hnorm(v), tol = m->tol_len;
     if (!(h > 0))
@@ -356,18 +365,12 @@ static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
     rf_vec3 q = m->s.p;
     q.x += 4.0 * tol * v.x / h;
     q.y += 4.0 * tol * v.y / h;
+    double ke = rf_kinetic_energy(m->body, v, w);
     size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
-        const rf_triangle *U = &m->terrain->tri[k];
-        if (k == skip || !(U->n.z > 0) || !(m->rho - rf_triangle_plane_distance(U, m->s.p) > tol))
-            continue;
-        rf_face_edges fe;
-        rf_column_edges(U, &fe);
-        int in = 1;
-        for (int e = 0; e < 3 && in; e++)
-            in = rf_v3_dot(fe.m[e], q) - fe.o[e] > 0.5 * tol;
-        if (in)
+        if (k != skip && m->terrain->tri[k].n.z > 0 && rf_in_column(&m->terrain->tri[k], q, 0.5 * tol) &&
+            wall_for(m, k, ke))
             return 1;
     }
     return 0;
@@ -411,7 +414,7 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
         int corner = 0;
         for (int k = 0; k < 3 && !corner; k++)
             corner = fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS;
-        if (corner || wall_ahead(m, c->tri, v)) {
+        if (corner || wall_ahead(m, c->tri, v, m->s.w)) {
             v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
             vin = rf_v3_hnorm(m->s.v);
         }
@@ -484,6 +487,16 @@ void rf_column_edges(const rf_triangle *T, rf_face_edges *fe)
         fe->m[k] = el > 0 ? rf_v3(-sg * ey / el, sg * ex / el, 0.0) : rf_v3(0, 0, 0);
         fe->o[k] = rf_v3_dot(fe->m[k], A);
     }
+}
+
+int rf_in_column(const rf_triangle *T, rf_vec3 p, double margin)
+{
+    rf_face_edges fe;
+    rf_column_edges(T, &fe);
+    for (int e = 0; e < 3; e++)
+        if (!(rf_v3_dot(fe.m[e], p) - fe.o[e] >= margin))
+            return 0;
+    return 1;
 }
 
 static void edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges *fe)
@@ -631,31 +644,21 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
     return to;
 }
 
-/* The contact point crossed edge `edge` of the support face at the current state. */
 /* 1 when a sphere whose contact point q crosses an edge, moving across it at vp, can
- * roll over it onto the face of normal n: its centre's arc about the edge (from over q
- * to over the face) rises over the edge's top when the edge is a ridge, and the
- * rock's energy of the motion across the edge must pay that rise.  Rolled over a sharp
- * ridge along which it ran, with a hair of a velocity across it, a sphere was turned
- * onto the other face, where it crossed back at once, from side to side in no time. */
+ * roll over it onto the face of normal n: the rise of its centre on the way (over the
+ * top of a ridge, or up onto a shoulder) is paid from the energy of the motion across
+ * the edge; the motion along it does not turn the sphere about it.  Rolled over a
+ * sharp ridge along which it ran, with a hair of a velocity across it, a sphere was
+ * turned onto the other face, where it crossed back at once, from side to side in no
+ * time. */
 static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
 {
-    rf_vec3 u0 = rf_v3_unit(rf_v3_sub(m->s.p, q));
-    /* the arc u(th) = u0 cos th + w sin th for th in [0, ang] (w: towards n) */
-    rf_vec3 w = rf_v3_madd(n, -rf_v3_dot(n, u0), u0);
-    double wl = rf_v3_norm(w);
-    if (!(wl > 0))
-        return 1;
-    w = rf_v3_scale(w, 1.0 / wl);
-    double ang = atan2(wl, rf_v3_dot(u0, n)), top = atan2(w.z, u0.z);
-    if (!(top > 0 && top < ang))
-        return 1; /* highest at an end: no rise over the edge */
-    double rise = m->rho * (hypot(u0.z, w.z) - u0.z);
     const rf_body *b = m->body;
     double mass = b->mass + (m->sup.rolling ? b->inertia / (m->rho * m->rho) : 0.0);
-    return 0.5 * mass * rf_v3_norm2(vp) > b->mass * G_ACC * rise;
+    return 0.5 * mass * rf_v3_norm2(vp) >= b->mass * G_ACC * rf_pivot_rise(m, q, n);
 }
 
+/* The contact point crossed edge `edge` of the support face at the current state. */
 rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
                              rf_vec3 acc)
 {
@@ -1414,11 +1417,7 @@ static int along(rf_vec3 x, rf_vec3 e1)
  * the lift onto it (centre_lift would reflect it). */
 static int is_wall(const rf_motion *m, int32_t to)
 {
-    if (to < 0)
-        return 0;
-    double gap;
-    rf_vec3 move = rf_centre_lift_move(m, &m->terrain->tri[to], &gap);
-    return gap > m->tol_len && lift_cost(m, move) >= rf_motion_energy(m);
+    return to >= 0 && wall_for(m, to, rf_motion_energy(m));
 }
 
 /* Centre mode: the edge of the support's column that the centre lies on and is pressed

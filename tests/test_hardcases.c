@@ -1101,10 +1101,18 @@ TEST(hard_replay_centre_contact_reflected_into_a_second_wall_leaves_both)
  * on its face again, in no time.  The rescue lifted it onto a wall's plane for nothing
  * and stopped it there, from where it fell back into the pit with that height's
  * energy, over and over until the rescues ran out (max_time at 77 s, 320/34/272).  A
- * rock that cannot pay the lift is now at rest there. */
+ * rock that cannot pay the lift now rests where it is. */
 TEST(hard_replay_centre_contact_wedged_in_a_pit_rests)
 {
     replay_sphere_rests(320, 34, 272);
+    /* where it was wedged, not lifted onto the wall (by 0.026 m here) */
+    replay rp;
+    replay_scene(320, 34, 272, 0, &rp);
+    mt_run r;
+    replay_run(&rp, &r);
+    ENSURE(r.npoints > 2);
+    ENSURE_SMALL(rf_v3_norm(rf_v3_sub(r.rec.stop, r.points[r.npoints - 2].p)), 1e-6);
+    replay_finish(&rp, &r, 320, 34, 272);
 }
 
 /* Centre contact: spheres rolling along a wall on a face too steep for rolling (the
@@ -1220,6 +1228,37 @@ TEST(hard_replay_point_slowing_to_rest_beyond_an_edge_meets_the_next_face)
 TEST(hard_replay_sphere_along_a_convex_edge_goes_on)
 {
     replay_ends(88, 44, 66, RF_MODEL_SPHERE, RF_END_EXITED);
+}
+
+/* A 1 t sphere rolling fast along a convex shoulder (40 degrees up to the edge, 10
+ * degrees up beyond it) on the steep face, its contact point on the edge, moving across
+ * it at 2 cm/s: rolling onto the upper face would lift its centre by 0.2 m, which the
+ * motion across the edge cannot pay (the motion along it does not turn the sphere
+ * about the edge), so it rolls back down.  The roll was paid from the whole energy:
+ * it went onto the upper face, 5 m/s slowing to 4.86, and was back 28 ms later. */
+TEST(hard_sphere_along_a_shoulder_pays_its_rise_from_the_motion_across)
+{
+    const double th1 = 40.0 * PI / 180.0, th2 = 10.0 * PI / 180.0, L = 10.0;
+    const double prof[6] = {0.0, 0.0, L, L * tan(th1), 2.0 * L, L * tan(th1) + L * tan(th2)};
+    rf_terrain t;
+    mt_profile(&t, prof, 3, 20.0, (rf_surface){{0.0, 0.0}, {0.5, 0.0}, {0.0, 0.0}});
+    rf_body b = rf_body_make(1000.0, 2650.0, RF_MODEL_SPHERE);
+    rf_vec3 n = rf_v3(-sin(th1), 0.0, cos(th1)), up = rf_v3(cos(th1), 0.0, sin(th1));
+    double x = L - 1e-9 * cos(th1), y = 0.5 * (t.ymin + t.ymax);
+    rf_vec3 v = rf_v3_madd(rf_v3(0.0, 5.0, 0.0), 0.02, up);
+    rf_state s = mt_state(rf_v3_madd(rf_v3(x, y, x * tan(th1)), b.radius, n), v);
+    s.w = rf_v3_scale(rf_v3_cross(n, v), 1.0 / b.radius); /* rolling */
+    mt_run r;
+    mt_simulate(&t, RF_MODEL_SPHERE, 1000.0, RF_CONTACT_FULL, &s, 3, &r);
+    ensure_sane(&r, 300);
+    double zmax = -INFINITY;
+    for (size_t i = 0; i < r.npoints; i++)
+        zmax = fmax(zmax, r.points[i].p.z);
+    /* the motion across pays 0.7 (0.02 m/s)^2 / g = 29 um of rise */
+    ENSURE_MSG(zmax <= s.p.z + 1e-4, "rose %.3g m", zmax - s.p.z);
+    ENSURE(r.rec.stop.x < L);
+    mt_run_free(&r);
+    rf_terrain_free(&t);
 }
 
 /* A 10 kg sphere rolling along the crest of a sharp ridge (its faces 55 degrees either
