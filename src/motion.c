@@ -318,8 +318,8 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
     return tri;
 }
 
-/* Returns 1 when the rock is wedged: its centre under the offset plane of a column it
- * cannot pay the lift onto (centre mode). */
+/* Returns 1 when the rock rests: wedged again where a rescue found it wedged before
+ * (centre mode). */
 static int unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
@@ -336,16 +336,25 @@ static int unstall(rf_motion *m)
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted (pushed along the normal, it could end
              * under the next column's plane and fall through the terrain, in either
-             * engine); wedged among walls it cannot pay the lift onto, it rests where
-             * it is, or on that plane when it is under the face itself.  Lifted onto
-             * the plane and left to go on, it fell back into the pit it was wedged
-             * in, gaining the height of the lift for nothing, and was wedged again,
+             * engine).  Wedged among walls it cannot pay the lift onto, it is put
+             * there and stopped, and goes on from there (over a small step that the
+             * centre-only contact makes a wall, as a whole sphere would roll on);
+             * wedged again within r of where it was wedged before, it rests where
+             * it is.  Put there every time, a sphere at a node at the bottom of a pit
+             * fell back into the pit, gaining the height of the lift for nothing,
              * until the rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_centre_pay_lift(m, move)) {
-                if (rf_triangle_plane_distance(T, m->s.p) < 0)
-                    m->s.p = rf_v3_add(m->s.p, move);
-                return 1;
+                if (m->wedged && rf_v3_norm(rf_v3_sub(m->s.p, m->wedge_p)) <= m->rho) {
+                    if (rf_triangle_plane_distance(T, m->s.p) < 0)
+                        m->s.p = rf_v3_add(m->s.p, move); /* not under the face */
+                    return 1;
+                }
+                m->wedged = 1;
+                m->wedge_p = m->s.p;
+                m->s.p = rf_v3_add(m->s.p, move);
+                m->s.v = rf_v3(0, 0, 0);
+                m->s.w = rf_v3(0, 0, 0);
             }
         } else {
             double dp = rf_triangle_plane_distance(T, m->s.p);

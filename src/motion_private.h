@@ -242,6 +242,8 @@ typedef struct rf_motion {
     double stall_t;    /* time of the last event that advanced time by RF_STALL_TIME */
     int stall;         /* events since */
     long rescues;
+    int wedged;       /* centre mode: a rescue found the rock wedged among walls at wedge_p */
+    rf_vec3 wedge_p;
     rf_vec3 creep_p;   /* where the rock was when it last moved on or was fast */
     int creep;         /* events since */
     long marked;       /* events marked (rf_motion_event) */
@@ -492,8 +494,8 @@ double rf_motion_note_energy(rf_motion *m);
 #define RF_RESCUED -2
 int rf_progress(rf_motion *m, int events);
 /* The rescue of rf_progress, at once: RF_RESCUED; rest for a rock in centre mode
- * wedged among walls (it cannot pay the lift onto the column under it); max_time
- * after RF_MAX_RESCUES. */
+ * wedged among walls (it cannot pay the lift onto the column under it) where it was
+ * wedged before; max_time after RF_MAX_RESCUES. */
 int rf_rescue(rf_motion *m);
 
 /* Events of the scene beyond the terrain (tree collisions, measure crossings): the
