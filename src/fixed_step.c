@@ -107,8 +107,8 @@ static int flight_step(rf_motion *m, double h)
          * at a pit beside a hole, a rock sank under the face's offset plane and fell
          * through the terrain); rescued at once, onto the highest offset plane there.
          * (Under the offset plane alone is left to the stall rules: a rock wedged
-         * among walls is, and rests; rescued at once at every step on a column's
-         * border, it was given up.) */
+         * among walls is, and is stopped, or rests when wedged there again; rescued
+         * at once at every step on a column's border, it was given up.) */
         int end = rf_rescue(m);
         return end == RF_RESCUED ? -1 : end;
     }

@@ -318,7 +318,7 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
     return tri;
 }
 
-/* Returns 1 when the rock rests: wedged again where a rescue found it wedged before
+/* Returns 1 when the rock rests: wedged again where a rescue last found it wedged
  * (centre mode). */
 static int unstall(rf_motion *m)
 {
@@ -337,12 +337,12 @@ static int unstall(rf_motion *m)
              * moving over a column is lifted (pushed along the normal, it could end
              * under the next column's plane and fall through the terrain, in either
              * engine).  Wedged among walls it cannot pay the lift onto, it is put
-             * there and stopped, and goes on from there (over a small step that the
-             * centre-only contact makes a wall, as a whole sphere would roll on);
-             * wedged again within r of where it was wedged before, it rests where
-             * it is.  Put there every time, a sphere at a node at the bottom of a pit
-             * fell back into the pit, gaining the height of the lift for nothing,
-             * until the rescues ran out. */
+             * there for nothing and stopped, and goes on from there (a known fault:
+             * at the foot of a near-vertical face the lift is many r, docs/engine.md);
+             * wedged again within r of where it was last wedged, it rests where it
+             * is.  Put there every time, a sphere at a node at the bottom of a pit
+             * fell back into the pit, gaining the height of the lift, until the
+             * rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_centre_pay_lift(m, move)) {
                 if (m->wedged && rf_v3_norm(rf_v3_sub(m->s.p, m->wedge_p)) <= m->rho) {

@@ -495,7 +495,7 @@ double rf_motion_note_energy(rf_motion *m);
 int rf_progress(rf_motion *m, int events);
 /* The rescue of rf_progress, at once: RF_RESCUED; rest for a rock in centre mode
  * wedged among walls (it cannot pay the lift onto the column under it) where it was
- * wedged before; max_time after RF_MAX_RESCUES. */
+ * last wedged; max_time after RF_MAX_RESCUES. */
 int rf_rescue(rf_motion *m);
 
 /* Events of the scene beyond the terrain (tree collisions, measure crossings): the

@@ -1101,7 +1101,7 @@ TEST(hard_replay_centre_contact_reflected_into_a_second_wall_leaves_both)
  * on its face again, in no time.  The rescue lifted it onto a wall's plane for nothing
  * and stopped it there, from where it fell back into the pit with that height's
  * energy, over and over until the rescues ran out (max_time at 77 s, 320/34/272).  A
- * rock wedged again where it was wedged before now rests where it is. */
+ * rock wedged again where it was last wedged now rests where it is. */
 TEST(hard_replay_centre_contact_wedged_in_a_pit_rests)
 {
     replay_sphere_rests(320, 34, 272);
