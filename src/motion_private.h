@@ -371,9 +371,8 @@ typedef struct rf_crease {
  * rolling sphere slides when friction cannot make it roll down the crease). */
 rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr);
 /* The spin law of a sphere rolling along a crease: w = n_m x v / r, n_m the mean
- * normal; rf_crease_spin sets it. */
+ * normal. */
 rf_spin_law rf_crease_roll(const rf_motion *m);
-void rf_crease_spin(rf_motion *m);
 /* Edge functions of a face: E_k(c) = m_k . c - o_k >= 0 while a point c is inside
  * edge k (the face's xy column: horizontal m_k). */
 typedef struct rf_face_edges {

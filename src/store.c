@@ -369,6 +369,17 @@ static int version_error(rf_store *s, int version, rf_error *err)
                         version, ROCKFALL_VERSION, RF_STORE_SCHEMA_VERSION);
 }
 
+/* Ends the transaction begun by BEGIN IMMEDIATE: committed after status 0, else
+ * rolled back; returns the status. */
+static int end_transaction(rf_store *s, int status, const char *doing, rf_error *err)
+{
+    if (status == 0)
+        status = exec_sql(s, "COMMIT", doing, err);
+    if (status != 0 && !sqlite3_get_autocommit(s->db))
+        sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
+    return status;
+}
+
 /* Brings the views of a database of this schema version up to date: each view whose
  * stored definition differs from this version's (both as SQLite stores them: the
  * current ones are made in a scratch database in memory) is dropped, and the missing
@@ -381,9 +392,8 @@ static int refresh_views(rf_store *s, rf_error *err)
     const char *doing = "updating the views";
     sqlite3 *mem = NULL;
     sqlite3_stmt *cur = NULL, *old = NULL;
-    char *drops = NULL;
-    size_t ndrop = 0;
-    int missing = 0, rc = sqlite3_open(":memory:", &mem);
+    char *drops = NULL; /* the DROP statements of the views that differ */
+    int stale = 0, rc = sqlite3_open(":memory:", &mem);
     if (rc == SQLITE_OK && (rc = sqlite3_exec(mem, schema_sql, NULL, NULL, NULL)) == SQLITE_OK)
         rc = sqlite3_exec(mem, views_sql, NULL, NULL, NULL);
     if (rc != SQLITE_OK) {
@@ -402,8 +412,8 @@ static int refresh_views(rf_store *s, rf_error *err)
         const char *sql = (const char *)sqlite3_column_text(cur, 1);
         sqlite3_bind_text(old, 1, name, -1, SQLITE_TRANSIENT);
         rc = sqlite3_step(old);
-        if (rc == SQLITE_DONE) {
-            missing = 1;
+        if (rc == SQLITE_DONE) { /* missing */
+            stale = 1;
             rc = SQLITE_OK;
         } else if (rc == SQLITE_ROW) {
             const char *have = (const char *)sqlite3_column_text(old, 0);
@@ -413,7 +423,7 @@ static int refresh_views(rf_store *s, rf_error *err)
                 sqlite3_free(drops);
                 drops = more;
                 rc = more ? SQLITE_OK : SQLITE_NOMEM;
-                ndrop++;
+                stale = 1;
             }
         }
         sqlite3_reset(old);
@@ -424,7 +434,7 @@ static int refresh_views(rf_store *s, rf_error *err)
     sqlite3_finalize(cur);
     sqlite3_close(mem);
     int status = sql_status(s->db, s->path, rc, doing, err);
-    if (status == 0 && (ndrop > 0 || missing)) {
+    if (status == 0 && stale) {
         /* another process may have done it meanwhile: the drops are IF EXISTS and the
          * creations IF NOT EXISTS */
         status = exec_sql(s, "BEGIN IMMEDIATE", doing, err);
@@ -432,10 +442,7 @@ static int refresh_views(rf_store *s, rf_error *err)
             status = exec_sql(s, drops, doing, err);
         if (status == 0)
             status = exec_sql(s, views_sql, doing, err);
-        if (status == 0)
-            status = exec_sql(s, "COMMIT", doing, err);
-        if (status != 0 && !sqlite3_get_autocommit(s->db))
-            sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
+        status = end_transaction(s, status, doing, err);
     }
     sqlite3_free(drops);
     return status;
@@ -470,11 +477,7 @@ static int prepare_schema(rf_store *s, rf_error *err)
                      : 0;
     else if (status == 0 && version != RF_STORE_SCHEMA_VERSION)
         status = version_error(s, version, err);
-    if (status == 0)
-        status = exec_sql(s, "COMMIT", "creating the schema", err);
-    if (status != 0 && !sqlite3_get_autocommit(s->db))
-        sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
-    return status;
+    return end_transaction(s, status, "creating the schema", err);
 }
 
 int rf_store_open(const char *path, rf_store **out, rf_error *err)

@@ -243,8 +243,10 @@ static int try_crease(rf_motion *m, int32_t a, int32_t b)
     m->sup.tri[1] = b;
     m->sup.left = -1;
     m->sup.rolling = rolling;
-    if (rolling)
-        rf_crease_spin(m);
+    if (rolling) {
+        rf_spin_law roll = rf_crease_roll(m);
+        m->s.w = rf_spin_at(&roll, m->rho, m->s.v, 0.0);
+    }
     return 0;
 }
 
@@ -1636,12 +1638,6 @@ rf_spin_law rf_crease_roll(const rf_motion *m)
     rf_vec3 nm = rf_v3_unit(rf_v3_add(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n));
     rf_vec3 z = rf_v3(0, 0, 0);
     return (rf_spin_law){nm, 0.0, z, z};
-}
-
-void rf_crease_spin(rf_motion *m)
-{
-    rf_spin_law l = rf_crease_roll(m);
-    m->s.w = rf_spin_at(&l, m->rho, m->s.v, 0.0);
 }
 
 static rf_surface_end crease_step(rf_motion *m)
