@@ -130,37 +130,44 @@ static double tree_horizon(rf_motion *m, const rf_arc *arc, double T)
     return T;
 }
 
-double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
+/* The measures' part of rf_scene_horizon: the first crossings within T into
+ * m->crossings (m->ncrossings of them; 0: none). */
+static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
     const rf_scene *sc = m->scene;
+    m->ncrossings = 0;
+    if (sc->nmeasures == 0)
+        return;
+    /* from just before the start: a crossing at the very end of the previous piece that
+     * it left to this one (it ended on the line at another event) is found here; the
+     * ones of a passage under way are passed over */
+    double after = -RF_CROSSING_EPS;
+    for (;;) {
+        int k = rf_measures_first_crossings(sc->measures, sc->nmeasures, arc->p, arc->v, arc->a,
+                                            after, T, m->crossings, RF_MAX_COINCIDENT_CROSSINGS);
+        double t0 = k > 0 ? m->crossings[0].t : INFINITY;
+        int kept = 0;
+        for (int i = 0; i < k; i++) {
+            rf_crossing c = m->crossings[i];
+            const rf_passage *ps = passage_of(m, c.measure);
+            if (!ps || passage_reach(ps, arc, c.t) > m->body->radius)
+                m->crossings[kept++] = c;
+        }
+        m->ncrossings = kept;
+        if (kept > 0 || k == 0)
+            return;
+        after = t0 + RF_CROSSING_EPS;
+    }
+}
+
+double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
+{
     m->scene_pending = RF_SCENE_NONE;
     double best = T;
-    if (sc->nmeasures > 0) {
-        /* from just before the start: a crossing at the very end of the previous piece
-         * that it left to this one (it ended on the line at another event) is found
-         * here; the ones of a passage under way are passed over */
-        double after = -RF_CROSSING_EPS;
-        for (;;) {
-            int k = rf_measures_first_crossings(sc->measures, sc->nmeasures, arc->p, arc->v,
-                                                arc->a, after, T, m->crossings,
-                                                RF_MAX_COINCIDENT_CROSSINGS);
-            double t0 = k > 0 ? m->crossings[0].t : INFINITY;
-            int kept = 0;
-            for (int i = 0; i < k; i++) {
-                rf_crossing c = m->crossings[i];
-                const rf_passage *ps = passage_of(m, c.measure);
-                if (!ps || passage_reach(ps, arc, c.t) > m->body->radius)
-                    m->crossings[kept++] = c;
-            }
-            m->ncrossings = kept;
-            if (kept > 0 || k == 0)
-                break;
-            after = t0 + RF_CROSSING_EPS;
-        }
-        if (m->ncrossings > 0) {
-            best = fmax(m->crossings[0].t, 0.0);
-            m->scene_pending = RF_SCENE_MEASURE;
-        }
+    measure_horizon(m, arc, T);
+    if (m->ncrossings > 0) {
+        best = fmax(m->crossings[0].t, 0.0);
+        m->scene_pending = RF_SCENE_MEASURE;
     }
     if (m->tree_bound > 0.0) {
         double tt = tree_horizon(m, arc, best);
@@ -263,11 +270,12 @@ static int tree_event(rf_motion *m)
 
 int rf_scene_leaving(rf_motion *m)
 {
+    /* the measures alone: the trees' search draws the next tree and can put a tree
+     * in the crossing's place */
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    rf_scene_horizon(m, &arc, RF_CROSSING_EPS);
-    int kind = m->scene_pending;
+    measure_horizon(m, &arc, RF_CROSSING_EPS);
     m->scene_pending = RF_SCENE_NONE;
-    return kind == RF_SCENE_MEASURE ? measure_event(m) : -1;
+    return m->ncrossings > 0 ? measure_event(m) : -1;
 }
 
 int rf_scene_event(rf_motion *m)

@@ -9,8 +9,6 @@
 #include "rockfall/montecarlo.h"
 #include "util.h"
 
-/* ---- reading ------------------------------------------------------------------- */
-
 /* ---- statistics ---------------------------------------------------------------- */
 
 double rf_quantile(const double *sorted, size_t n, double q)
