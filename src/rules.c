@@ -756,17 +756,21 @@ static int write_checks(sqlite3 *db, int64_t run, const rf_rules *r, const measu
     return 0;
 }
 
-/* The first integer of a query's first row; -1 on error (err set). */
-static long query_count(sqlite3 *db, const char *sql, int64_t run, rf_error *err)
+/* The first integer of a query's first row; -1 on error (err set, saying what was
+ * being counted). */
+static long query_count(sqlite3 *db, const char *sql, int64_t run, const char *what,
+                        rf_error *err)
 {
     sqlite3_stmt *st;
-    if (prepare(db, sql, &st, err))
+    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK) {
+        db_error(db, what, err);
         return -1;
+    }
     sqlite3_bind_int64(st, 1, run);
     long n = sqlite3_step(st) == SQLITE_ROW ? (long)sqlite3_column_int64(st, 0) : -1;
     sqlite3_finalize(st);
     if (n < 0)
-        db_error(db, "counting the run's rockfalls", err);
+        db_error(db, what, err);
     return n;
 }
 
@@ -790,7 +794,7 @@ static long layout_kept(sqlite3 *db, int64_t run, const rf_rules *r, int state, 
                              within)
                        : NULL;
     sqlite3_free(within);
-    long kept = sql ? query_count(db, sql, run, err)
+    long kept = sql ? query_count(db, sql, run, "counting the rockfalls the layout keeps", err)
                     : (rf_error_set(err, "", 0, 0, "out of memory"), -1L);
     sqlite3_free(sql);
     return kept;
@@ -806,7 +810,8 @@ static int write_layout_checks(sqlite3 *db, int64_t run, const rf_rules *r, sqli
     if (!(L->kept = calloc(r->nlayout, sizeof *L->kept)))
         return rf_error_set(err, "", 0, 0, "out of memory");
     L->n_rockfalls =
-        query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run, err);
+        query_count(db, "SELECT count(*) FROM trajectories WHERE run_id = ?1", run,
+                    "counting the run's rockfalls", err);
     if (L->n_rockfalls < 0)
         return -1;
     for (size_t c = 0; c < r->nlayout; c++) {
@@ -999,7 +1004,7 @@ static int print_run(sqlite3 *db, int64_t run, const rf_rules *r, const run_meas
                                  "SELECT count(DISTINCT i.trajectory_id) FROM interceptions i"
                                  " JOIN measures m ON m.id = i.measure_id WHERE m.run_id = ?1"
                                  " AND m.kind = 'control'",
-                                 run, err);
+                                 run, "counting the rockfalls across a control line", err);
         if (reach < 0)
             return -1;
         fprintf(out, "\nlayout: %ld rockfalls, %ld of them across a control line\n", n, reach);

@@ -404,6 +404,43 @@ TEST(rules_layout_share_counts_the_rockfalls_kept)
     rf_store_close(t.s);
 }
 
+/* Denies reading the classifications' limit states, which only the layout's count reads
+ * before the verdict is printed. */
+static int deny_limit_state(void *ctx, int action, const char *table, const char *column,
+                            const char *db, const char *trigger)
+{
+    (void)ctx, (void)db, (void)trigger;
+    return action == SQLITE_READ && table && column && !strcmp(table, "classifications") &&
+                   !strcmp(column, "limit_state")
+               ? SQLITE_DENY
+               : SQLITE_OK;
+}
+
+/* A failed count says which count failed, and the run's earlier checks stay. */
+TEST(rules_layout_count_failure_names_the_count)
+{
+    scene t;
+    scene_open(&t, RF_IMPORTANT, NULL, "layout-denied.db");
+    hits(&t, 1, M_B1, 3, 3);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    sqlite3 *db = rf_store_db(t.s);
+    evaluate(&t, &r);
+    const char *rows = "SELECT (SELECT count(*) FROM checks) * 1000 +"
+                       " (SELECT count(*) FROM classifications)";
+    double before = dbt_real(db, "%s", rows);
+    ENSURE(before >= 1003.0);
+    sqlite3_set_authorizer(db, deny_limit_state, NULL);
+    rf_error err = {{0}};
+    ENSURE(rf_rules_evaluate(db, t.run, &r, NULL, NULL, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "counting the rockfalls the layout keeps"), "%s", err.message);
+    sqlite3_set_authorizer(db, NULL, NULL);
+    ENSURE(dbt_real(db, "%s", rows) == before);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
 /* 92 % within serviceability passes, 88 % fails. */
 TEST(rules_serviceability_92_passes_88_fails)
 {
