@@ -1104,13 +1104,16 @@ TEST(hard_replay_centre_contact_reflected_into_a_second_wall_leaves_both)
  * rock wedged again where it was last wedged now rests where it is. */
 TEST(hard_replay_centre_contact_wedged_in_a_pit_rests)
 {
-    replay_sphere_rests(320, 34, 272);
-    /* where it was wedged, not lifted onto the wall (by 0.026 m here) */
+    /* as replay_sphere_rests, in one run with the stop point's check */
     replay rp;
     replay_scene(320, 34, 272, 0, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.engine == RF_ENGINE_EXACT);
     mt_run r;
     replay_run(&rp, &r);
-    ENSURE(r.npoints > 2);
+    ENSURE_MSG(r.rec.reason == RF_END_REST, "reason %d after %zu points", (int)r.rec.reason,
+               r.npoints);
+    ENSURE_MSG(r.npoints > 2 && r.npoints < 2000, "%zu points", r.npoints);
+    /* where it was wedged, not lifted onto the wall (by 0.026 m here) */
     ENSURE_SMALL(rf_v3_norm(rf_v3_sub(r.rec.stop, r.points[r.npoints - 2].p)), 1e-6);
     replay_finish(&rp, &r, 320, 34, 272);
 }
