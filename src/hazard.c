@@ -233,10 +233,8 @@ int rf_hazard_write(rf_hazard *h, long n_trajectories, rf_store *s, rf_error *er
             r.energy_p95_kj = rf_percentile_nearest_rank(c->energy_kj, c->n, 0.95);
             r.energy_max_kj = c->energy_kj[c->n - 1]; /* sorted by the percentile */
             r.height_p95_m = rf_percentile_nearest_rank(c->height_m, c->n, 0.95);
-            if (rf_store_add_hazard_cell(s, &r, err)) {
-                rf_store_batch_rollback(s); /* all cells or none */
-                return -1;
-            }
+            if (rf_store_add_hazard_cell(s, &r, err))
+                return -1; /* the batch rolled back: all cells or none */
         }
     return rf_store_batch_commit(s, err);
 }

@@ -266,27 +266,25 @@ static int write_chunk(rf_store *s, const chunk *c, long by_reason[4], rf_error 
     for (size_t k = 0; k < c->n; k++) {
         const traj_out *o = &c->traj[k];
         int64_t tid;
+        /* a row that fails rolls the batch back */
         if (rf_store_add_trajectory(s, o->release, o->idx, &o->rec, &tid, err))
-            goto fail;
+            return -1;
         counted[o->rec.reason]++;
         for (size_t i = o->path_begin; i < o->path_end; i++)
             if (rf_store_add_path_point(s, tid, (long)(i - o->path_begin), &c->paths.v[i], err))
-                goto fail;
+                return -1;
         for (size_t i = o->icpt_begin; i < o->icpt_end; i++)
             if (rf_store_add_interception(s, tid, &c->icpts.v[i], NULL, err))
-                goto fail;
+                return -1;
         for (size_t i = o->tree_begin; i < o->tree_end; i++)
             if (rf_store_add_tree_hit(s, tid, &c->trees.v[i], err))
-                goto fail;
+                return -1;
     }
     if (rf_store_batch_commit(s, err))
         return -1;
     for (int r = 0; r < 4; r++)
         by_reason[r] += counted[r];
     return 0;
-fail:
-    rf_store_batch_rollback(s);
-    return -1;
 }
 
 /* Simulates every chunk and writes them in order; returns 0 or -1 with err set. */

@@ -705,7 +705,8 @@ int rf_store_batch_begin(rf_store *s, rf_error *err)
     return step_statement(s, ST_BEGIN, "starting a batch", err);
 }
 
-void rf_store_batch_rollback(rf_store *s)
+/* Drops the open batch's rows (nothing when no batch is open). */
+static void batch_rollback(rf_store *s)
 {
     if (!sqlite3_get_autocommit(s->db))
         step_statement(s, ST_ROLLBACK, "rolling back a batch", NULL);
@@ -715,7 +716,17 @@ int rf_store_batch_commit(rf_store *s, rf_error *err)
 {
     if (step_statement(s, ST_COMMIT, "committing a batch", err) == 0)
         return 0;
-    rf_store_batch_rollback(s);
+    batch_rollback(s);
+    return -1;
+}
+
+/* One row of a run; a row that fails rolls the open batch back (a batch is all or
+ * none). */
+static int add_row(rf_store *s, int which, const char *doing, rf_error *err)
+{
+    if (step_statement(s, which, doing, err) == 0)
+        return 0;
+    batch_rollback(s);
     return -1;
 }
 
@@ -737,7 +748,7 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     bind_real(st, 10, r->max_energy_kj);
     bind_int(st, 11, r->n_impacts);
     bind_int(st, 12, r->n_tree_hits);
-    if (step_statement(s, ST_TRAJECTORY, "writing a trajectory", err))
+    if (add_row(s, ST_TRAJECTORY, "writing a trajectory", err))
         return -1;
     if (trajectory_id)
         *trajectory_id = sqlite3_last_insert_rowid(s->db);
@@ -754,7 +765,7 @@ int rf_store_add_path_point(rf_store *s, int64_t trajectory_id, long seq,
     bind_vec3(st, 4, pt->p);
     bind_real(st, 7, pt->speed_ms);
     bind_real(st, 8, pt->energy_kj);
-    return step_statement(s, ST_PATH_POINT, "writing a path point", err);
+    return add_row(s, ST_PATH_POINT, "writing a path point", err);
 }
 
 int rf_store_add_interception(rf_store *s, int64_t trajectory_id,
@@ -774,7 +785,7 @@ int rf_store_add_interception(rf_store *s, int64_t trajectory_id,
     bind_real(st, 11, r->energy_rot_kj);
     bind_real(st, 12, r->passing_height_m);
     bind_text(st, 13, rf_outcome_name(r->outcome));
-    if (step_statement(s, ST_INTERCEPTION, "writing an interception", err))
+    if (add_row(s, ST_INTERCEPTION, "writing an interception", err))
         return -1;
     if (interception_id)
         *interception_id = sqlite3_last_insert_rowid(s->db);
@@ -793,7 +804,7 @@ int rf_store_add_tree_hit(rf_store *s, int64_t trajectory_id, const rf_tree_hit_
     bind_real(st, 7, r->speed_before_ms);
     bind_real(st, 8, r->speed_after_ms);
     bind_real(st, 9, r->energy_lost_kj);
-    return step_statement(s, ST_TREE_HIT, "writing a tree hit", err);
+    return add_row(s, ST_TREE_HIT, "writing a tree hit", err);
 }
 
 int rf_store_add_hazard_cell(rf_store *s, const rf_hazard_cell_record *r, rf_error *err)
@@ -810,7 +821,7 @@ int rf_store_add_hazard_cell(rf_store *s, const rf_hazard_cell_record *r, rf_err
     bind_real(st, 8, r->energy_max_kj);
     bind_real(st, 9, r->energy_p95_kj);
     bind_real(st, 10, r->height_p95_m);
-    return step_statement(s, ST_HAZARD_CELL, "writing a hazard cell", err);
+    return add_row(s, ST_HAZARD_CELL, "writing a hazard cell", err);
 }
 
 /* ---- ids ------------------------------------------------------------------------ */

@@ -32,11 +32,11 @@ int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
 /* Ends the run: status "complete" or "failed". Commits any open batch first. */
 int rf_store_run_finish(rf_store *s, const char *status, long n_trajectories, rf_error *err);
 
-/* Batches: rows between begin and commit land in one transaction. */
+/* Batches: rows between begin and commit land in one transaction, all or none: a row
+ * that fails to be written (rf_store_add_*) rolls the open batch back, and so does a
+ * failed commit. */
 int rf_store_batch_begin(rf_store *s, rf_error *err);
 int rf_store_batch_commit(rf_store *s, rf_error *err);
-/* Drops the open batch's rows (nothing when no batch is open). */
-void rf_store_batch_rollback(rf_store *s);
 
 int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
                             const rf_trajectory_record *r, int64_t *trajectory_id,

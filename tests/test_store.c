@@ -569,6 +569,34 @@ TEST(store_bad_row_is_an_error_naming_the_file)
     rf_store_close(s);
 }
 
+/* A row that fails rolls its whole batch back: the rows before it in the batch are not
+ * in the file, those of batches committed before are, and the store writes on. */
+TEST(store_failed_row_rolls_its_batch_back)
+{
+    test_project t;
+    const char *path;
+    rf_store *s = open_project_store(&t, "failed-row.db", &path);
+    rf_error err = {0};
+    int64_t run = begin_run(s, &t.p, 4);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, run, 0, 0, 1);
+    ENSURE(rf_store_batch_commit(s, &err) == 0);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, run, 0, 1, 1);
+    rf_path_point pt = {0};
+    ENSURE(rf_store_add_path_point(s, 424242, 0, &pt, &err) != 0); /* no such trajectory */
+    ENSURE(sqlite3_get_autocommit(rf_store_db(s))); /* the batch is closed */
+    write_trajectory(s, run, 1, 0, 0);
+    ENSURE(rf_store_run_finish(s, "failed", 2, &err) == 0);
+    rf_store_close(s);
+
+    sqlite3 *db = open_raw(path);
+    ENSURE(run_rows(db, "trajectories", (long long)run) == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE run_id = %lld AND idx = 1",
+                   (long long)run) == 0);
+    sqlite3_close(db);
+}
+
 TEST(store_reopen_adds_a_third_run)
 {
     test_project t;
