@@ -318,11 +318,61 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
     return tri;
 }
 
+/* Centre mode: the rock wedged among walls, at p before the rescue's free motion, is
+ * put in the column, of those within a micrometre of p (RF_SETTLE_REACH length
+ * tolerances: a rock reflected off a wall lies a few tolerances beyond the border of
+ * the column it came from), whose offset plane is lowest there (it stood on that one or
+ * higher), moved towards the column's centroid until it is inside by twice the length
+ * tolerance, where no other column holds it, and lifted onto that plane should it be
+ * under it (the least lift that leaves it over the terrain; none usually).  Returns 0,
+ * or -1 when no column will do (the rock is left where it is). */
+static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
+{
+    const rf_terrain *t = m->terrain;
+    rf_vec3 now = m->s.p;
+    double tol = m->tol_len, reach = RF_SETTLE_REACH * tol;
+    int32_t best = -1;
+    double zbest = INFINITY;
+    size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
+    for (size_t i = 0; i < n; i++) {
+        const rf_triangle *T = &t->tri[m->ws->cand[i]];
+        if (!(T->n.z > 0) || !rf_in_column(T, p, -reach))
+            continue;
+        double z = offset_plane_z(m, T, p);
+        if (z < zbest)
+            zbest = z, best = m->ws->cand[i];
+    }
+    if (best < 0)
+        return -1;
+    const rf_triangle *T = &t->tri[best];
+    /* the least part f of the way to the centroid g that puts it inside by 2 tol: the
+     * distances to the column's edges are linear along the way */
+    rf_vec3 g = rf_v3((T->a.x + T->b.x + T->c.x) / 3.0, (T->a.y + T->b.y + T->c.y) / 3.0, p.z);
+    rf_face_edges fe;
+    rf_column_edges(T, &fe);
+    double f = 0.0;
+    for (int e = 0; e < 3; e++) {
+        double sp = rf_v3_dot(fe.m[e], p) - fe.o[e], sg = rf_v3_dot(fe.m[e], g) - fe.o[e];
+        if (sp < 2.0 * tol && sg > sp)
+            f = fmax(f, (2.0 * tol - sp) / (sg - sp));
+    }
+    rf_vec3 q = rf_v3(p.x + fmin(f, 0.5) * (g.x - p.x), p.y + fmin(f, 0.5) * (g.y - p.y), p.z);
+    m->s.p = q;
+    if (!rf_in_column(T, q, tol) || rf_highest_column(m, best) != best) {
+        m->s.p = now;
+        return -1;
+    }
+    double gap;
+    m->s.p = rf_v3_add(q, rf_centre_lift_move(m, T, &gap));
+    return 0;
+}
+
 /* Returns 1 when the rock rests: wedged again where a rescue last found it wedged
  * (centre mode). */
 static int unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
+    rf_vec3 p0 = m->s.p;
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
     rf_motion_advance(m, &arc, RF_UNSTALL_TIME, NULL);
     rf_motion_note_energy(m);
@@ -336,13 +386,14 @@ static int unstall(rf_motion *m)
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted (pushed along the normal, it could end
              * under the next column's plane and fall through the terrain, in either
-             * engine).  Wedged among walls it cannot pay the lift onto, it is put
-             * there for nothing and stopped, and goes on from there (a known fault:
-             * at the foot of a near-vertical face the lift is many r, docs/engine.md);
-             * wedged again within r of where it was last wedged, it rests where it
-             * is.  Put there every time, a sphere at a node at the bottom of a pit
-             * fell back into the pit, gaining the height of the lift, until the
-             * rescues ran out. */
+             * engine).  Wedged among walls it cannot pay the lift onto, it is stopped
+             * in the lowest column where it was wedged, just inside it, and goes on
+             * from there (settle_in_lowest_column).  Put onto the wall's plane for
+             * nothing instead, a rock at the foot of a near-vertical face was raised
+             * by many r (docs/engine.md).  Wedged again within r of where it was last
+             * wedged, it rests where it is: put onto the plane every time, a sphere
+             * at a node at the bottom of a pit fell back into the pit, gaining the
+             * height of the lift, until the rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_centre_pay_lift(m, move)) {
                 if (m->wedged && rf_v3_norm(rf_v3_sub(m->s.p, m->wedge_p)) <= m->rho) {
@@ -352,7 +403,8 @@ static int unstall(rf_motion *m)
                 }
                 m->wedged = 1;
                 m->wedge_p = m->s.p;
-                m->s.p = rf_v3_add(m->s.p, move);
+                if (settle_in_lowest_column(m, p0))
+                    m->s.p = rf_v3_add(m->s.p, move);
                 m->s.v = rf_v3(0, 0, 0);
                 m->s.w = rf_v3(0, 0, 0);
             }

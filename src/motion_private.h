@@ -69,6 +69,8 @@ static inline rf_vec3 rf_in_plane(rf_vec3 x, rf_vec3 n) { return rf_v3_madd(x, -
 #define RF_STALL_TIME 1e-9         /* (s) less than this is no progress */
 #define RF_MAX_RESCUES 1000        /* rescues before a trajectory is given up (max_time) */
 #define RF_UNSTALL_TIME 1e-6       /* free motion of a rescue (s) */
+#define RF_SETTLE_REACH 1000.0     /* a wedged rock (centre mode) is settled in a column
+                                      within this many length tolerances */
 #define RF_CREEP_EVENTS 16         /* events of a slow rock within RF_CREEP_DIST: it rests */
 #define RF_CREEP_DIST 1e-3         /* (m) */
 
