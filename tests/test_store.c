@@ -526,18 +526,28 @@ TEST(store_failed_run_is_failed)
     sqlite3_close(db);
 }
 
+/* A run of 4 in the file `name` with trajectory 0 of release 0 committed in one batch
+ * and trajectory 1 written in a second batch left open; its id in *run. */
+static rf_store *second_batch_open(test_project *t, const char *name, const char **path,
+                                   int64_t *run)
+{
+    rf_store *s = open_project_store(t, name, path);
+    rf_error err = {0};
+    *run = begin_run(s, &t->p, 4);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, *run, 0, 0, 1);
+    ENSURE(rf_store_batch_commit(s, &err) == 0);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    write_trajectory(s, *run, 0, 1, 1);
+    return s;
+}
+
 TEST(store_uncommitted_batch_is_lost_on_close)
 {
     test_project t;
     const char *path;
-    rf_store *s = open_project_store(&t, "uncommitted.db", &path);
-    rf_error err = {0};
-    int64_t run = begin_run(s, &t.p, 4);
-    ENSURE(rf_store_batch_begin(s, &err) == 0);
-    write_trajectory(s, run, 0, 0, 1);
-    ENSURE(rf_store_batch_commit(s, &err) == 0);
-    ENSURE(rf_store_batch_begin(s, &err) == 0);
-    write_trajectory(s, run, 0, 1, 1);
+    int64_t run;
+    rf_store *s = second_batch_open(&t, "uncommitted.db", &path, &run);
     rf_store_close(s); /* without finishing: an interrupted run */
 
     sqlite3 *db = open_raw(path);
@@ -575,14 +585,9 @@ TEST(store_failed_row_rolls_its_batch_back)
 {
     test_project t;
     const char *path;
-    rf_store *s = open_project_store(&t, "failed-row.db", &path);
+    int64_t run;
+    rf_store *s = second_batch_open(&t, "failed-row.db", &path, &run);
     rf_error err = {0};
-    int64_t run = begin_run(s, &t.p, 4);
-    ENSURE(rf_store_batch_begin(s, &err) == 0);
-    write_trajectory(s, run, 0, 0, 1);
-    ENSURE(rf_store_batch_commit(s, &err) == 0);
-    ENSURE(rf_store_batch_begin(s, &err) == 0);
-    write_trajectory(s, run, 0, 1, 1);
     rf_path_point pt = {0};
     ENSURE(rf_store_add_path_point(s, 424242, 0, &pt, &err) != 0); /* no such trajectory */
     ENSURE(sqlite3_get_autocommit(rf_store_db(s))); /* the batch is closed */
