@@ -299,23 +299,31 @@ static double offset_plane_z(const rf_motion *m, const rf_triangle *T, rf_vec3 p
     return rf_triangle_z_at(T, p.x, p.y) + m->rho / T->n.z;
 }
 
-int32_t rf_highest_column(rf_motion *m, int32_t tri)
+/* Of the columns of upward faces holding p within `reach`, the one whose offset plane
+ * is highest there (highest = 1) or lowest (0); tri, unless -1, counts as holding p.
+ * -1 when none does. */
+static int32_t column_extreme(rf_motion *m, rf_vec3 p, double reach, int32_t tri, int highest)
 {
     const rf_terrain *t = m->terrain;
-    rf_vec3 p = m->s.p;
-    double tol = m->tol_len;
-    double best = offset_plane_z(m, &t->tri[tri], p);
-    size_t n = rf_gather(m, p.x - tol, p.y - tol, p.x + tol, p.y + tol);
+    double sign = highest ? 1.0 : -1.0; /* the lowest is the highest of -z */
+    double best = tri >= 0 ? sign * offset_plane_z(m, &t->tri[tri], p) : -INFINITY;
+    int32_t skip = tri;
+    size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
         const rf_triangle *T = &t->tri[k];
-        if (k == tri || !(T->n.z > 0))
+        if (k == skip || !(T->n.z > 0))
             continue;
-        double z = offset_plane_z(m, T, p);
-        if (z > best && rf_in_column(T, p, -tol))
+        double z = sign * offset_plane_z(m, T, p);
+        if (z > best && rf_in_column(T, p, -reach))
             best = z, tri = k;
     }
     return tri;
+}
+
+int32_t rf_highest_column(rf_motion *m, int32_t tri)
+{
+    return column_extreme(m, m->s.p, m->tol_len, tri, 1);
 }
 
 /* Centre mode: the rock wedged among walls, at p before the rescue's free motion, is
@@ -329,19 +337,8 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
 static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
 {
     const rf_terrain *t = m->terrain;
-    rf_vec3 now = m->s.p;
-    double tol = m->tol_len, reach = RF_SETTLE_REACH * tol;
-    int32_t best = -1;
-    double zbest = INFINITY;
-    size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
-    for (size_t i = 0; i < n; i++) {
-        const rf_triangle *T = &t->tri[m->ws->cand[i]];
-        if (!(T->n.z > 0) || !rf_in_column(T, p, -reach))
-            continue;
-        double z = offset_plane_z(m, T, p);
-        if (z < zbest)
-            zbest = z, best = m->ws->cand[i];
-    }
+    double tol = m->tol_len;
+    int32_t best = column_extreme(m, p, RF_SETTLE_REACH * tol, -1, 0);
     if (best < 0)
         return -1;
     const rf_triangle *T = &t->tri[best];
@@ -357,11 +354,9 @@ static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
             f = fmax(f, (2.0 * tol - sp) / (sg - sp));
     }
     rf_vec3 q = rf_v3(p.x + fmin(f, 0.5) * (g.x - p.x), p.y + fmin(f, 0.5) * (g.y - p.y), p.z);
-    m->s.p = q;
-    if (!rf_in_column(T, q, tol) || rf_highest_column(m, best) != best) {
-        m->s.p = now;
+    if (!rf_in_column(T, q, tol) || column_extreme(m, q, tol, best, 1) != best)
         return -1;
-    }
+    m->s.p = q;
     double gap;
     m->s.p = rf_v3_add(q, rf_centre_lift_move(m, T, &gap));
     return 0;
