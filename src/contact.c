@@ -704,11 +704,15 @@ static void test_features(search *s, size_t npend, double tb, rf_vec3 blo, rf_ve
     }
 }
 
+/* How far from the centre a feature can be met: the contact radius and four length
+ * tolerances. */
+static double sphere_reach(const rf_motion *m) { return m->rho + 4 * m->tol_len; }
+
 /* How far from a flight's horizontal line a triangle can be met: the reach of the
  * sphere, or in centre mode (the face under the centre) the length tolerance. */
 static double line_reach(const rf_motion *m)
 {
-    return m->centre ? 4 * m->tol_len : m->rho + 4 * m->tol_len;
+    return m->centre ? 4 * m->tol_len : sphere_reach(m);
 }
 
 /* Room for the pending triangles of n candidates. */
@@ -923,7 +927,7 @@ static void test_candidates(search *s, const int32_t *cand, size_t n, double ta,
     rf_workspace *ws = m->ws;
     const rf_terrain *t = m->terrain;
     const rf_support *ex = s->ex;
-    double reach = m->rho + 4 * m->tol_len;
+    double reach = sphere_reach(m);
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
     double zl = lo.z - reach, zh = hi.z + reach;
     pend_reserve(ws, n);
@@ -975,7 +979,7 @@ static void search_pieces(search *s, double T)
     rf_motion *m = s->m;
     const rf_terrain *t = m->terrain;
     const rf_arc *arc = s->arc;
-    double reach = m->rho + 4 * m->tol_len;
+    double reach = sphere_reach(m);
     /* higher than this above the terrain's top, nothing is met: the reach (in centre
      * mode the centre meets a face r / n.z above its plane, the furthest above the
      * steepest face; a rock lifted onto a steep face at the top and let fall again
@@ -1035,7 +1039,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         s.s0 = s.ux * arc->p.x + s.uy * arc->p.y;
         s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
         s.hr = line_reach(m);
-        s.reach = m->rho + 4 * m->tol_len;
+        s.reach = sphere_reach(m);
         s.zq[0] = arc->p.z, s.zq[1] = arc->v.z, s.zq[2] = 0.5 * arc->a.z;
         rf_workspace *ws = m->ws;
         if (++ws->test_epoch == 0) { /* a new mark for the triangles tested */
@@ -1114,7 +1118,7 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     arc_box(arc, 0.0, T, &lo, &hi);
     /* the candidates whose boxes meet the arc's box widened by the reach */
     rf_workspace *ws = m->ws;
-    double reach = m->rho + 4 * m->tol_len;
+    double reach = sphere_reach(m);
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
     double zl = lo.z - reach, zh = hi.z + reach;
     size_t nhit = 0;

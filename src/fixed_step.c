@@ -233,8 +233,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
     double tx = column_exit(m, &col, m->s.p, ve, hs, run->wall, &edge);
     double te = tx < hs ? tx : hs;
     /* the slip from u to u1 over the step */
-    rf_spin_law law = hs > 0 ? rf_spin_law_of(m, n, u, rf_v3_scale(rf_v3_sub(u1, u), 1.0 / hs))
-                             : rf_spin_law_of(m, n, u1, rf_v3(0, 0, 0));
+    rf_spin_law law = rf_spin_law_over(m, n, u, u1, hs);
     int scene = advance_piece(m, ve, te, hs, &law);
     if (scene)
         return rf_scene_event(m);

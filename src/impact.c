@@ -80,10 +80,12 @@ double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu)
 static double pivot_arc(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 *u0, rf_vec3 *w)
 {
     *u0 = rf_v3_unit(rf_v3_sub(m->s.p, q));
-    *w = rf_v3_madd(n, -rf_v3_dot(n, *u0), *u0);
-    double wl = rf_v3_norm(*w);
-    if (wl > 0)
-        *w = rf_v3_scale(*w, 1.0 / wl);
+    if (w) {
+        *w = rf_v3_madd(n, -rf_v3_dot(n, *u0), *u0);
+        double wl = rf_v3_norm(*w);
+        if (wl > 0)
+            *w = rf_v3_scale(*w, 1.0 / wl);
+    }
     return atan2(rf_v3_norm(rf_v3_cross(*u0, n)), rf_v3_dot(*u0, n));
 }
 
@@ -115,8 +117,8 @@ int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
     /* after the roll the sphere rolls on `to`: e = 1/2 (m + I / r^2) s^2 */
     double s = sqrt(2.0 * e / (b->mass + b->inertia / (m->rho * m->rho)));
     /* the centre's arc about q: its length, and samples along it */
-    rf_vec3 u0, w;
-    double ang = pivot_arc(m, q, n, &u0, &w);
+    rf_vec3 u0;
+    double ang = pivot_arc(m, q, n, &u0, NULL);
     m->rec->path_length_m += m->rho * ang;
     const rf_sink *sk = m->sink;
     if (sk && sk->sample && sk->sample_spacing > 0 && ang > 0) {

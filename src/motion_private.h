@@ -344,6 +344,9 @@ typedef struct rf_spin_law {
 /* The law of a piece on face n from the current state, its slip u0 at the start
  * changing at the rate du. */
 rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du);
+/* The law of a step of length h on face n whose slip goes linearly from u to u1 (for
+ * h = 0, u1 throughout). */
+rf_spin_law rf_spin_law_over(const rf_motion *m, rf_vec3 n, rf_vec3 u, rf_vec3 u1, double h);
 /* The spin by law l at time t, at velocity v, of a sphere of contact radius rho. */
 rf_vec3 rf_spin_at(const rf_spin_law *l, double rho, rf_vec3 v, double t);
 /* Handles a contact found by the search (or a concave face change): impact (Eq. 8),

@@ -130,6 +130,12 @@ rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du
     return (rf_spin_law){n, rf_v3_dot(m->s.w, n), u0, du};
 }
 
+rf_spin_law rf_spin_law_over(const rf_motion *m, rf_vec3 n, rf_vec3 u, rf_vec3 u1, double h)
+{
+    return h > 0 ? rf_spin_law_of(m, n, u, rf_v3_scale(rf_v3_sub(u1, u), 1.0 / h))
+                 : rf_spin_law_of(m, n, u1, rf_v3(0, 0, 0));
+}
+
 rf_vec3 rf_spin_at(const rf_spin_law *l, double rho, rf_vec3 v, double t)
 {
     rf_vec3 u = rf_v3_madd(l->u0, t, l->du);
@@ -356,10 +362,10 @@ static int wall_for(const rf_motion *m, int32_t to, double ke)
     return gap > m->tol_len && lift_cost(m, move) >= ke;
 }
 
-/* 1 when the centre, moving horizontally along v (spin w) from where it is, goes on
- * into the column of a face other than `skip` that is a wall to it: another wall,
+/* 1 when the centre, moving horizontally along v (with its spin) from where it is, goes
+ * on into the column of a face other than `skip` that is a wall to it: another wall,
  * meeting the one it was reflected off where the centre is. */
-static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v, rf_vec3 w)
+static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
 {
     double h = rf_v3_hnorm(v), tol = m->tol_len;
     if (!(h > 0))
@@ -367,7 +373,7 @@ static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v, rf_vec3 w)
     rf_vec3 q = m->s.p;
     q.x += 4.0 * tol * v.x / h;
     q.y += 4.0 * tol * v.y / h;
-    double ke = rf_kinetic_energy(m->body, v, w);
+    double ke = rf_kinetic_energy(m->body, v, m->s.w);
     size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
@@ -416,7 +422,7 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
         int corner = 0;
         for (int k = 0; k < 3 && !corner; k++)
             corner = fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS;
-        if (corner || wall_ahead(m, c->tri, v, m->s.w)) {
+        if (corner || wall_ahead(m, c->tri, v)) {
             v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
             vin = rf_v3_hnorm(m->s.v);
         }
@@ -952,14 +958,17 @@ static rf_arc fit_arc(rf_vec3 p, rf_vec3 v, rf_vec3 dc, double h)
     return (rf_arc){p, v, a};
 }
 
-/* The spin along a path's step from y to ye over h, for the step's parabola: the slip
- * linear between them. */
-static rf_spin_law step_spin(const rf_motion *m, const face_dyn *f, const double *y,
-                             const double *ye, double h)
+/* Moves the rock along a path's step from y to ye (centre relative to c0) over h on
+ * the step's parabola `arc`, the spin by the slip linear between them, and ends it in
+ * ye's state, as the path, not the parabola, has it. */
+static void path_advance(rf_motion *m, const face_dyn *f, const rf_arc *arc, double h,
+                         rf_vec3 c0, const double *y, const double *ye)
 {
-    rf_vec3 u0 = y_u(y);
-    rf_vec3 du = h > 0 ? rf_v3_scale(rf_v3_sub(y_u(ye), u0), 1.0 / h) : rf_v3(0, 0, 0);
-    return rf_spin_law_of(m, f->n, u0, du);
+    rf_spin_law spin = rf_spin_law_over(m, f->n, y_u(y), y_u(ye), h);
+    rf_motion_advance(m, arc, h, &spin);
+    m->s.p = rf_v3_add(c0, y_c(ye));
+    m->s.v = y_v(ye);
+    rf_set_spin(m, f->n, y_u(ye));
 }
 
 /* The state at parameter lam in y; returns its time from the segment's start. */
@@ -1387,20 +1396,11 @@ static rf_surface_end face_path(rf_motion *m, const face_dyn *f, rf_vec3 u0, con
                 break;
         }
         if (te >= 0.0) {
-            rf_vec3 ce = y_c(ye);
-            rf_arc ea = fit_arc(ck, vk, rf_v3_sub(ce, y_c(y)), te);
-            rf_spin_law spin = step_spin(m, f, y, ye, te);
-            rf_motion_advance(m, &ea, te, &spin);
-            m->s.p = rf_v3_add(c0, ce);
-            m->s.v = y_v(ye);
-            rf_set_spin(m, f->n, y_u(ye)); /* the path's end, not the parabola's */
+            rf_arc ea = fit_arc(ck, vk, rf_v3_sub(y_c(ye), y_c(y)), te);
+            path_advance(m, f, &ea, te, c0, y, ye);
             return dispatch(m, &ev, law_accel(f, f->e1), fe);
         }
-        rf_spin_law spin = step_spin(m, f, y, yn, hs);
-        rf_motion_advance(m, &arc, hs, &spin);
-        m->s.p = cabs;
-        m->s.v = vn;
-        rf_set_spin(m, f->n, y_u(yn));
+        path_advance(m, f, &arc, hs, c0, y, yn);
         memcpy(y, yn, sizeof y);
         lam = st.lb;
         t = tb;
