@@ -281,6 +281,14 @@ static int step_statement(rf_store *s, int which, const char *doing, rf_error *e
     return status;
 }
 
+/* Drops the open transaction's rows: a batch's, or a run's start (nothing when none
+ * is open). */
+static void batch_rollback(rf_store *s)
+{
+    if (!sqlite3_get_autocommit(s->db))
+        step_statement(s, ST_ROLLBACK, "rolling back a batch", NULL);
+}
+
 /* Binding fails only on a programmer's error (bad index, statement in use). */
 static void bind_int(sqlite3_stmt *st, int col, int64_t v)
 {
@@ -394,7 +402,7 @@ static int refresh_views(rf_store *s, rf_error *err)
     sqlite3_stmt *cur = NULL, *old = NULL;
     char *drops = NULL; /* the DROP statements of the views that differ */
     int stale = 0, rc = sqlite3_open(":memory:", &mem);
-    if (rc == SQLITE_OK && (rc = sqlite3_exec(mem, schema_sql, NULL, NULL, NULL)) == SQLITE_OK)
+    if (rc == SQLITE_OK) /* a view is stored as written: it needs none of the tables */
         rc = sqlite3_exec(mem, views_sql, NULL, NULL, NULL);
     if (rc != SQLITE_OK) {
         /* a fault of this build, not of the file */
@@ -663,8 +671,7 @@ int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
     if (status == 0)
         status = step_statement(s, ST_COMMIT, "starting a run", err);
     if (status != 0) {
-        if (!sqlite3_get_autocommit(s->db))
-            step_statement(s, ST_ROLLBACK, "abandoning a run", NULL);
+        batch_rollback(s);
         s->run_id = 0;
         return -1;
     }
@@ -705,29 +712,19 @@ int rf_store_batch_begin(rf_store *s, rf_error *err)
     return step_statement(s, ST_BEGIN, "starting a batch", err);
 }
 
-/* Drops the open batch's rows (nothing when no batch is open). */
-static void batch_rollback(rf_store *s)
-{
-    if (!sqlite3_get_autocommit(s->db))
-        step_statement(s, ST_ROLLBACK, "rolling back a batch", NULL);
-}
-
-int rf_store_batch_commit(rf_store *s, rf_error *err)
-{
-    if (step_statement(s, ST_COMMIT, "committing a batch", err) == 0)
-        return 0;
-    batch_rollback(s);
-    return -1;
-}
-
-/* One row of a run; a row that fails rolls the open batch back (a batch is all or
- * none). */
-static int add_row(rf_store *s, int which, const char *doing, rf_error *err)
+/* One statement of a batch (a row, or the commit); one that fails rolls the open batch
+ * back: a batch is all or none. */
+static int step_in_batch(rf_store *s, int which, const char *doing, rf_error *err)
 {
     if (step_statement(s, which, doing, err) == 0)
         return 0;
     batch_rollback(s);
     return -1;
+}
+
+int rf_store_batch_commit(rf_store *s, rf_error *err)
+{
+    return step_in_batch(s, ST_COMMIT, "committing a batch", err);
 }
 
 /* ---- rows of a run ------------------------------------------------------------- */
@@ -748,7 +745,7 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     bind_real(st, 10, r->max_energy_kj);
     bind_int(st, 11, r->n_impacts);
     bind_int(st, 12, r->n_tree_hits);
-    if (add_row(s, ST_TRAJECTORY, "writing a trajectory", err))
+    if (step_in_batch(s, ST_TRAJECTORY, "writing a trajectory", err))
         return -1;
     if (trajectory_id)
         *trajectory_id = sqlite3_last_insert_rowid(s->db);
@@ -765,7 +762,7 @@ int rf_store_add_path_point(rf_store *s, int64_t trajectory_id, long seq,
     bind_vec3(st, 4, pt->p);
     bind_real(st, 7, pt->speed_ms);
     bind_real(st, 8, pt->energy_kj);
-    return add_row(s, ST_PATH_POINT, "writing a path point", err);
+    return step_in_batch(s, ST_PATH_POINT, "writing a path point", err);
 }
 
 int rf_store_add_interception(rf_store *s, int64_t trajectory_id,
@@ -785,7 +782,7 @@ int rf_store_add_interception(rf_store *s, int64_t trajectory_id,
     bind_real(st, 11, r->energy_rot_kj);
     bind_real(st, 12, r->passing_height_m);
     bind_text(st, 13, rf_outcome_name(r->outcome));
-    if (add_row(s, ST_INTERCEPTION, "writing an interception", err))
+    if (step_in_batch(s, ST_INTERCEPTION, "writing an interception", err))
         return -1;
     if (interception_id)
         *interception_id = sqlite3_last_insert_rowid(s->db);
@@ -804,7 +801,7 @@ int rf_store_add_tree_hit(rf_store *s, int64_t trajectory_id, const rf_tree_hit_
     bind_real(st, 7, r->speed_before_ms);
     bind_real(st, 8, r->speed_after_ms);
     bind_real(st, 9, r->energy_lost_kj);
-    return add_row(s, ST_TREE_HIT, "writing a tree hit", err);
+    return step_in_batch(s, ST_TREE_HIT, "writing a tree hit", err);
 }
 
 int rf_store_add_hazard_cell(rf_store *s, const rf_hazard_cell_record *r, rf_error *err)
@@ -821,7 +818,7 @@ int rf_store_add_hazard_cell(rf_store *s, const rf_hazard_cell_record *r, rf_err
     bind_real(st, 8, r->energy_max_kj);
     bind_real(st, 9, r->energy_p95_kj);
     bind_real(st, 10, r->height_p95_m);
-    return add_row(s, ST_HAZARD_CELL, "writing a hazard cell", err);
+    return step_in_batch(s, ST_HAZARD_CELL, "writing a hazard cell", err);
 }
 
 /* ---- ids ------------------------------------------------------------------------ */
