@@ -8,11 +8,10 @@
 #include "store.h"
 #include "util.h"
 
-double rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny)
+void rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny)
 {
     *nx = fmax(ceil((t->xmax - t->xmin) / cell), 1.0);
     *ny = fmax(ceil((t->ymax - t->ymin) / cell), 1.0);
-    return *nx * *ny;
 }
 
 int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell)

@@ -44,8 +44,8 @@ typedef struct rf_hazard {
 #define RF_HAZARD_CELLS_MAX 1e7
 
 /* The grid's columns and rows over the terrain for square cells of `cell` (at least
- * one each, as numbers: no overflow); returns their product. */
-double rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny);
+ * one each, as numbers: no overflow). */
+void rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny);
 int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell);
 void rf_hazard_free(rf_hazard *h);
 void rf_hazard_begin(rf_hazard *h);

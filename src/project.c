@@ -685,8 +685,9 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
         rf_ydoc_number(&L->d, height, "height", RF_YR_POSITIVE, &m->height, L->err))
         return -1;
 
+    /* the node of each capacity given; a barrier's SEL of MEL / 3 for want of 'sel' has
+     * none */
     rf_ynode *nodes[RF_N_LIMIT_STATES] = {NULL};
-    int sel_default = 0; /* a barrier's SEL is MEL / 3 for want of 'sel' */
     if (m->kind == RF_BARRIER) {
         rf_ynode *mel;
         if (rf_ydoc_require(&L->d, n, "mel", what, &mel, L->err) ||
@@ -702,10 +703,9 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
                                      "'sel' (%g kJ) must not exceed 'mel' (%g kJ)", m->sel,
                                      m->mel);
         }
-        sel_default = sel == NULL;
         m->capacity[RF_SERVICEABILITY] = m->sel;
         m->capacity[RF_ULTIMATE] = m->mel;
-        nodes[RF_SERVICEABILITY] = sel ? sel : mel;
+        nodes[RF_SERVICEABILITY] = sel;
         nodes[RF_ULTIMATE] = mel;
     } else {
         if (not_for(L, n, "mel", "an embankment") || not_for(L, n, "sel", "an embankment"))
@@ -715,9 +715,10 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
         return -1;
     int prev = -1;
     for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
-        /* a barrier's SEL of MEL / 3 without 'sel' is a default, which the rule file
-         * may set otherwise (docs/rules.md): no bound on the capacities above it */
-        if (m->capacity[s] < 0.0 || (s == RF_SERVICEABILITY && sel_default))
+        /* capacities not given; a barrier's SEL of MEL / 3 without 'sel' is a default,
+         * which the rule file may set otherwise (docs/rules.md): no bound on the
+         * capacities above it */
+        if (!nodes[s])
             continue;
         if (prev >= 0 && m->capacity[s] < m->capacity[prev])
             return rf_ydoc_error(&L->d, nodes[s], L->err,
@@ -948,7 +949,8 @@ static int check_hazard_grid(loader *L)
 {
     const rf_terrain *t = &L->p->terrain;
     double c = L->p->hazard_cell, nx, ny;
-    double cells = rf_hazard_grid(t, c, &nx, &ny);
+    rf_hazard_grid(t, c, &nx, &ny);
+    double cells = nx * ny;
     if (cells <= RF_HAZARD_CELLS_MAX)
         return 0;
     if (L->cell_node)

@@ -95,6 +95,9 @@ static int parse_number(const char *a, const char *a_end, double *x)
     return 1;
 }
 
+/* How much of the text [a, b) an error message shows: 40 characters at most. */
+static int shown_len(const char *a, const char *b) { return (int)(b - a > 40 ? 40 : b - a); }
+
 /* Reads the next token as a number (crossing lines when cross_lines). */
 static int scan_number(scanner *s, int cross_lines, double *x, rf_error *err)
 {
@@ -103,7 +106,7 @@ static int scan_number(scanner *s, int cross_lines, double *x, rf_error *err)
     const char *a, *b = scan_token(s, &a);
     if (!parse_number(a, b, x))
         return rf_error_set(err, s->path, s->line, scan_column(s, a),
-                            "expected a number, found '%.*s'", (int)(b - a > 40 ? 40 : b - a), a);
+                            "expected a number, found '%.*s'", shown_len(a, b), a);
     return 0;
 }
 
@@ -128,7 +131,7 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
     while (scan_skip(s, 1) && !looks_numeric(*s->p)) {
         const char *k, *k_end = scan_token(s, &k);
         int line = s->line, col = scan_column(s, k);
-        int klen = (int)(k_end - k > 40 ? 40 : k_end - k); /* as much of it as messages show */
+        int klen = shown_len(k, k_end);
         int key = -1, is_nodata = 0;
         if (token_is(k, k_end, "ncols"))
             key = NCOLS;
@@ -334,7 +337,7 @@ static int stl_read_ascii(scanner *s, char up, rf_tri_list *out, rf_error *err)
         } else if (!token_is(a, b, "facet") && !token_is(a, b, "outer") &&
                    !token_is(a, b, "endfacet")) {
             return rf_error_set(err, s->path, s->line, scan_column(s, a),
-                                "unexpected '%.*s' in ascii STL", (int)(b - a > 40 ? 40 : b - a), a);
+                                "unexpected '%.*s' in ascii STL", shown_len(a, b), a);
         }
     }
     if (in_loop)
@@ -394,7 +397,7 @@ static int obj_parse(scanner *s, char up, rf_tri_list *out, vert_list *vl, rf_er
                 if (!obj_index(ia, ib, vl->n, &idx))
                     return rf_error_set(err, s->path, s->line, scan_column(s, ia),
                                         "bad vertex index '%.*s' (%zu vertices so far)",
-                                        (int)(ib - ia > 40 ? 40 : ib - ia), ia, vl->n);
+                                        shown_len(ia, ib), ia, vl->n);
                 if (n == 0)
                     first = idx;
                 else if (n >= 2 && tri_push(out, vl->v[first], vl->v[prev], vl->v[idx]))
