@@ -827,15 +827,22 @@ static void replay_sphere_stays_out(unsigned long seed, long it, long k)
     replay_finish(&rp, &r, seed, it, k);
 }
 
+/* Builds the replay, a rock of `model` in the exact engine, and runs it into r. */
+static void replay_open(unsigned long seed, long it, long k, rf_rock_model model, replay *rp,
+                        mt_run *r)
+{
+    replay_scene(seed, it, k, 0, rp);
+    ENSURE(rp->sim.model == model && rp->sim.engine == RF_ENGINE_EXACT);
+    replay_run(rp, r);
+}
+
 /* A rock of the exact engine in the replay ends for `reason` within 2 000 events,
  * gaining no energy at an impact, and not under the terrain. */
 static void replay_ends(unsigned long seed, long it, long k, rf_rock_model model, int reason)
 {
     replay rp;
-    replay_scene(seed, it, k, 0, &rp);
-    ENSURE(rp.sim.model == model && rp.sim.engine == RF_ENGINE_EXACT);
     mt_run r;
-    replay_run(&rp, &r);
+    replay_open(seed, it, k, model, &rp, &r);
     ENSURE_MSG((int)r.rec.reason == reason, "reason %d after %zu points", (int)r.rec.reason,
                r.npoints);
     ENSURE_MSG(r.npoints < 2000, "%zu points", r.npoints);
@@ -1106,10 +1113,8 @@ TEST(hard_replay_centre_contact_wedged_in_a_pit_rests)
 {
     /* as replay_sphere_rests, in one run with the stop point's check */
     replay rp;
-    replay_scene(320, 34, 272, 0, &rp);
-    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.engine == RF_ENGINE_EXACT);
     mt_run r;
-    replay_run(&rp, &r);
+    replay_open(320, 34, 272, RF_MODEL_SPHERE, &rp, &r);
     ENSURE_MSG(r.rec.reason == RF_END_REST, "reason %d after %zu points", (int)r.rec.reason,
                r.npoints);
     ENSURE_MSG(r.npoints > 2 && r.npoints < 2000, "%zu points", r.npoints);
@@ -1124,11 +1129,9 @@ TEST(hard_replay_centre_contact_wedged_in_a_pit_rests)
 static void replay_centre_energy_never_rises(unsigned long seed, long it, long k)
 {
     replay rp;
-    replay_scene(seed, it, k, 0, &rp);
-    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.contact == RF_CONTACT_CENTRE &&
-           rp.sim.engine == RF_ENGINE_EXACT);
     mt_run r;
-    replay_run(&rp, &r);
+    replay_open(seed, it, k, RF_MODEL_SPHERE, &rp, &r);
+    ENSURE(rp.sim.contact == RF_CONTACT_CENTRE);
     ENSURE(r.npoints > 2);
     double mg = rp.b.mass * RF_GRAVITY, rise = 0.0;
     double e0 = 1000.0 * r.points[1].energy_kj + mg * r.points[1].p.z;
