@@ -381,6 +381,12 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
     double sg = orient > 0 ? 1.0 : -1.0;
     int at_start = s->sp.n == 0 && t0 == 0.0; /* a flight's start */
     int moves_in = 0, moves_out = 0; /* on the column's border: in over an edge, out over one */
+    /* an edge the centre moves along, by less than the tolerance across it over the
+     * edge's length, is crossed neither in nor out (along a grid cell's diagonal from a
+     * node, rounding had it moving out of one column and, over the other's edge, reach
+     * half the tolerance inside only after a minute: it fell through both) */
+    double vh = sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
+    int crosses[3];
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         double ex = B.x - A.x, ey = B.y - A.y;
@@ -390,7 +396,8 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
         double alpha = sg * (ex * (arc->p.y - A.y) - ey * (arc->p.x - A.x)) / el;
         double beta = sg * (ex * arc->v.y - ey * arc->v.x) / el;
         al[k] = alpha, be[k] = beta;
-        if (at_start && fabs(alpha) <= tol)
+        crosses[k] = fabs(beta) * el > tol * vh;
+        if (at_start && fabs(alpha) <= tol && crosses[k])
             moves_in |= beta > 0, moves_out |= beta < 0;
         if (beta > 0) {
             lo = dmax(lo, (-tol - alpha) / beta);
@@ -417,10 +424,9 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
          * tolerance outside the column's edge: at the tolerance, rounding put it beyond
          * the edge for the face's surface phase, which left the face at once (on the
          * edge, it was met at once again after a reflection off a wall there) */
-        double in = t0; /* the centre half the tolerance outside: in >= lo (the same
-                         * edges, half the tolerance further in) */
+        double in = lo; /* the centre half the tolerance outside the edges it crosses */
         for (int k = 0; k < 3; k++)
-            if (be[k] > 0)
+            if (be[k] > 0 && crosses[k])
                 in = dmax(in, (-0.5 * tol - al[k]) / be[k]);
         t = dmin(in, hi);
     } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {

@@ -1157,6 +1157,22 @@ TEST(hard_replay_centre_contact_wedged_rock_is_not_lifted)
                 {322, 24, 289}, {323, 17, 183}, {323, 44, 92});
 }
 
+/* Centre contact (the scene's full-contact sphere run in centre contact): reflected off
+ * a wall at a grid node exactly along the diagonal of the next cell, whose two columns
+ * are both walls.  Rounding had the centre moving out of one column across the
+ * diagonal at 2e-16 of its speed, and reaching half the tolerance inside the other
+ * only after 114 s: neither met it, and it fell 11.8 m through the terrain along the
+ * diagonal (342/1/278).  An edge the centre moves along within the tolerance over the
+ * edge's length is now crossed neither in nor out; the rock rests. */
+TEST(hard_replay_centre_contact_along_a_cell_diagonal_from_a_node_meets_the_walls)
+{
+    replay rp;
+    replay_scene(342, 1, 278, 0, &rp);
+    ENSURE(rp.sim.model == RF_MODEL_SPHERE && rp.sim.engine == RF_ENGINE_EXACT);
+    rp.sim.contact = RF_CONTACT_CENTRE;
+    replay_rests(&rp, 342, 1, 278, 0);
+}
+
 /* Centre contact: spheres rolling along a wall on a face too steep for rolling (the
  * part of gravity across the wall counted): they slid, had no slip along the wall and
  * so rolled again, in no time, until the rescue moved them out of their column and
