@@ -168,8 +168,21 @@ TEST(hazard_far_edge_of_inexact_grids)
     rf_hazard_free(&h);
 }
 
+/* Whether run's hazard cells hold the cell of point (x, y) of the terrain, relative to
+ * the grid's origin; -1 when the point lies off the grid (a rock that left the terrain
+ * can stop beyond it).  On the far edge the point is in the last cell. */
+static int reaches_cell(sqlite3 *h, int run, double x, double y, double cellsz, double nx,
+                        double ny)
+{
+    if (!(x >= 0 && y >= 0 && x <= nx * cellsz && y <= ny * cellsz))
+        return -1;
+    double fx = fmin(floor(x / cellsz), nx - 1), fy = fmin(floor(y / cellsz), ny - 1);
+    return dbt_int(h, "SELECT count(*) FROM hazard_cells WHERE run_id = %d AND ix = %.0f AND "
+                      "iy = %.0f", run, fx, fy) == 1;
+}
+
 /* One trajectory per run: its cells are one edge-connected chain that holds the
- * release's cell and the stop's. */
+ * release's cell (the first point of its path) and the stop's. */
 TEST(hazard_cells_of_a_trajectory_are_an_unbroken_chain)
 {
     char db[600];
@@ -177,6 +190,7 @@ TEST(hazard_cells_of_a_trajectory_are_an_unbroken_chain)
     rf_project p;
     rf_error err;
     ENSURE_MSG(rf_project_load("projects/noto/noto-3.3.yaml", &p, &err) == 0, "%s", err.message);
+    ENSURE(p.sim.paths >= 1); /* the path's first point is the release */
     rf_store *s;
     ENSURE(rf_store_open(db, &s, &err) == 0);
     const int nruns = 24;
@@ -207,19 +221,18 @@ TEST(hazard_cells_of_a_trajectory_are_an_unbroken_chain)
             "h.run_id = %d AND abs(h.ix - c.ix) + abs(h.iy - c.iy) = 1) SELECT count(*) FROM c",
             run, run);
         broken_total += n - connected;
-        /* the stop's cell, when the stop lies over the grid (a rock that left the
-         * terrain can stop beyond it); on the far edge the last cell */
+        const char *first = "SELECT %s - %.17g FROM path_points p JOIN trajectories t ON "
+                            "p.trajectory_id = t.id WHERE t.run_id = %d AND p.seq = 0";
+        double rx = dbt_real(h, first, "x", xmin, run), ry = dbt_real(h, first, "y", ymin, run);
+        ENSURE_MSG(reaches_cell(h, run, rx, ry, cellsz, nx, ny) == 1,
+                   "run %d: the release's cell not reached", run);
         double sx = dbt_real(h, "SELECT stop_x - %.17g FROM trajectories WHERE run_id = %d",
                              xmin, run);
         double sy = dbt_real(h, "SELECT stop_y - %.17g FROM trajectories WHERE run_id = %d",
                              ymin, run);
-        if (!(sx >= 0 && sy >= 0 && sx <= nx * cellsz && sy <= ny * cellsz))
-            continue;
-        double fx = fmin(floor(sx / cellsz), nx - 1), fy = fmin(floor(sy / cellsz), ny - 1);
-        ENSURE_MSG(dbt_int(h, "SELECT count(*) FROM hazard_cells WHERE run_id = %d AND ix = %.0f "
-                              "AND iy = %.0f", run, fx, fy) == 1,
-                   "run %d: the stop's cell (%.0f, %.0f) not reached", run, fx, fy);
-        stops_checked++;
+        int stop = reaches_cell(h, run, sx, sy, cellsz, nx, ny);
+        ENSURE_MSG(stop != 0, "run %d: the stop's cell not reached", run);
+        stops_checked += stop == 1;
     }
     ENSURE(stops_checked >= nruns / 2);
     ENSURE_MSG(broken_total == 0, "%ld cells apart from their trajectory's chain", broken_total);

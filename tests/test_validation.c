@@ -55,9 +55,10 @@ TEST(validation_hull_and_envelope)
     nh = rf_convex_hull(same, 3, hull);
     ENSURE_MSG(nh == 1 && rf_hull_contains(hull, nh, 2.385, 1.5, 1e-9), "%zu vertices", nh);
     const double turn[6] = {0, 0, 1, -1, 2, 0};
-    double *h8 = malloc(8 * sizeof *h8);
-    ENSURE(h8 && rf_convex_hull(turn, 3, h8) == 3);
-    free(h8);
+    double h8[10] = {0}; /* room for 4 points, and a guard after it */
+    h8[8] = h8[9] = 7.0;
+    ENSURE(rf_convex_hull(turn, 3, h8) == 3);
+    ENSURE(h8[8] == 7.0 && h8[9] == 7.0);
     /* 100 points on a 10 x 10 lattice and 5 far away: the 95 % envelope leaves the five
      * out and keeps the lattice's centre inside */
     double pts[210];
