@@ -57,6 +57,62 @@ static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error 
     }
 }
 
+/* Hands the text's events to visit, in order, until it returns nonzero or the stream
+ * ends; a syntax error ends them too (the loading reports it).  Returns what visit
+ * returned last, 0 at the end, or -1 when no parser could be made. */
+static int each_event(const rf_ydoc *d, int (*visit)(const yaml_event_t *e, void *ctx),
+                      void *ctx)
+{
+    yaml_parser_t parser;
+    if (!yaml_parser_initialize(&parser))
+        return -1;
+    yaml_parser_set_input_string(&parser, (const unsigned char *)d->text, d->len);
+    int rc = 0;
+    for (int end = 0; !end && !rc;) {
+        yaml_event_t e;
+        if (!yaml_parser_parse(&parser, &e))
+            break;
+        end = e.type == YAML_STREAM_END_EVENT;
+        rc = visit(&e, ctx);
+        yaml_event_delete(&e);
+    }
+    yaml_parser_delete(&parser);
+    return rc;
+}
+
+typedef struct {
+    rf_ydoc *d;
+    size_t k, n; /* the node of the next scalar or collection start; the nodes */
+} tag_walk;
+
+static int quote_tagged_event(const yaml_event_t *e, void *ctx)
+{
+    static const char *const typed[] = {YAML_INT_TAG, YAML_FLOAT_TAG, YAML_BOOL_TAG,
+                                        YAML_NULL_TAG};
+    tag_walk *w = ctx;
+    yaml_node_t *nodes = w->d->doc.nodes.start;
+    switch (e->type) {
+    case YAML_SCALAR_EVENT:
+        if (w->k < w->n && e->data.scalar.tag && nodes[w->k].type == YAML_SCALAR_NODE) {
+            int is_typed = 0;
+            for (size_t i = 0; i < sizeof typed / sizeof *typed; i++)
+                is_typed |= strcmp((const char *)e->data.scalar.tag, typed[i]) == 0;
+            if (!is_typed)
+                nodes[w->k].data.scalar.style = YAML_SINGLE_QUOTED_SCALAR_STYLE;
+        }
+        w->k++;
+        return 0;
+    case YAML_SEQUENCE_START_EVENT:
+    case YAML_MAPPING_START_EVENT:
+        w->k++;
+        return 0;
+    case YAML_DOCUMENT_END_EVENT:
+        return 1; /* the loaded document's events are all read */
+    default:
+        return 0;
+    }
+}
+
 /* A scalar tagged as anything but a number, boolean or null (!!str 100, !local 100,
  * ! 100) is a string, as a quoted scalar is: it is given a quoted style, so that no
  * number or boolean is read from it.  The loaded document keeps no trace of an explicit
@@ -65,42 +121,10 @@ static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error 
  * or mapping, in their order. */
 static void quote_tagged_strings(rf_ydoc *d)
 {
-    static const char *const typed[] = {YAML_INT_TAG, YAML_FLOAT_TAG, YAML_BOOL_TAG,
-                                        YAML_NULL_TAG};
-    yaml_parser_t parser;
-    if (!memchr(d->text, '!', d->len) || !yaml_parser_initialize(&parser))
+    if (!memchr(d->text, '!', d->len))
         return; /* no tag anywhere */
-    yaml_parser_set_input_string(&parser, (const unsigned char *)d->text, d->len);
-    size_t k = 0, n = (size_t)(d->doc.nodes.top - d->doc.nodes.start);
-    for (int done = 0; !done;) {
-        yaml_event_t e;
-        if (!yaml_parser_parse(&parser, &e))
-            break;
-        switch (e.type) {
-        case YAML_SCALAR_EVENT:
-            if (k < n && e.data.scalar.tag && d->doc.nodes.start[k].type == YAML_SCALAR_NODE) {
-                int is_typed = 0;
-                for (size_t i = 0; i < sizeof typed / sizeof *typed; i++)
-                    is_typed |= strcmp((const char *)e.data.scalar.tag, typed[i]) == 0;
-                if (!is_typed)
-                    d->doc.nodes.start[k].data.scalar.style = YAML_SINGLE_QUOTED_SCALAR_STYLE;
-            }
-            k++;
-            break;
-        case YAML_SEQUENCE_START_EVENT:
-        case YAML_MAPPING_START_EVENT:
-            k++;
-            break;
-        case YAML_DOCUMENT_END_EVENT:
-        case YAML_STREAM_END_EVENT:
-            done = 1;
-            break;
-        default:
-            break;
-        }
-        yaml_event_delete(&e);
-    }
-    yaml_parser_delete(&parser);
+    tag_walk w = {d, 0, (size_t)(d->doc.nodes.top - d->doc.nodes.start)};
+    each_event(d, quote_tagged_event, &w);
 }
 
 /* Deeper than this, a sequence or mapping is refused: no project or rule file nests
@@ -108,43 +132,37 @@ static void quote_tagged_strings(rf_ydoc *d)
  * a flow collection's depth (100 000 levels of '[' took 30 s before an error). */
 #define RF_YAML_MAX_DEPTH 64
 
+typedef struct {
+    const rf_ydoc *d;
+    int depth;
+    rf_error *err;
+} depth_walk;
+
+static int depth_event(const yaml_event_t *e, void *ctx)
+{
+    depth_walk *w = ctx;
+    if (e->type == YAML_SEQUENCE_START_EVENT || e->type == YAML_MAPPING_START_EVENT) {
+        if (++w->depth > RF_YAML_MAX_DEPTH) {
+            rf_error_set(w->err, w->d->file, (int)e->start_mark.line + 1,
+                         (int)e->start_mark.column + 1, "YAML nested deeper than %d levels",
+                         RF_YAML_MAX_DEPTH);
+            return 1;
+        }
+    } else if (e->type == YAML_SEQUENCE_END_EVENT || e->type == YAML_MAPPING_END_EVENT) {
+        w->depth--;
+    }
+    return 0;
+}
+
 /* Refuses a collection nested deeper than RF_YAML_MAX_DEPTH, reading the events before
- * the document is loaded; a syntax error is left to the loading, which reports it. */
+ * the document is loaded. */
 static int check_depth(const rf_ydoc *d, rf_error *err)
 {
-    yaml_parser_t parser;
-    if (!yaml_parser_initialize(&parser))
+    depth_walk w = {d, 0, err};
+    int rc = each_event(d, depth_event, &w);
+    if (rc < 0)
         return rf_error_set(err, d->file, 0, 0, "out of memory while reading YAML");
-    yaml_parser_set_input_string(&parser, (const unsigned char *)d->text, d->len);
-    int depth = 0, rc = 0;
-    for (int done = 0; !done;) {
-        yaml_event_t e;
-        if (!yaml_parser_parse(&parser, &e))
-            break;
-        switch (e.type) {
-        case YAML_SEQUENCE_START_EVENT:
-        case YAML_MAPPING_START_EVENT:
-            if (++depth > RF_YAML_MAX_DEPTH) {
-                rc = rf_error_set(err, d->file, (int)e.start_mark.line + 1,
-                                  (int)e.start_mark.column + 1,
-                                  "YAML nested deeper than %d levels", RF_YAML_MAX_DEPTH);
-                done = 1;
-            }
-            break;
-        case YAML_SEQUENCE_END_EVENT:
-        case YAML_MAPPING_END_EVENT:
-            depth--;
-            break;
-        case YAML_STREAM_END_EVENT:
-            done = 1;
-            break;
-        default:
-            break;
-        }
-        yaml_event_delete(&e);
-    }
-    yaml_parser_delete(&parser);
-    return rc;
+    return rc ? -1 : 0;
 }
 
 static int parse_text(rf_ydoc *d, rf_error *err)
