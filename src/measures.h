@@ -47,9 +47,9 @@ double rf_measure_breaking_energy(const rf_measure *m);
 /* What measure m does to a rock whose centre passes at `passing_height_m` above the
  * ground with total kinetic energy `energy_kj`: a control line lets it pass; above a
  * barrier's or embankment's height (or at a height not known: NaN) it overtops; below
- * it, a `collect` measure lets it
- * pass, and a `stop` measure stops it within its capacity and lets it break through
- * above.  Only `stopped` and `broke_through` change the rock. */
+ * it, a `collect` measure lets it pass, and a `stop` measure stops it within its
+ * capacity and lets it break through above.  Only `stopped` and `broke_through` change
+ * the rock. */
 rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, double energy_kj);
 
 #endif

@@ -456,11 +456,18 @@ static int db_error(sqlite3 *db, const char *doing, rf_error *err)
                         sqlite3_errmsg(db));
 }
 
-static int prepare(sqlite3 *db, const char *sql, sqlite3_stmt **st, rf_error *err)
+/* Prepares sql; on failure err says what was being done. */
+static int prepare_for(sqlite3 *db, const char *sql, sqlite3_stmt **st, const char *doing,
+                       rf_error *err)
 {
     if (sqlite3_prepare_v2(db, sql, -1, st, NULL) != SQLITE_OK)
-        return db_error(db, "reading the run", err);
+        return db_error(db, doing, err);
     return 0;
+}
+
+static int prepare(sqlite3 *db, const char *sql, sqlite3_stmt **st, rf_error *err)
+{
+    return prepare_for(db, sql, st, "reading the run", err);
 }
 
 /* The run's project text as a document in d; NULL when there is none or it does not
@@ -762,10 +769,8 @@ static long query_count(sqlite3 *db, const char *sql, int64_t run, const char *w
                         rf_error *err)
 {
     sqlite3_stmt *st;
-    if (sqlite3_prepare_v2(db, sql, -1, &st, NULL) != SQLITE_OK) {
-        db_error(db, what, err);
+    if (prepare_for(db, sql, &st, what, err))
         return -1;
-    }
     sqlite3_bind_int64(st, 1, run);
     long n = sqlite3_step(st) == SQLITE_ROW ? (long)sqlite3_column_int64(st, 0) : -1;
     sqlite3_finalize(st);
