@@ -1015,8 +1015,8 @@ TEST(measures_engine_max_energy_is_the_stopped_rocks)
 /* ---- a line on the terrain's edge ------------------------------------------------------ */
 
 /* A rock leaves the terrain exactly where a line is drawn along its edge: sliding off
- * the end of a flat profile, or flying over it.  The crossing is the trajectory's last event and is recorded (it
- * was left to the next piece of motion, which a rock that has left never takes); a
+ * the end of a flat profile, or flying over it.  The crossing is recorded at the edge
+ * (it was left to the next piece of motion, which a rock that has left never takes); a
  * stop barrier there stops the rock.  Both rock models, both engines. */
 TEST(measures_engine_line_where_the_rock_leaves)
 {

@@ -289,13 +289,26 @@ static void scene_finish(scene *t)
     ENSURE(rf_store_run_finish(t->s, "complete", -1, &err) == 0);
 }
 
-static long evaluate(scene *t, const rf_rules *r)
+/* Evaluates the run, the verdict printed to out (NULL: not printed); the checks
+ * failed. */
+static long evaluate_to(scene *t, const rf_rules *r, FILE *out)
 {
     rf_error err = {{0}};
     long failed = -1;
-    ENSURE_MSG(rf_rules_evaluate(rf_store_db(t->s), t->run, r, NULL, &failed, &err) == 0, "%s",
+    ENSURE_MSG(rf_rules_evaluate(rf_store_db(t->s), t->run, r, out, &failed, &err) == 0, "%s",
                err.message);
     return failed;
+}
+
+static long evaluate(scene *t, const rf_rules *r) { return evaluate_to(t, r, NULL); }
+
+/* B1's share within serviceability in both views is the stored check value. */
+static void ensure_views_share(sqlite3 *db, double stored)
+{
+    ENSURE(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
+                          " 'B1'") == stored);
+    ENSURE(dbt_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
+                          " limit_state = 'serviceability'") == stored);
 }
 
 /* value and passed of the run's one check row matching `where` (k: checks, m: its
@@ -376,10 +389,7 @@ TEST(rules_layout_share_counts_the_rockfalls_kept)
     char *buf = NULL;
     size_t len = 0;
     FILE *out = open_memstream(&buf, &len);
-    rf_error err = {{0}};
-    long failed = -1;
-    ENSURE_MSG(rf_rules_evaluate(rf_store_db(t.s), t.run, &r, out, &failed, &err) == 0, "%s",
-               err.message);
+    long failed = evaluate_to(&t, &r, out);
     fclose(out);
     int passed;
     /* 10 + 30 + 3 + 1 + 1 + 1 + 1 = 47 rockfalls, 10 + 28 + 1 = 39 kept */
@@ -582,10 +592,7 @@ TEST(rules_interception_without_energy_counts_against_the_share)
     int passed;
     double stored = check_value(&t, "B1", "serviceability_share", &passed);
     ENSURE(stored == 0.9 && passed);
-    ENSURE(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
-                          " 'B1'") == stored);
-    ENSURE(dbt_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
-                          " limit_state = 'serviceability'") == stored);
+    ensure_views_share(db, stored);
     /* a measure no check has classified yet has no share */
     ENSURE(isnan(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE"
                                 " measure = 'road'")));
@@ -629,12 +636,9 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
     /* 72 rockfalls; 6 + 1 beyond serviceability at B1 and one over it */
     ENSURE(layout_value(&t, "layout_serviceability_share", &passed) == 64.0 / 72.0 && !passed);
     /* the views agree */
-    ENSURE(dbt_real(db, "SELECT share_serviceability FROM measure_summary WHERE measure ="
-                          " 'B1'") == stored);
+    ensure_views_share(db, stored);
     ENSURE(dbt_real(db, "SELECT interceptions FROM measure_summary WHERE measure = 'B1'") ==
            49.0);
-    ENSURE(dbt_real(db, "SELECT share FROM limit_state_shares WHERE measure = 'B1' AND"
-                          " limit_state = 'serviceability'") == stored);
     ENSURE(dbt_real(db, "SELECT checks_failed FROM run_verdicts") == 3.0); /* B1's, layout */
     ENSURE(dbt_real(db, "SELECT verdict = 'fail' FROM run_verdicts") == 1.0);
     ENSURE(dbt_real(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 3.0);

@@ -636,7 +636,7 @@ TEST(store_reopen_adds_a_third_run)
 
 /* A file written by an earlier rockfall, with an older measure_summary and without
  * run_verdicts: opened, it gets this version's views, its data untouched; a file whose
- * views are current is not written to on opening. */
+ * views are current does not have its schema rewritten on opening. */
 TEST(store_reopen_brings_old_views_up_to_date)
 {
     test_project t;
