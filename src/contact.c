@@ -171,16 +171,23 @@ typedef struct search {
     double best;      /* earliest contact so far (exclusive bound) */
     int found;
     rf_contact *c;
+    double vh; /* the horizontal speed at the start */
     /* a flight (no horizontal acceleration): the horizontal path is the straight line
      * s0 + vh t along the unit direction (ux, uy), at perpendicular offset d0 */
     int line;
-    double ux, uy, s0, d0, vh;
+    double ux, uy, s0, d0;
     double hr, reach;  /* the line's reach (line_reach) and a centre's reach of a face */
     double zq[3];      /* the centre's height: zq[0] + zq[1] t + zq[2] t^2 */
     support_planes sp; /* a surface segment's support planes (n = 0 in a flight) */
     const rf_contact *skip; /* features passed over (rf_contact_search_near) */
     int nskip;
 } search;
+
+/* An arc's horizontal speed at its start (search.vh). */
+static double start_hspeed(const rf_arc *arc)
+{
+    return sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
+}
 
 /* The support planes vertex v is on or below, a bit each, in a surface segment (a
  * centre r above such a plane never reaches it, nor the support's own vertices); none
@@ -385,7 +392,7 @@ static void test_centre(search *s, int32_t idx, double t0, double t1, int left)
      * edge's length, is crossed neither in nor out (along a grid cell's diagonal from a
      * node, rounding had it moving out of one column and, over the other's edge, reach
      * half the tolerance inside only after a minute: it fell through both) */
-    double vh = sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
+    double vh = s->vh;
     int crosses[3];
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
@@ -661,7 +668,7 @@ static void test_feature(search *s, int32_t idx, int k, const rf_vec3 *q, int nq
         return;
     rf_vec3 lo = blo, hi = bhi;
     if (s->line) {
-        if (!line_window(s, q, nq, s->m->rho + 4 * s->m->tol_len, &w0, &w1))
+        if (!line_window(s, q, nq, s->reach, &w0, &w1))
             return;
         arc_box(s->arc, w0, w1, &lo, &hi);
     }
@@ -1033,15 +1040,14 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
                       rf_contact *c)
 {
     const rf_terrain *t = m->terrain;
-    search s = {m, arc, ex, INFINITY, 0, c};
+    search s = {m, arc, ex, INFINITY, 0, c, start_hspeed(arc)};
     if (!(T >= 0))
         return 0;
-    double vh0 = sqrt(arc->v.x * arc->v.x + arc->v.y * arc->v.y);
+    double vh0 = s.vh;
     if (arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->rho) {
         s.line = 1;
         s.ux = arc->v.x / vh0;
         s.uy = arc->v.y / vh0;
-        s.vh = vh0;
         s.s0 = s.ux * arc->p.x + s.uy * arc->p.y;
         s.d0 = s.ux * arc->p.y - s.uy * arc->p.x;
         s.hr = line_reach(m);
@@ -1115,7 +1121,7 @@ void rf_hedge_build(const rf_terrain *t, double *hedge)
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                            const rf_contact *skip, int nskip, rf_contact *c)
 {
-    search s = {m, arc, ex, INFINITY, 0, c};
+    search s = {m, arc, ex, INFINITY, 0, c, start_hspeed(arc)};
     s.skip = skip;
     s.nskip = nskip;
     if (!(T >= 0))

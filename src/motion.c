@@ -130,7 +130,7 @@ void rf_motion_advance_split(rf_motion *m, const rf_arc *arc, const rf_arc *vel,
     m->rec->path_length_m += rf_arc_length(arc->v, arc->a, T);
     rf_scene_travel(m, arc, T);
     const rf_sink *sk = m->sink;
-    if (sk && sk->sample && sk->sample_spacing > 0) {
+    if (rf_motion_samples(m)) {
         /* |v_h(t)|^2 is convex on an arc: its larger end bounds the horizontal speed */
         double vmax = fmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
         double L = vmax * T;

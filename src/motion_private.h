@@ -341,9 +341,6 @@ typedef struct rf_spin_law {
     double wn;
     rf_vec3 u0, du;
 } rf_spin_law;
-/* The law of a piece on face n from the current state, its slip u0 at the start
- * changing at the rate du. */
-rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du);
 /* The law of a step of length h on face n whose slip goes linearly from u to u1 (for
  * h = 0, u1 throughout). */
 rf_spin_law rf_spin_law_over(const rf_motion *m, rf_vec3 n, rf_vec3 u, rf_vec3 u1, double h);
@@ -459,6 +456,12 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n);
  * with the start's spin was more than the rock ever had where slip spun it down while
  * it sped up. */
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law);
+/* 1 when the motion is sampled along the way (the sink takes samples), the only use
+ * rf_motion_advance makes of its spin law. */
+static inline int rf_motion_samples(const rf_motion *m)
+{
+    return m->sink && m->sink->sample && m->sink->sample_spacing > 0;
+}
 /* rf_motion_advance with the velocity along the way from `vel` (its v + a t) rather
  * than from the arc of the positions: a step of the fixed-step engine moves the centre
  * with the step's end velocity, while its velocity changes linearly over the step. */

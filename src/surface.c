@@ -125,7 +125,9 @@ rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n)
     return rf_in_plane(u, n);
 }
 
-rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du)
+/* The law of a piece on face n from the current state, its slip u0 at the start
+ * changing at the rate du. */
+static rf_spin_law rf_spin_law_of(const rf_motion *m, rf_vec3 n, rf_vec3 u0, rf_vec3 du)
 {
     return (rf_spin_law){n, rf_v3_dot(m->s.w, n), u0, du};
 }
@@ -663,7 +665,7 @@ static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
 {
     const rf_body *b = m->body;
     double mass = b->mass + (m->sup.rolling ? b->inertia / (m->rho * m->rho) : 0.0);
-    return 0.5 * mass * rf_v3_norm2(vp) >= b->mass * G_ACC * rf_pivot_rise(m, q, n);
+    return 0.5 * mass * rf_v3_norm2(vp) >= lift_cost(m, rf_v3(0, 0, rf_pivot_rise(m, q, n)));
 }
 
 /* The contact point crossed edge `edge` of the support face at the current state. */
@@ -908,8 +910,8 @@ static rf_surface_end face_closed(rf_motion *m, const face_dyn *f, rf_vec3 dir, 
         ev.slot = 0;
     }
     rf_vec3 z = rf_v3(0, 0, 0);
-    rf_spin_law spin = f->mode == LAW_SLIDE ? rf_spin_law_of(m, f->n, u0, du)
-                                            : rf_spin_law_of(m, f->n, z, z);
+    int slide = f->mode == LAW_SLIDE;
+    rf_spin_law spin = rf_spin_law_of(m, f->n, slide ? u0 : z, slide ? du : z);
     closed_finish(m, &arc, &spin, &ex, &ev);
     return dispatch(m, &ev, a, fe);
 }
@@ -964,8 +966,14 @@ static rf_arc fit_arc(rf_vec3 p, rf_vec3 v, rf_vec3 dc, double h)
 static void path_advance(rf_motion *m, const face_dyn *f, const rf_arc *arc, double h,
                          rf_vec3 c0, const double *y, const double *ye)
 {
-    rf_spin_law spin = rf_spin_law_over(m, f->n, y_u(y), y_u(ye), h);
-    rf_motion_advance(m, arc, h, &spin);
+    /* the law only serves the samples: the end's spin is set from ye */
+    rf_spin_law spin;
+    const rf_spin_law *sampled = NULL;
+    if (rf_motion_samples(m)) {
+        spin = rf_spin_law_over(m, f->n, y_u(y), y_u(ye), h);
+        sampled = &spin;
+    }
+    rf_motion_advance(m, arc, h, sampled);
     m->s.p = rf_v3_add(c0, y_c(ye));
     m->s.v = y_v(ye);
     rf_set_spin(m, f->n, y_u(ye));
