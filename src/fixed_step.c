@@ -57,7 +57,8 @@ static double column_exit(const rf_motion *m, const rf_face_edges *c, rf_vec3 p,
  * offset plane, which lifts it), or falls away (flight).  Returns -1 or an end. */
 static int leave_face(rf_motion *m, int edge, const rf_face_edges *c, rf_vec3 acc)
 {
-    return rf_leave_face(m, 0, edge, c, acc) == RF_SURF_EXITED ? RF_END_EXITED : -1;
+    rf_surface_end r = rf_leave_face(m, 0, edge, c, acc);
+    return r == RF_SURF_EXITED ? RF_END_EXITED : r == RF_SURF_STOPPED ? RF_END_STOPPED : -1;
 }
 
 /* ---- one step of each phase: -1 to go on, or an end reason ------------------------- */
@@ -140,6 +141,8 @@ static int flight_step(rf_motion *m, double h)
         if (rf_v3_dot(m->s.v, c.n) >= 0 && rf_v3_dot(ve, c.n) < 0)
             m->s.v = ve;
         m->flight_ex.n = 0;
+        if (rf_scene_at_once(m) >= 0)
+            return RF_END_STOPPED;
         rf_contact_resolve(m, &c);
         rf_motion_event(m);
         return -1;

@@ -199,6 +199,8 @@ static int flight_step(rf_motion *m)
     if (scene)
         return rf_scene_event(m);
     if (hit) {
+        if (rf_scene_at_once(m) >= 0)
+            return RF_END_STOPPED;
         rf_contact_resolve(m, &c); /* knows the face flown off from flight_ex */
         m->flight_ex.n = 0;
         rf_motion_event(m);
@@ -517,7 +519,7 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     rf_motion_event(&m);
 
     int end = sim->engine == RF_ENGINE_FIXED_STEP ? rf_simulate_fixed_step(&m) : run_exact(&m);
-    if (end == RF_END_EXITED && rf_scene_leaving(&m) == RF_END_STOPPED)
+    if (end == RF_END_EXITED && rf_scene_at_once(&m) == RF_END_STOPPED)
         end = RF_END_STOPPED;
 
     out->reason = (rf_stop_reason)end;

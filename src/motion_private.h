@@ -514,10 +514,12 @@ int rf_rescue(rf_motion *m);
  * on or an end reason (RF_END_STOPPED). */
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T);
 int rf_scene_event(rf_motion *m);
-/* A rock leaving the terrain (either engine's `exited`): a crossing at that very
- * moment, which a piece of motion ending there leaves to the next one, and there is
- * none.  Returns RF_END_STOPPED when a measure stops it there, else -1. */
-int rf_scene_leaving(rf_motion *m);
+/* The crossings at this very moment, which a piece of motion ending here (at another
+ * event, or a hair short of the line) leaves to the next one: taken before the rock
+ * leaves the terrain (either engine's `exited`: there is no next piece) and before an
+ * impact on the terrain takes its energy (a line on a concave edge records the rock as
+ * it arrives).  Returns RF_END_STOPPED when a measure stops it here, else -1. */
+int rf_scene_at_once(rf_motion *m);
 enum { RF_SCENE_NONE, RF_SCENE_MEASURE, RF_SCENE_TREE };
 /* Sets up the scene events of a new trajectory (draws the first tree candidate). */
 void rf_scene_begin(rf_motion *m);

@@ -268,7 +268,7 @@ static int tree_event(rf_motion *m)
     return -1;
 }
 
-int rf_scene_leaving(rf_motion *m)
+int rf_scene_at_once(rf_motion *m)
 {
     /* the measures alone: the trees' search draws the next tree and can put a tree
      * in the crossing's place */

@@ -708,6 +708,8 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
     }
     switch (next_face(m, to, acc)) {
     case RF_NEXT_IMPACT:
+        if (rf_scene_at_once(m) >= 0)
+            return RF_SURF_STOPPED;
         impact_on_face(m, to);
         return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
     case RF_NEXT_ON:
@@ -837,6 +839,8 @@ static rf_surface_end dispatch(rf_motion *m, seg_event *ev, rf_vec3 acc, const r
         return r;
     }
     case EV_CONTACT:
+        if (rf_scene_at_once(m) >= 0)
+            return RF_SURF_STOPPED;
         rf_contact_resolve(m, &ev->con);
         rf_motion_event(m);
         return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;

@@ -23,6 +23,7 @@ typedef struct icpt_run {
     int n;
     rf_path_point last;
     long npoints;
+    double impact_t, impact_e0; /* the first impact's time and energy before it (kJ) */
 } icpt_run;
 
 static void on_interception(void *ctx, const rf_interception_record *r)
@@ -30,6 +31,16 @@ static void on_interception(void *ctx, const rf_interception_record *r)
     icpt_run *run = ctx;
     ENSURE(run->n < MAX_ICPT);
     run->icpt[run->n++] = *r;
+}
+
+static void on_impact(void *ctx, double t_s, double e0_kj, double e1_kj, double vin)
+{
+    icpt_run *run = ctx;
+    (void)e1_kj, (void)vin;
+    if (run->impact_t < 0) {
+        run->impact_t = t_s;
+        run->impact_e0 = e0_kj;
+    }
 }
 
 static void on_point(void *ctx, const rf_path_point *pt)
@@ -57,6 +68,7 @@ static void run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_bo
                       const rf_measure *ms, size_t nms, const rf_state *s, icpt_run *run)
 {
     memset(run, 0, sizeof *run);
+    run->impact_t = -1.0;
     rf_scene scene = {t, sim, NULL, 0, ms, nms};
     rf_workspace *ws = rf_workspace_alloc(t);
     ENSURE(ws != NULL);
@@ -68,6 +80,7 @@ static void run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_bo
     sink.ctx = run;
     sink.interception = on_interception;
     sink.path_point = on_point;
+    sink.impact = on_impact;
     rf_simulate(&scene, b, s, rng, ws, &sink, &run->rec);
     gsl_rng_free(rng);
     rf_workspace_free(ws);
@@ -187,6 +200,53 @@ TEST(measures_engine_slide_control_eq12)
         ENSURE_REL(r->t_s, sqrt(2.0 * dist / a), engine ? 1e-2 : 1e-6);
         /* the rock goes on to the foot of the plane */
         ENSURE(run.rec.reason == RF_END_EXITED);
+    }
+    rf_terrain_free(&t);
+}
+
+/* A control line on the foot of the plane of measures_engine_slide_control_eq12, where
+ * it meets flat ground without restitution: the point mass reaches the line and the
+ * concave edge at the same moment.  The line records the energy the impact starts from,
+ * not what is left after the flat ground took the speed across it: sliding down the
+ * fall line from rest (a segment of constant acceleration), the speed of Eq. 1-2; set
+ * off across the fall line, along a path that turns towards it (hodograph.c); in either
+ * engine.  A barrier there stops the rock before the impact. */
+TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
+{
+    const double theta = 37.85 * M_PI / 180.0, mu = 0.2385, len = 123.85;
+    const double pts[6] = {0.0, len * tan(theta), len, 0.0, len + 100.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, pts, 3, 100.0, surface(0.0, mu, mu));
+    double line[] = {len, -10.0, len, 110.0};
+    rf_measure ms[2] = {measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0),
+                        measure(RF_BARRIER, RF_STOP, line, 2, 2.385, 1e6)};
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    /* where the line is met on it, the crossing's time and the edge's can round apart
+     * either way by a hair: several starts */
+    const double ys[3] = {27.25, 47.25, 62.85};
+    for (int k = 0; k < 12; k++) {
+        int across = k % 2, engine = k / 2 % 2;
+        rf_vec3 v0 = rf_v3(0, across ? 3.85 : 0.0, 0);
+        rf_state s0 = mt_state(rf_v3(6.35, ys[k / 4], (len - 6.35) * tan(theta)), v0);
+        icpt_run run;
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &ms[0], 1, &s0, 1, &run);
+        const rf_interception_record *r = &run.icpt[0];
+        ENSURE_SMALL(r->p.x - len, 1e-9);
+        ENSURE_SMALL(r->p.z, 1e-9);
+        ENSURE_MSG(run.impact_t >= 0, "start %d: no impact on the flat ground", k);
+        ENSURE_SMALL(r->t_s - run.impact_t, 1e-9);
+        ENSURE_MSG(fabs(r->energy_kj - run.impact_e0) <= 1e-9 * run.impact_e0,
+                   "start %d: %.9g kJ at the line, %.9g kJ before the impact", k, r->energy_kj,
+                   run.impact_e0);
+        if (!across && !engine) {
+            double V = sqrt(1.0 - mu / tan(theta)) * sqrt(2.0 * G * s0.p.z);
+            ENSURE_REL(r->speed_ms, V, 1e-6);
+        }
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &ms[1], 1, &s0, 1, &run);
+        ENSURE_MSG(run.rec.reason == RF_END_STOPPED && run.icpt[0].outcome == RF_OUT_STOPPED,
+                   "start %d: reason %d, outcome %d", k, run.rec.reason, run.icpt[0].outcome);
+        ENSURE_SMALL(run.rec.stop.x - len, 1e-9);
+        ENSURE_MSG(run.impact_t < 0, "start %d: an impact at %g s", k, run.impact_t);
     }
     rf_terrain_free(&t);
 }
