@@ -5,6 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "corpus_test_util.h"
@@ -89,6 +92,58 @@ TEST(project_missing_file)
     ENSURE(!strcmp(err.file, DATA "no_such_project.yaml"));
     ENSURE(strstr(err.message, "cannot open"));
     ENSURE(p.name == NULL && p.path == NULL);
+}
+
+/* A writer for the named pipe at path: a child process that opens it, writes text and
+ * ends, once something opens the pipe to read.  Reading it without one would wait for
+ * ever; with it, a loader that reads the pipe reads text. */
+static pid_t pipe_writer(const char *path, const char *text)
+{
+    pid_t pid = fork();
+    if (pid == 0) {
+        FILE *f = fopen(path, "w");
+        if (f) {
+            fputs(text, f);
+            fclose(f);
+        }
+        _exit(0);
+    }
+    return pid;
+}
+
+/* A terrain or rule file that is a named pipe opens, but is no file to read (a first
+ * open to check it would take what the writer sends): refused at its key without
+ * opening it, with the project left empty.  The pipe's writer sends a valid grid or
+ * rule file, so that a loader that opens it fails this test instead of waiting. */
+TEST(project_referenced_pipe_is_refused)
+{
+    static const char *const cases[2] = {
+        "name: p\nterrain:\n  dem: fifo\nrocks: [{name: r, mass: 1}]\n"
+        "releases: [{name: A, point: [5, 35], rock: r}]\n",
+        "name: p\nterrain: {dem: g.asc}\nrocks: [{name: r, mass: 1}]\n"
+        "releases: [{name: A, point: [5, 35], rock: r}]\nrules: fifo\n",
+    };
+    char *grid = rf_test_read_text(DATA "grid5.asc");
+    ENSURE(grid);
+    rf_test_write("g.asc", grid);
+    const char *fifo = rf_test_path("fifo");
+    ENSURE(mkfifo(fifo, 0600) == 0);
+    for (int k = 0; k < 2; k++) {
+        const char *path = rf_test_write("project.yaml", cases[k]);
+        pid_t writer = pipe_writer(fifo, k == 0 ? grid : "rules: []\n");
+        ENSURE(writer > 0);
+        rf_project p;
+        rf_error err = {{0}};
+        int rc = rf_project_load(path, &p, &err);
+        kill(writer, SIGKILL);
+        waitpid(writer, NULL, 0);
+        ENSURE_MSG(rc != 0, "case %d: the pipe was read", k);
+        fprintf(stderr, "    %s:%d:%d: %s\n", err.file, err.line, err.column, err.message);
+        ENSURE(!strcmp(err.file, path) && err.line == 3 + 2 * k && err.column == 8);
+        ENSURE(strstr(err.message, "not a regular file") && strstr(err.message, "fifo"));
+        ENSURE(p.name == NULL && p.terrain.tri == NULL);
+    }
+    free(grid);
 }
 
 /* ---- defaults ------------------------------------------------------------------ */
