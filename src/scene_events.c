@@ -271,9 +271,12 @@ static int tree_event(rf_motion *m)
 int rf_scene_at_once(rf_motion *m)
 {
     /* the measures alone: the trees' search draws the next tree and can put a tree
-     * in the crossing's place */
+     * in the crossing's place.  At once: within RF_CROSSING_EPS, or within four length
+     * tolerances of travel, the precision an event on the terrain is placed with (the
+     * centre meets a column's face a hair before the column's edge) */
     rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    measure_horizon(m, &arc, RF_CROSSING_EPS);
+    double vh = rf_v3_hnorm(m->s.v);
+    measure_horizon(m, &arc, vh > 0 ? fmax(RF_CROSSING_EPS, 4.0 * m->tol_len / vh) : RF_CROSSING_EPS);
     m->scene_pending = RF_SCENE_NONE;
     return m->ncrossings > 0 ? measure_event(m) : -1;
 }

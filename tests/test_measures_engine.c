@@ -251,6 +251,52 @@ TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
     rf_terrain_free(&t);
 }
 
+/* A control line at the foot of a 30-degree rise, across flat frictionless ground: the
+ * rock slides to it with its start's energy and meets the rise there; every model and
+ * both engines record that energy, not what the impact on the rise (and in centre
+ * contact the lift onto its offset plane) leaves.  In centre contact the centre meets
+ * the rise's face a hair before the column's edge, which is the line (the crossing was
+ * recorded after that impact, within 1e-9 m of it). */
+TEST(measures_engine_line_at_the_foot_of_a_rise_sees_the_rock_before_the_impact)
+{
+    const double len = 62.85, rise = 30.0 * M_PI / 180.0;
+    const double pts[6] = {0.0, 0.0, len, 0.0, len + 50.0, 50.0 * tan(rise)};
+    rf_terrain t;
+    mt_profile(&t, pts, 3, 100.0, surface(0.0, 0.0, 0.0));
+    double line[] = {len, -10.0, len, 110.0};
+    rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    static const struct {
+        rf_rock_model model;
+        rf_contact_kind contact;
+        rf_engine_kind engine;
+    } cases[4] = {{RF_MODEL_POINT, RF_CONTACT_FULL, RF_ENGINE_EXACT},
+                  {RF_MODEL_SPHERE, RF_CONTACT_CENTRE, RF_ENGINE_EXACT},
+                  {RF_MODEL_SPHERE, RF_CONTACT_FULL, RF_ENGINE_EXACT},
+                  {RF_MODEL_SPHERE, RF_CONTACT_CENTRE, RF_ENGINE_FIXED_STEP}};
+    for (int k = 0; k < 4 * 3; k++) {
+        rf_simulation sim = engine_sim(cases[k % 4].model, cases[k % 4].engine, 0.001);
+        sim.contact = cases[k % 4].contact;
+        rf_body b = rf_body_make(2385.0, 2650.0, sim.model);
+        double r = rf_body_contact_radius(&b);
+        rf_state s0 = mt_state(rf_v3(12.35, 23.85 + 17.0 * (k / 4), r), rf_v3(12.85, 0, 0));
+        double E0 = 0.5 * b.mass * rf_v3_norm2(s0.v) / 1000.0;
+        icpt_run run;
+        run_scene(&t, &sim, &b, &m, 1, &s0, &run);
+        ENSURE_MSG(run.n >= 1, "case %d: no crossing", k);
+        const rf_interception_record *ic = &run.icpt[0];
+        check_record(ic, &b);
+        ENSURE_SMALL(ic->p.x - len, 1e-8);
+        ENSURE_MSG(run.impact_t >= 0 && run.impact_t < ic->t_s + 1e-3, "case %d: no impact on the rise", k);
+        /* a full-contact sphere meets the rise before its centre reaches the line */
+        if (sim.model == RF_MODEL_SPHERE && sim.contact == RF_CONTACT_FULL)
+            ENSURE(ic->energy_kj < E0 * (1.0 - 1e-6));
+        else
+            ENSURE_MSG(fabs(ic->energy_kj - E0) <= 1e-9 * E0, "case %d: %.9g kJ at the line, %.9g before", k,
+                       ic->energy_kj, E0);
+    }
+    rf_terrain_free(&t);
+}
+
 /* ---- passing height of a flight --------------------------------------------------- */
 
 /* A spinning sphere flies over an inclined plane across an oblique evaluation line
