@@ -305,3 +305,78 @@ void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void 
             y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
     }
 }
+
+/* ---- scenes with measures ----------------------------------------------------------- */
+
+static void scene_on_interception(void *ctx, const rf_interception_record *r)
+{
+    mt_scene_run *run = ctx;
+    ENSURE(run->n < MT_MAX_ICPT);
+    run->icpt[run->n++] = *r;
+}
+
+static void scene_on_impact(void *ctx, double t_s, double e0_kj, double e1_kj, double vin)
+{
+    mt_scene_run *run = ctx;
+    (void)vin;
+    ENSURE(run->nimp < MT_MAX_IMPACTS);
+    run->imp_t[run->nimp] = t_s, run->imp_e0[run->nimp] = e0_kj, run->imp_e1[run->nimp] = e1_kj;
+    run->nimp++;
+}
+
+static void scene_on_point(void *ctx, const rf_path_point *pt)
+{
+    mt_scene_run *run = ctx;
+    run->last = *pt;
+    run->npoints++;
+}
+
+void mt_run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
+                  const rf_measure *ms, size_t nms, const rf_state *s, unsigned long seed,
+                  mt_scene_run *run)
+{
+    memset(run, 0, sizeof *run);
+    rf_scene scene = {t, sim, NULL, 0, ms, nms};
+    rf_workspace *ws = rf_workspace_alloc(t);
+    ENSURE(ws != NULL);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    ENSURE(rng != NULL);
+    gsl_rng_set(rng, seed);
+    rf_sink sink;
+    memset(&sink, 0, sizeof sink);
+    sink.ctx = run;
+    sink.interception = scene_on_interception;
+    sink.path_point = scene_on_point;
+    sink.impact = scene_on_impact;
+    rf_simulate(&scene, b, s, rng, ws, &sink, &run->rec);
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+}
+
+rf_measure mt_measure(rf_measure_kind kind, rf_behaviour behaviour, double *xy, size_t n,
+                      double height, double capacity_kj)
+{
+    rf_measure m;
+    memset(&m, 0, sizeof m);
+    m.name = "m";
+    m.kind = kind;
+    m.behaviour = kind == RF_CONTROL ? RF_COLLECT : behaviour;
+    m.importance = RF_IMPORTANT;
+    m.line.xy = xy;
+    m.line.n = n;
+    m.height = kind == RF_CONTROL ? 0.0 : height;
+    m.mel = m.sel = -1.0;
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        m.capacity[s] = -1.0;
+    if (kind == RF_BARRIER) {
+        m.mel = capacity_kj;
+        m.sel = capacity_kj / 3.0;
+        m.capacity[RF_SERVICEABILITY] = m.sel;
+        m.capacity[RF_ULTIMATE] = m.mel;
+    } else if (kind == RF_EMBANKMENT) {
+        m.capacity[RF_SERVICEABILITY] = 0.25 * capacity_kj;
+        m.capacity[RF_RESTORABILITY] = 0.5 * capacity_kj;
+        m.capacity[RF_ULTIMATE] = capacity_kj;
+    }
+    return m;
+}

@@ -30,6 +30,31 @@ typedef struct mt_run {
     size_t scap;
 } mt_run;
 
+/* One trajectory through a scene with measures and what its sink saw. */
+#define MT_MAX_ICPT 1024
+#define MT_MAX_IMPACTS 4096
+typedef struct mt_scene_run {
+    rf_trajectory_record rec;
+    rf_interception_record icpt[MT_MAX_ICPT];
+    int n;
+    /* each impact: its time and the kinetic energy before and after it (kJ) */
+    double imp_t[MT_MAX_IMPACTS], imp_e0[MT_MAX_IMPACTS], imp_e1[MT_MAX_IMPACTS];
+    size_t nimp;
+    rf_path_point last;
+    long npoints;
+} mt_scene_run;
+
+/* Runs one trajectory from s through terrain t with measures ms[0..nms), its random
+ * stream seeded with seed, into run (ENSUREs). */
+void mt_run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
+                  const rf_measure *ms, size_t nms, const rf_state *s, unsigned long seed,
+                  mt_scene_run *run);
+/* A measure named "m" over the polyline xy (n points): a control line collects; a
+ * barrier has MEL capacity_kj (SEL a third of it), an embankment capacity_kj as its
+ * ultimate capacity (a quarter and a half of it before). */
+rf_measure mt_measure(rf_measure_kind kind, rf_behaviour behaviour, double *xy, size_t n,
+                      double height, double capacity_kj);
+
 /* Builds a profile terrain (distance, elevation pairs) of the given width; ENSUREs. */
 void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_surface s);
 /* Builds a terrain from an ESRI ASCII grid or an ascii STL written into the test's

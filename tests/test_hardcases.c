@@ -1589,32 +1589,6 @@ TEST(hard_replay_fixed_step_over_a_steep_face_at_the_top_rests)
 
 /* ---- measure lines on the grid's node lines --------------------------------------- */
 
-#define LINE_MAX_EVENTS 4096
-
-/* The crossings and the impacts of a replay with control lines. */
-typedef struct lines_run {
-    rf_interception_record cross[LINE_MAX_EVENTS];
-    size_t ncross;
-    double imp_t[LINE_MAX_EVENTS], imp_e0[LINE_MAX_EVENTS], imp_e1[LINE_MAX_EVENTS];
-    size_t nimp;
-} lines_run;
-
-static void lines_on_cross(void *ctx, const rf_interception_record *c)
-{
-    lines_run *lr = ctx;
-    ENSURE(lr->ncross < LINE_MAX_EVENTS);
-    lr->cross[lr->ncross++] = *c;
-}
-
-static void lines_on_impact(void *ctx, double t, double e0, double e1, double vn)
-{
-    lines_run *lr = ctx;
-    (void)vn;
-    ENSURE(lr->nimp < LINE_MAX_EVENTS);
-    lr->imp_t[lr->nimp] = t, lr->imp_e0[lr->nimp] = e0, lr->imp_e1[lr->nimp] = e1;
-    lr->nimp++;
-}
-
 /* A replay with a control line across the slope on every third node line of the grid:
  * a crossing at the moment of an impact that takes energy (within 1e-9 s) records no
  * less than the impact starts from (more when the lift onto the column's offset plane
@@ -1629,39 +1603,19 @@ static void replay_lines_see_the_rock_before_impacts(unsigned long seed, long it
     rp.sim.contact = RF_CONTACT_CENTRE;
     double xy[40][4];
     rf_measure ms[40];
-    memset(ms, 0, sizeof ms);
     size_t nms = 0;
     for (double x = rp.t.x0 + 3 * rp.t.cell; x < rp.t.xmax - rp.t.cell && nms < 40; x += 3 * rp.t.cell) {
         double *q = xy[nms];
         q[0] = q[2] = rp.t.x0 + round((x - rp.t.x0) / rp.t.cell) * rp.t.cell;
         q[1] = rp.t.ymin - 5.0, q[3] = rp.t.ymax + 5.0;
-        rf_measure *m = &ms[nms++];
-        m->name = "line";
-        m->kind = RF_CONTROL;
-        m->behaviour = RF_COLLECT;
-        m->line.xy = q;
-        m->line.n = 2;
-        m->mel = m->sel = -1.0;
-        for (int s = 0; s < RF_N_LIMIT_STATES; s++)
-            m->capacity[s] = -1.0;
+        ms[nms++] = mt_measure(RF_CONTROL, RF_COLLECT, q, 2, 0.0, 0.0);
     }
-    lines_run *lr = calloc(1, sizeof *lr);
+    mt_scene_run *lr = malloc(sizeof *lr);
     ENSURE(lr != NULL);
-    rf_scene scene = {&rp.t, &rp.sim, NULL, 0, ms, nms};
-    rf_workspace *ws = rf_workspace_alloc(&rp.t);
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    ENSURE(ws != NULL && rng != NULL);
-    gsl_rng_set(rng, rp.seed);
-    rf_sink sink;
-    memset(&sink, 0, sizeof sink);
-    sink.ctx = lr;
-    sink.interception = lines_on_cross;
-    sink.impact = lines_on_impact;
-    rf_trajectory_record rec;
-    rf_simulate(&scene, &rp.b, &rp.s, rng, ws, &sink, &rec);
+    mt_run_scene(&rp.t, &rp.sim, &rp.b, ms, nms, &rp.s, rp.seed, lr);
     int met = 0;
-    for (size_t i = 0; i < lr->ncross; i++) {
-        const rf_interception_record *c = &lr->cross[i];
+    for (int i = 0; i < lr->n; i++) {
+        const rf_interception_record *c = &lr->icpt[i];
         ENSURE_SMALL(c->p.x - xy[c->measure][0], 1e-8);
         for (size_t j = 0; j < lr->nimp; j++) {
             if (fabs(lr->imp_t[j] - c->t_s) > 1e-9 || !(lr->imp_e1[j] < lr->imp_e0[j] * (1.0 - 1e-6)))
@@ -1675,8 +1629,6 @@ static void replay_lines_see_the_rock_before_impacts(unsigned long seed, long it
     }
     ENSURE_MSG(met > 0, "%lu/%ld/%ld: no crossing at an impact", seed, it, k);
     free(lr);
-    gsl_rng_free(rng);
-    rf_workspace_free(ws);
     rf_terrain_free(&rp.t);
 }
 

@@ -14,41 +14,7 @@
 #include "test.h"
 
 #define G RF_GRAVITY
-#define MAX_ICPT 64
-
-/* One trajectory through a scene with measures and what its sink saw. */
-typedef struct icpt_run {
-    rf_trajectory_record rec;
-    rf_interception_record icpt[MAX_ICPT];
-    int n;
-    rf_path_point last;
-    long npoints;
-    double impact_t, impact_e0; /* the first impact's time and energy before it (kJ) */
-} icpt_run;
-
-static void on_interception(void *ctx, const rf_interception_record *r)
-{
-    icpt_run *run = ctx;
-    ENSURE(run->n < MAX_ICPT);
-    run->icpt[run->n++] = *r;
-}
-
-static void on_impact(void *ctx, double t_s, double e0_kj, double e1_kj, double vin)
-{
-    icpt_run *run = ctx;
-    (void)e1_kj, (void)vin;
-    if (run->impact_t < 0) {
-        run->impact_t = t_s;
-        run->impact_e0 = e0_kj;
-    }
-}
-
-static void on_point(void *ctx, const rf_path_point *pt)
-{
-    icpt_run *run = ctx;
-    run->last = *pt;
-    run->npoints++;
-}
+typedef mt_scene_run icpt_run;
 
 static rf_simulation engine_sim(rf_rock_model model, rf_engine_kind engine, double dt)
 {
@@ -64,55 +30,11 @@ static rf_simulation engine_k(rf_rock_model model, int engine)
     return engine_sim(model, engine ? RF_ENGINE_FIXED_STEP : RF_ENGINE_EXACT, 0.001);
 }
 
+/* mt_run_scene with the stream every scene here runs with. */
 static void run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
                       const rf_measure *ms, size_t nms, const rf_state *s, icpt_run *run)
 {
-    memset(run, 0, sizeof *run);
-    run->impact_t = -1.0;
-    rf_scene scene = {t, sim, NULL, 0, ms, nms};
-    rf_workspace *ws = rf_workspace_alloc(t);
-    ENSURE(ws != NULL);
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    ENSURE(rng != NULL);
-    gsl_rng_set(rng, 2385);
-    rf_sink sink;
-    memset(&sink, 0, sizeof sink);
-    sink.ctx = run;
-    sink.interception = on_interception;
-    sink.path_point = on_point;
-    sink.impact = on_impact;
-    rf_simulate(&scene, b, s, rng, ws, &sink, &run->rec);
-    gsl_rng_free(rng);
-    rf_workspace_free(ws);
-}
-
-/* A measure over the polyline xy (n points). */
-static rf_measure measure(rf_measure_kind kind, rf_behaviour behaviour, double *xy, size_t n,
-                          double height, double capacity_kj)
-{
-    rf_measure m;
-    memset(&m, 0, sizeof m);
-    m.name = "m";
-    m.kind = kind;
-    m.behaviour = kind == RF_CONTROL ? RF_COLLECT : behaviour;
-    m.importance = RF_IMPORTANT;
-    m.line.xy = xy;
-    m.line.n = n;
-    m.height = kind == RF_CONTROL ? 0.0 : height;
-    m.mel = m.sel = -1.0;
-    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
-        m.capacity[s] = -1.0;
-    if (kind == RF_BARRIER) {
-        m.mel = capacity_kj;
-        m.sel = capacity_kj / 3.0;
-        m.capacity[RF_SERVICEABILITY] = m.sel;
-        m.capacity[RF_ULTIMATE] = m.mel;
-    } else if (kind == RF_EMBANKMENT) {
-        m.capacity[RF_SERVICEABILITY] = 0.25 * capacity_kj;
-        m.capacity[RF_RESTORABILITY] = 0.5 * capacity_kj;
-        m.capacity[RF_ULTIMATE] = capacity_kj;
-    }
-    return m;
+    mt_run_scene(t, sim, b, ms, nms, s, 2385, run);
 }
 
 static rf_surface surface(double e, double mu, double mu_r)
@@ -173,7 +95,7 @@ TEST(measures_engine_slide_control_eq12)
     rf_terrain t;
     mt_profile(&t, pts, 2, 100.0, surface(0.0, mu, mu));
     double line[] = {xc, -10.0, xc, 110.0};
-    rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
     rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
     rf_state s0 = mt_state(rf_v3(6.35, 47.25, (len - 6.35) * tan(theta)), rf_v3(0, 0, 0));
     const double alpha = sqrt(1.0 - mu / tan(theta));
@@ -218,8 +140,8 @@ TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
     rf_terrain t;
     mt_profile(&t, pts, 3, 100.0, surface(0.0, mu, mu));
     double line[] = {len, -10.0, len, 110.0};
-    rf_measure ms[2] = {measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0),
-                        measure(RF_BARRIER, RF_STOP, line, 2, 2.385, 1e6)};
+    rf_measure ms[2] = {mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0),
+                        mt_measure(RF_BARRIER, RF_STOP, line, 2, 2.385, 1e6)};
     rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
     /* where the line is met on it, the crossing's time and the edge's can round apart
      * either way by a hair: several starts */
@@ -233,11 +155,11 @@ TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
         const rf_interception_record *r = &run.icpt[0];
         ENSURE_SMALL(r->p.x - len, 1e-9);
         ENSURE_SMALL(r->p.z, 1e-9);
-        ENSURE_MSG(run.impact_t >= 0, "start %d: no impact on the flat ground", k);
-        ENSURE_SMALL(r->t_s - run.impact_t, 1e-9);
-        ENSURE_MSG(fabs(r->energy_kj - run.impact_e0) <= 1e-9 * run.impact_e0,
+        ENSURE_MSG(run.nimp > 0, "start %d: no impact on the flat ground", k);
+        ENSURE_SMALL(r->t_s - run.imp_t[0], 1e-9);
+        ENSURE_MSG(fabs(r->energy_kj - run.imp_e0[0]) <= 1e-9 * run.imp_e0[0],
                    "start %d: %.9g kJ at the line, %.9g kJ before the impact", k, r->energy_kj,
-                   run.impact_e0);
+                   run.imp_e0[0]);
         if (!across && !engine) {
             double V = sqrt(1.0 - mu / tan(theta)) * sqrt(2.0 * G * s0.p.z);
             ENSURE_REL(r->speed_ms, V, 1e-6);
@@ -246,7 +168,7 @@ TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
         ENSURE_MSG(run.rec.reason == RF_END_STOPPED && run.icpt[0].outcome == RF_OUT_STOPPED,
                    "start %d: reason %d, outcome %d", k, run.rec.reason, run.icpt[0].outcome);
         ENSURE_SMALL(run.rec.stop.x - len, 1e-9);
-        ENSURE_MSG(run.impact_t < 0, "start %d: an impact at %g s", k, run.impact_t);
+        ENSURE_MSG(run.nimp == 0, "start %d: an impact at %g s", k, run.imp_t[0]);
     }
     rf_terrain_free(&t);
 }
@@ -264,7 +186,7 @@ TEST(measures_engine_line_at_the_foot_of_a_rise_sees_the_rock_before_the_impact)
     rf_terrain t;
     mt_profile(&t, pts, 3, 100.0, surface(0.0, 0.0, 0.0));
     double line[] = {len, -10.0, len, 110.0};
-    rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
     static const struct {
         rf_rock_model model;
         rf_contact_kind contact;
@@ -286,7 +208,7 @@ TEST(measures_engine_line_at_the_foot_of_a_rise_sees_the_rock_before_the_impact)
         const rf_interception_record *ic = &run.icpt[0];
         check_record(ic, &b);
         ENSURE_SMALL(ic->p.x - len, 1e-8);
-        ENSURE_MSG(run.impact_t >= 0 && run.impact_t < ic->t_s + 1e-3, "case %d: no impact on the rise", k);
+        ENSURE_MSG(run.nimp > 0 && run.imp_t[0] < ic->t_s + 1e-3, "case %d: no impact on the rise", k);
         /* a full-contact sphere meets the rise before its centre reaches the line */
         if (sim.model == RF_MODEL_SPHERE && sim.contact == RF_CONTACT_FULL)
             ENSURE(ic->energy_kj < E0 * (1.0 - 1e-6));
@@ -310,7 +232,7 @@ TEST(measures_engine_flight_passing_height)
     rf_terrain t;
     mt_profile(&t, pts, 2, 100.0, surface(0.3, 0.4, 0.1));
     double line[] = {40.0, 20.0, 52.5, 95.0};
-    rf_measure m = measure(RF_BARRIER, RF_COLLECT, line, 2, 4.85, 1.385);
+    rf_measure m = mt_measure(RF_BARRIER, RF_COLLECT, line, 2, 4.85, 1.385);
     rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_SPHERE);
     double x0 = 20.5, y0 = 43.85;
     rf_state s0 = mt_state(rf_v3(x0, y0, z0 - x0 * tan(phi) + b.radius + 31.7),
@@ -456,7 +378,7 @@ TEST(measures_engine_kink_at_60ms)
     for (int big = 0; big < 2; big++) {
         const double sc = big ? 20.0 : 1.0;
         double *line = kinks[big];
-        rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 5, 0.0, 0.0);
+        rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 5, 0.0, 0.0);
         for (size_t k = 0; k < sizeof paths / sizeof *paths; k++) {
             double d = hypot(paths[k].dx, paths[k].dy), dx = paths[k].dx / d, dy = paths[k].dy / d;
             double px = 50.0 + (paths[k].x - 50.0) * sc - 5.0 * dx;
@@ -514,7 +436,7 @@ TEST(measures_engine_path_along_a_segment)
         {{50.0, 50.0, 50.0, 40.0, 80.0, 40.0}, 3, 1.0, 1, 40.0},
     };
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
-        rf_measure m = measure(RF_CONTROL, RF_COLLECT, cases[k].xy, (size_t)cases[k].n, 0.0, 0.0);
+        rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, cases[k].xy, (size_t)cases[k].n, 0.0, 0.0);
         double y0 = cases[k].dir < 0 ? 60.0 : 30.0;
         for (int mode = 0; mode < 4; mode++) {
             icpt_run run;
@@ -568,8 +490,8 @@ TEST(measures_engine_barrier_stops)
     rf_terrain t;
     rf_body b = flat_scene(&t, 0.0, RF_MODEL_POINT);
     double E = slide_energy_kj(&b);
-    rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, E + 12.385),
-                        measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
+    rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, E + 12.385),
+                        mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     rf_state s0 = slide_start();
     for (int engine = 0; engine < 2; engine++) {
         icpt_run run;
@@ -606,8 +528,8 @@ TEST(measures_engine_barrier_break_through_residual)
     rf_state s0 = slide_start();
     for (int collect = 0; collect < 2; collect++) {
         rf_measure ms[2] = {
-            measure(RF_BARRIER, collect ? RF_COLLECT : RF_STOP, barrier_line, 2, 2.385, mel),
-            measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
+            mt_measure(RF_BARRIER, collect ? RF_COLLECT : RF_STOP, barrier_line, 2, 2.385, mel),
+            mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
             icpt_run run;
             run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 2, &s0, 2, &run);
@@ -642,8 +564,8 @@ TEST(measures_engine_rolling_break_through_residual)
     s0.w = rf_v3_scale(rf_v3_cross(rf_v3(0, 0, 1), s0.v), 1.0 / b.radius);
     double E = rf_kinetic_energy(&b, s0.v, s0.w) / 1000.0, mel = 238.5;
     ENSURE(E > mel);
-    rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
-                        measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
+    rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
+                        mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     for (int engine = 0; engine < 2; engine++) {
         icpt_run run;
         run_engine(&t, RF_MODEL_SPHERE, engine, &b, ms, 2, &s0, 2, &run);
@@ -678,8 +600,8 @@ TEST(measures_engine_barrier_overtopped)
     ENSURE(hc > 2.385 && hc < 11.5);
     for (int engine = 0; engine < 2; engine++) {
         rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
-        rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, 12.385),
-                            measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
+        rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, 12.385),
+                            mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         icpt_run run, bare;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         run_scene(&t, &sim, &b, &ms[1], 1, &s0, &bare);
@@ -702,7 +624,7 @@ TEST(measures_engine_barrier_overtopped)
         ENSURE(run.rec.reason == RF_END_EXITED && bare.rec.reason == RF_END_EXITED);
 
         /* a taller barrier of a larger MEL stops the flight at the crossing */
-        ms[0] = measure(RF_BARRIER, RF_STOP, barrier_line, 2, 11.5, Ec + 23.85);
+        ms[0] = mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 11.5, Ec + 23.85);
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         ENSURE_MSG(run.n == 1, "engine %d: %d interceptions", engine, run.n);
         ENSURE(run.icpt[0].outcome == RF_OUT_STOPPED);
@@ -728,9 +650,9 @@ TEST(measures_engine_in_series)
     rf_state s0 = slide_start();
     const double caps[2] = {238.5, 300.0}; /* breaks through / stops */
     for (int k = 0; k < 2; k++) {
-        rf_measure ms[3] = {measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
-                            measure(RF_EMBANKMENT, RF_STOP, emb_line, 3, 4.85, caps[k]),
-                            measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
+        rf_measure ms[3] = {mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
+                            mt_measure(RF_EMBANKMENT, RF_STOP, emb_line, 3, 4.85, caps[k]),
+                            mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
             icpt_run run;
             run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 3, &s0, k == 0 ? 3 : 2, &run);
@@ -755,8 +677,8 @@ TEST(measures_engine_in_series)
      * by the second; one that passes the first is */
     double same[] = {120.0, -5.0, 120.0, 105.0};
     for (int k = 0; k < 2; k++) {
-        rf_measure ms[2] = {measure(RF_BARRIER, RF_STOP, same, 2, 2.385, k ? E - 1.0 : E + 1.0),
-                            measure(RF_CONTROL, RF_COLLECT, same, 2, 0, 0)};
+        rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, same, 2, 2.385, k ? E - 1.0 : E + 1.0),
+                            mt_measure(RF_CONTROL, RF_COLLECT, same, 2, 0, 0)};
         rf_simulation sim = engine_sim(RF_MODEL_POINT, RF_ENGINE_EXACT, 0.001);
         icpt_run run;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
@@ -938,8 +860,8 @@ TEST(measures_engine_line_on_terrain_edge)
     mt_profile(&t, pts, 3, 100.0, surface(0.0, 0.0385, 0.005));
     double line[] = {100.0, -5.0, 100.0, 105.0};
     double diag[] = {-5.0, -5.0, 105.0, 105.0}; /* the diagonal of the first segment's faces */
-    rf_measure ms[2] = {measure(RF_CONTROL, RF_COLLECT, line, 2, 0, 0),
-                        measure(RF_CONTROL, RF_COLLECT, diag, 2, 0, 0)};
+    rf_measure ms[2] = {mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0, 0),
+                        mt_measure(RF_CONTROL, RF_COLLECT, diag, 2, 0, 0)};
     const double slope = 10.0 / 100.0;
     for (int mode = 0; mode < 4 * 6; mode++) {
         rf_rock_model model = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
@@ -985,7 +907,7 @@ TEST(measures_engine_fixed_step_crosses_every_line_once)
     for (int k = 0; k < 400; k++) {
         double x = 10.0 + 0.002 * k;
         double line[4] = {x, 10.0, x, 30.0};
-        rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+        rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
         icpt_run run;
         run_scene(&t, &sim, &b, &m, 1, &s0, &run);
         ENSURE(run.rec.reason == RF_END_EXITED);
@@ -1027,7 +949,7 @@ TEST(measures_engine_exact_curved_path_crosses_every_line_once)
         for (int k = 0; k < 400; k++) {
             double x = 12.0 + 0.0013 * k;
             double line[4] = {x - 40.0 * slant, 0.0, x + 40.0 * slant, 80.0};
-            rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+            rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
             icpt_run run;
             run_scene(&t, &sim, &b, &m, 1, &s0, &run);
             missed += run.n == 0;
@@ -1060,7 +982,7 @@ TEST(measures_engine_back_within_radius_is_one_passage)
     rf_terrain t;
     mt_incline(&t, theta, L, 40.0, surface(0.0, mu, 0.0));
     double line[] = {xc, -5.0, xc, 45.0};
-    rf_measure m = measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
     rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
     const double decel = G * (sin(theta) + mu * cos(theta)); /* sliding up (Eq. 1-2) */
     const double beyond[6] = {0.1, 0.5, 0.8, 1.25, 2.0, 5.0}; /* turning point, in radii */
@@ -1096,7 +1018,7 @@ TEST(measures_engine_max_energy_is_the_stopped_rocks)
     rf_terrain t;
     mt_incline(&t, theta, L, 40.0, surface(0.0, 0.9, mu_r));
     double line[] = {xb, -5.0, xb, 45.0};
-    rf_measure m = measure(RF_BARRIER, RF_STOP, line, 2, 5.0, 1e6);
+    rf_measure m = mt_measure(RF_BARRIER, RF_STOP, line, 2, 5.0, 1e6);
     rf_body b = rf_body_make(1000.0, 2650.0, RF_MODEL_SPHERE);
     rf_state s0 = mt_incline_state(theta, L, x0, 20.0, b.radius, rf_v3(0, 0, 0));
     double dx = xb - (x0 + b.radius * sin(theta)); /* the centre's horizontal travel */
@@ -1133,8 +1055,8 @@ TEST(measures_engine_line_where_the_rock_leaves)
     for (int mode = 0; mode < 16; mode++) {
         rf_rock_model model = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
         int engine = (mode >> 1) & 1, stop = (mode >> 2) & 1, fly = mode >> 3;
-        rf_measure m = stop ? measure(RF_BARRIER, RF_STOP, edge, 2, 8.0, 1e6)
-                            : measure(RF_CONTROL, RF_COLLECT, edge, 2, 0.0, 0.0);
+        rf_measure m = stop ? mt_measure(RF_BARRIER, RF_STOP, edge, 2, 8.0, 1e6)
+                            : mt_measure(RF_CONTROL, RF_COLLECT, edge, 2, 0.0, 0.0);
         rf_body b = rf_body_make(1000.0, 2650.0, model);
         double r = rf_body_contact_radius(&b);
         /* sliding or rolling off the end, or in flight over it (4.9 m lower there) */
