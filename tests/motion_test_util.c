@@ -134,15 +134,26 @@ static void on_sample(void *ctx, rf_vec3 p, double speed, double ekj, double h)
     r->last_sample = p;
 }
 
+/* One trajectory of scene from s into sink and rec, its random stream seeded with seed,
+ * with a workspace of its own (ENSUREs). */
+static void simulate_scene(const rf_scene *scene, const rf_body *b, const rf_state *s,
+                           unsigned long seed, const rf_sink *sink, rf_trajectory_record *rec)
+{
+    rf_workspace *ws = rf_workspace_alloc(scene->terrain);
+    ENSURE(ws != NULL);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    ENSURE(rng != NULL);
+    gsl_rng_set(rng, seed);
+    rf_simulate(scene, b, s, rng, ws, sink, rec);
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+}
+
 void mt_simulate_opts(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
                       const rf_state *s, unsigned long seed, double sample_spacing, mt_run *r)
 {
     memset(r, 0, sizeof *r);
     rf_scene scene = {t, sim, NULL, 0, NULL, 0};
-    rf_workspace *ws = rf_workspace_alloc(t);
-    ENSURE(ws != NULL);
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    gsl_rng_set(rng, seed);
     rf_sink sink;
     memset(&sink, 0, sizeof sink);
     sink.ctx = r;
@@ -152,9 +163,7 @@ void mt_simulate_opts(const rf_terrain *t, const rf_simulation *sim, const rf_bo
         sink.sample = on_sample;
         sink.sample_spacing = sample_spacing;
     }
-    rf_simulate(&scene, b, s, rng, ws, &sink, &r->rec);
-    gsl_rng_free(rng);
-    rf_workspace_free(ws);
+    simulate_scene(&scene, b, s, seed, &sink, &r->rec);
 }
 
 void mt_simulate_t(const rf_terrain *t, rf_rock_model model, double mass,
@@ -337,20 +346,13 @@ void mt_run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_body *
 {
     memset(run, 0, sizeof *run);
     rf_scene scene = {t, sim, NULL, 0, ms, nms};
-    rf_workspace *ws = rf_workspace_alloc(t);
-    ENSURE(ws != NULL);
-    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    ENSURE(rng != NULL);
-    gsl_rng_set(rng, seed);
     rf_sink sink;
     memset(&sink, 0, sizeof sink);
     sink.ctx = run;
     sink.interception = scene_on_interception;
     sink.path_point = scene_on_point;
     sink.impact = scene_on_impact;
-    rf_simulate(&scene, b, s, rng, ws, &sink, &run->rec);
-    gsl_rng_free(rng);
-    rf_workspace_free(ws);
+    simulate_scene(&scene, b, s, seed, &sink, &run->rec);
 }
 
 rf_measure mt_measure(rf_measure_kind kind, rf_behaviour behaviour, double *xy, size_t n,

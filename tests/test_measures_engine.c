@@ -14,7 +14,6 @@
 #include "test.h"
 
 #define G RF_GRAVITY
-typedef mt_scene_run icpt_run;
 
 static rf_simulation engine_sim(rf_rock_model model, rf_engine_kind engine, double dt)
 {
@@ -32,7 +31,7 @@ static rf_simulation engine_k(rf_rock_model model, int engine)
 
 /* mt_run_scene with the stream every scene here runs with. */
 static void run_scene(const rf_terrain *t, const rf_simulation *sim, const rf_body *b,
-                      const rf_measure *ms, size_t nms, const rf_state *s, icpt_run *run)
+                      const rf_measure *ms, size_t nms, const rf_state *s, mt_scene_run *run)
 {
     mt_run_scene(t, sim, b, ms, nms, s, 2385, run);
 }
@@ -58,7 +57,7 @@ static void check_record(const rf_interception_record *r, const rf_body *b)
  * each consistent (check_record). */
 static void run_engine(const rf_terrain *t, rf_rock_model model, int engine, const rf_body *b,
                        const rf_measure *ms, size_t nms, const rf_state *s, int want,
-                       icpt_run *run)
+                       mt_scene_run *run)
 {
     rf_simulation sim = engine_k(model, engine);
     run_scene(t, &sim, b, ms, nms, s, run);
@@ -100,7 +99,7 @@ TEST(measures_engine_slide_control_eq12)
     rf_state s0 = mt_state(rf_v3(6.35, 47.25, (len - 6.35) * tan(theta)), rf_v3(0, 0, 0));
     const double alpha = sqrt(1.0 - mu / tan(theta));
     for (int engine = 0; engine < 2; engine++) {
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_POINT, engine, &b, &m, 1, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
         ENSURE(r->measure == 0 && r->outcome == RF_OUT_PASSED);
@@ -150,7 +149,7 @@ TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
         int across = k % 2, engine = k / 2 % 2;
         rf_vec3 v0 = rf_v3(0, across ? 3.85 : 0.0, 0);
         rf_state s0 = mt_state(rf_v3(6.35, ys[k / 4], (len - 6.35) * tan(theta)), v0);
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_POINT, engine, &b, &ms[0], 1, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
         ENSURE_SMALL(r->p.x - len, 1e-9);
@@ -202,7 +201,7 @@ TEST(measures_engine_line_at_the_foot_of_a_rise_sees_the_rock_before_the_impact)
         double r = rf_body_contact_radius(&b);
         rf_state s0 = mt_state(rf_v3(12.35, 23.85 + 17.0 * (k / 4), r), rf_v3(12.85, 0, 0));
         double E0 = 0.5 * b.mass * rf_v3_norm2(s0.v) / 1000.0;
-        icpt_run run;
+        mt_scene_run run;
         run_scene(&t, &sim, &b, &m, 1, &s0, &run);
         ENSURE_MSG(run.n >= 1, "case %d: no crossing", k);
         const rf_interception_record *ic = &run.icpt[0];
@@ -247,7 +246,7 @@ TEST(measures_engine_flight_passing_height)
     rf_vec3 vc = rf_v3(s0.v.x, s0.v.y, s0.v.z - G * tc);
     double erot = 0.5 * b.inertia * rf_v3_norm2(s0.w) / 1000.0;
     for (int engine = 0; engine < 2; engine++) {
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_SPHERE, engine, &b, &m, 1, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
         /* far above the 4.85 m screen: recorded as an overtopping, the flight unchanged */
@@ -337,7 +336,7 @@ static void line_grounds(rf_terrain *fly, rf_terrain *slide)
  * sliding); 2, fixed steps of 0.01 s (else the exact engine).  Returns the body. */
 static rf_body run_line_mode(const rf_terrain *fly, const rf_terrain *slide, int mode,
                              const rf_measure *m, double px, double py, double dx, double dy,
-                             icpt_run *run)
+                             mt_scene_run *run)
 {
     int flight = mode & 1, fixed = mode >> 1;
     rf_rock_model model = flight ? RF_MODEL_SPHERE : RF_MODEL_POINT;
@@ -384,7 +383,7 @@ TEST(measures_engine_kink_at_60ms)
             double px = 50.0 + (paths[k].x - 50.0) * sc - 5.0 * dx;
             double py = 50.0 + (paths[k].y - 50.0) * sc - 5.0 * dy;
             for (int mode = 0; mode < 4; mode++) {
-                icpt_run run;
+                mt_scene_run run;
                 rf_body b = run_line_mode(&t, &slide_t, mode, &m, px, py, dx, dy, &run);
                 double want_s[8];
                 int nwant = kink_crossings(line, 5, px, py, dx, dy, b.radius, want_s);
@@ -439,7 +438,7 @@ TEST(measures_engine_path_along_a_segment)
         rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, cases[k].xy, (size_t)cases[k].n, 0.0, 0.0);
         double y0 = cases[k].dir < 0 ? 60.0 : 30.0;
         for (int mode = 0; mode < 4; mode++) {
-            icpt_run run;
+            mt_scene_run run;
             rf_body b = run_line_mode(&t, &slide_t, mode, &m, 50.0, y0, 0.0, cases[k].dir, &run);
             ENSURE_MSG(run.n == cases[k].want, "case %zu, %s: %d crossings recorded, %d expected",
                        k, line_modes[mode], run.n, cases[k].want);
@@ -494,7 +493,7 @@ TEST(measures_engine_barrier_stops)
                         mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     rf_state s0 = slide_start();
     for (int engine = 0; engine < 2; engine++) {
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 2, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
         ENSURE(r->measure == 0 && r->outcome == RF_OUT_STOPPED);
@@ -531,7 +530,7 @@ TEST(measures_engine_barrier_break_through_residual)
             mt_measure(RF_BARRIER, collect ? RF_COLLECT : RF_STOP, barrier_line, 2, 2.385, mel),
             mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
-            icpt_run run;
+            mt_scene_run run;
             run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 2, &s0, 2, &run);
             ENSURE(run.icpt[0].measure == 0 && run.icpt[1].measure == 1);
             ENSURE(run.icpt[0].outcome == (collect ? RF_OUT_PASSED : RF_OUT_BROKE_THROUGH));
@@ -567,7 +566,7 @@ TEST(measures_engine_rolling_break_through_residual)
     rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, mel),
                         mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
     for (int engine = 0; engine < 2; engine++) {
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_SPHERE, engine, &b, ms, 2, &s0, 2, &run);
         const rf_interception_record *r0 = &run.icpt[0], *r1 = &run.icpt[1];
         ENSURE(r0->outcome == RF_OUT_BROKE_THROUGH && r1->outcome == RF_OUT_PASSED);
@@ -602,7 +601,7 @@ TEST(measures_engine_barrier_overtopped)
         rf_simulation sim = engine_k(RF_MODEL_POINT, engine);
         rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, barrier_line, 2, 2.385, 12.385),
                             mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
-        icpt_run run, bare;
+        mt_scene_run run, bare;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         run_scene(&t, &sim, &b, &ms[1], 1, &s0, &bare);
         ENSURE_MSG(run.n == 2 && bare.n == 1, "engine %d: %d, %d interceptions", engine, run.n,
@@ -654,7 +653,7 @@ TEST(measures_engine_in_series)
                             mt_measure(RF_EMBANKMENT, RF_STOP, emb_line, 3, 4.85, caps[k]),
                             mt_measure(RF_CONTROL, RF_COLLECT, control_line, 2, 0, 0)};
         for (int engine = 0; engine < 2; engine++) {
-            icpt_run run;
+            mt_scene_run run;
             run_engine(&t, RF_MODEL_POINT, engine, &b, ms, 3, &s0, k == 0 ? 3 : 2, &run);
             for (int i = 0; i < run.n; i++)
                 ENSURE(run.icpt[i].measure == i);
@@ -680,7 +679,7 @@ TEST(measures_engine_in_series)
         rf_measure ms[2] = {mt_measure(RF_BARRIER, RF_STOP, same, 2, 2.385, k ? E - 1.0 : E + 1.0),
                             mt_measure(RF_CONTROL, RF_COLLECT, same, 2, 0, 0)};
         rf_simulation sim = engine_sim(RF_MODEL_POINT, RF_ENGINE_EXACT, 0.001);
-        icpt_run run;
+        mt_scene_run run;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         ENSURE_MSG(run.n == (k ? 2 : 1), "same line, case %d: %d interceptions", k, run.n);
         if (k) {
@@ -873,7 +872,7 @@ TEST(measures_engine_line_on_terrain_edge)
         double nz = 1.0 / sqrt(1.0 + slope * slope);
         rf_state s0 = mt_state(rf_v3(x0 + r * slope * nz, y0, 23.85 - slope * x0 + r * nz),
                                rf_v3(8.5, vy, -8.5 * slope));
-        icpt_run run;
+        mt_scene_run run;
         run_scene(&t, &sim, &b, ms, 2, &s0, &run);
         int n_line = 0, n_diag = 0;
         for (int i = 0; i < run.n; i++) {
@@ -908,7 +907,7 @@ TEST(measures_engine_fixed_step_crosses_every_line_once)
         double x = 10.0 + 0.002 * k;
         double line[4] = {x, 10.0, x, 30.0};
         rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
-        icpt_run run;
+        mt_scene_run run;
         run_scene(&t, &sim, &b, &m, 1, &s0, &run);
         ENSURE(run.rec.reason == RF_END_EXITED);
         missed += run.n == 0;
@@ -950,7 +949,7 @@ TEST(measures_engine_exact_curved_path_crosses_every_line_once)
             double x = 12.0 + 0.0013 * k;
             double line[4] = {x - 40.0 * slant, 0.0, x + 40.0 * slant, 80.0};
             rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
-            icpt_run run;
+            mt_scene_run run;
             run_scene(&t, &sim, &b, &m, 1, &s0, &run);
             missed += run.n == 0;
             twice += run.n > 1;
@@ -994,7 +993,7 @@ TEST(measures_engine_back_within_radius_is_one_passage)
         rf_state s0 = mt_incline_state(theta, L, x0, 20.0, 0.0,
                                        rf_v3(-V * cos(theta), 0.0, V * sin(theta)));
         int want = beyond[k >> 1] < 1.0 ? 1 : 2;
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_POINT, engine, &b, &m, 1, &s0, want, &run);
         for (int i = 0; i < run.n; i++)
             ENSURE_SMALL(run.icpt[i].p.x - xc, 1e-9);
@@ -1024,7 +1023,7 @@ TEST(measures_engine_max_energy_is_the_stopped_rocks)
     double dx = xb - (x0 + b.radius * sin(theta)); /* the centre's horizontal travel */
     double E = b.mass * G * dx * tan(theta) * (1.0 - mu_r / tan(theta)) / 1000.0;
     for (int engine = 0; engine < 2; engine++) {
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, RF_MODEL_SPHERE, engine, &b, &m, 1, &s0, 1, &run);
         const rf_interception_record *r = &run.icpt[0];
         ENSURE(r->outcome == RF_OUT_STOPPED && run.rec.reason == RF_END_STOPPED);
@@ -1062,7 +1061,7 @@ TEST(measures_engine_line_where_the_rock_leaves)
         /* sliding or rolling off the end, or in flight over it (4.9 m lower there) */
         rf_state s0 = fly ? mt_state(rf_v3(40.0, 20.0, 15.0 + r), rf_v3(20.0, 0.0, 0.0))
                           : mt_state(rf_v3(40.0, 20.0, 5.0 + r), rf_v3(8.0, 0.0, 0.0));
-        icpt_run run;
+        mt_scene_run run;
         run_engine(&t, model, engine, &b, &m, 1, &s0, 1, &run);
         ENSURE_SMALL(run.icpt[0].p.x - 60.0, 1e-9);
         ENSURE_MSG(run.icpt[0].outcome == (stop ? RF_OUT_STOPPED : RF_OUT_PASSED), "mode %d: outcome %d, height %g", mode, (int)run.icpt[0].outcome, run.icpt[0].passing_height_m);
