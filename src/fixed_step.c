@@ -170,11 +170,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
     m->s.v = rf_in_plane(m->s.v, n);
     rf_vec3 u = rf_v3(0, 0, 0);
     if (!m->point) {
-        u = rf_slip_of(m, n);
-        if (!m->sup.rolling && rf_v3_norm(u) <= RF_SLIP_EPS) {
-            m->sup.rolling = 1;
-            rf_set_spin(m, n, rf_v3(0, 0, 0));
-        }
+        u = rf_face_slip(m, n);
         if (m->sup.rolling && seg_start) {
             u = rf_v3(0, 0, 0);
             if (!rf_roll_holds(m, n))
@@ -333,10 +329,7 @@ static int crease_step(rf_motion *m, double h)
         }
         if (to < 0)
             return RF_END_EXITED;
-        m->sup.n = 1;
-        m->sup.tri[0] = other;
-        m->sup.tri[1] = -1;
-        m->sup.left = from;
+        rf_crease_ends(m, other, from);
         return -1;
     }
     if (zero) {

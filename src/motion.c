@@ -365,7 +365,7 @@ static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
 }
 
 /* Returns 1 when the rock rests: wedged again where a rescue last found it wedged
- * (centre mode). */
+ * (centre mode), or unable to pay its way out of the terrain (full contact). */
 static int unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
@@ -392,7 +392,7 @@ static int unstall(rf_motion *m)
              * at a node at the bottom of a pit fell back into the pit, gaining the
              * height of the lift, until the rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
-            if (gap > 0 && !rf_centre_pay_lift(m, move)) {
+            if (gap > 0 && !rf_pay_lift(m, move)) {
                 if (m->wedged && rf_v3_norm(rf_v3_sub(m->s.p, m->wedge_p)) <= m->rho) {
                     if (rf_triangle_plane_distance(T, m->s.p) < 0)
                         m->s.p = rf_v3_add(m->s.p, move); /* not under the face */
@@ -406,9 +406,19 @@ static int unstall(rf_motion *m)
                 m->s.w = rf_v3(0, 0, 0);
             }
         } else {
-            double dp = rf_triangle_plane_distance(T, m->s.p);
-            if (dp < m->rho + m->tol_len)
-                m->s.p = rf_v3_madd(m->s.p, m->rho + m->tol_len - dp, T->n);
+            /* out of the feature the free motion took it into, paid from the kinetic
+             * energy.  Pushed onto the offset plane of the face under the centre
+             * instead, a sphere wedged beside a steep face was raised by 0.07 m for
+             * nothing (the plane reaches beyond the face the sphere touches). */
+            rf_contact c;
+            double d = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+            if (c.kind == RF_FEAT_FACE)
+                d = rf_triangle_plane_distance(&t->tri[c.tri], m->s.p);
+            if (d < m->rho + m->tol_len &&
+                !rf_pay_lift(m, rf_v3_scale(c.n, m->rho + m->tol_len - d))) {
+                m->s.p = p0; /* cannot pay its way out: it rests where it was wedged */
+                return 1;
+            }
         }
         double vn = rf_v3_dot(m->s.v, T->n);
         if (vn < 0)

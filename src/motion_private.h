@@ -400,9 +400,9 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
  * gap, along the normal as far as the centre stays over the face's column, and
  * vertical for the rest. */
 rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap);
-/* Centre mode: moves the centre by a lift `move` paid from the kinetic energy; 0 (and
- * nothing changed) when the rock cannot pay it. */
-int rf_centre_pay_lift(rf_motion *m, rf_vec3 move);
+/* Moves the rock by a lift `move` paid from the kinetic energy; 0 (and nothing
+ * changed) when the rock cannot pay it. */
+int rf_pay_lift(rf_motion *m, rf_vec3 move);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);
 /* Centre mode, a rock on one face on edge `edge` of its column (col: its edges), which the
@@ -432,6 +432,13 @@ int rf_surface_holds(const rf_motion *m);
 /* Slip of the sphere's contact point on a face with normal n: u = v + w x (-r n), in
  * the plane. */
 rf_vec3 rf_slip_of(const rf_motion *m, rf_vec3 n);
+/* A sphere's slip on the face of normal n; one whose slip has vanished rolls from then
+ * on (its spin set from the velocity; the slip returned is then 0). */
+rf_vec3 rf_face_slip(rf_motion *m, rf_vec3 n);
+/* A crease ends: the rock goes on on face `on` alone, `left` (-1: none) the face just
+ * left; a sphere that rolled in the crease rolls on only when its spin does not slip
+ * on that face. */
+void rf_crease_ends(rf_motion *m, int32_t on, int32_t left);
 /* Spin from v and the slip u on a face (w . n kept): w_t = n x (v - u) / r; none for
  * the point model.  The state is whole again: its energy is noted. */
 void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u);

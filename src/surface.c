@@ -157,6 +157,16 @@ void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u)
     rf_motion_note_energy(m);
 }
 
+rf_vec3 rf_face_slip(rf_motion *m, rf_vec3 n)
+{
+    rf_vec3 u = rf_slip_of(m, n);
+    if (!m->sup.rolling && rf_v3_norm(u) <= RF_SLIP_EPS) {
+        m->sup.rolling = 1;
+        rf_set_spin(m, n, rf_v3(0, 0, 0));
+        return rf_v3(0, 0, 0);
+    }
+    return u;
+}
 
 int rf_coplanar(const rf_triangle *A, const rf_triangle *B, double tol)
 {
@@ -188,14 +198,9 @@ void rf_support_single(rf_motion *m, int32_t tri, int fresh)
     /* on the offset plane, velocity tangent */
     m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
     m->s.v = rf_in_plane(m->s.v, T->n);
-    if (!m->point) {
-        rf_vec3 u = rf_slip_of(m, T->n);
-        m->sup.rolling = rf_v3_norm(u) <= RF_SLIP_EPS;
-        if (m->sup.rolling)
-            rf_set_spin(m, T->n, rf_v3(0, 0, 0));
-    } else {
-        m->sup.rolling = 0;
-    }
+    m->sup.rolling = 0;
+    if (!m->point)
+        rf_face_slip(m, T->n);
 }
 
 void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1); }
@@ -342,11 +347,11 @@ static double lift_cost(const rf_motion *m, rf_vec3 move)
     return m->body->mass * RF_GRAVITY * move.z;
 }
 
-int rf_centre_pay_lift(rf_motion *m, rf_vec3 move)
+int rf_pay_lift(rf_motion *m, rf_vec3 move)
 {
     double cost = lift_cost(m, move);
     double ke = rf_motion_energy(m);
-    if (!(ke > cost))
+    if (!(ke > cost) || !(ke > 0.0))
         return 0;
     double s = sqrt((ke - cost) / ke);
     m->s.v = rf_v3_scale(m->s.v, s);
@@ -396,7 +401,7 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     const rf_triangle *T = &m->terrain->tri[c->tri];
     double gap;
     rf_vec3 move = rf_centre_lift_move(m, T, &gap);
-    if (!(gap > 0) || rf_centre_pay_lift(m, move))
+    if (!(gap > 0) || rf_pay_lift(m, move))
         return 0;
     /* the border of the face's column the centre is crossing: nearest to it among
      * those it moves in through */
@@ -668,6 +673,22 @@ static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
     return 0.5 * mass * rf_v3_norm2(vp) >= lift_cost(m, rf_v3(0, 0, rf_pivot_rise(m, q, n)));
 }
 
+void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
+{
+    m->sup.n = 1;
+    m->sup.tri[0] = on;
+    m->sup.tri[1] = -1;
+    m->sup.left = left;
+    if (!m->point && m->sup.rolling) {
+        /* the spin it rolled with turned about the bisector of the two normals, and
+         * slips on the face: it slides until the slip vanishes.  Rolled on, the face's
+         * law (w . n kept, the rest from v) made energy: 1.64 kJ on 11.3 kJ in no time
+         * (30/9/1). */
+        m->sup.rolling = 0;
+        rf_face_slip(m, m->terrain->tri[on].n);
+    }
+}
+
 /* The contact point crossed edge `edge` of the support face at the current state. */
 rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
                              rf_vec3 acc)
@@ -690,10 +711,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
          * over the terrain's edge): carry on on the other face */
         if (m->point && try_crease(m, other, to) == 0)
             return RF_SURF_CONTINUE; /* a point moves on along the valley line */
-        m->sup.n = 1;
-        m->sup.tri[0] = other;
-        m->sup.tri[1] = -1;
-        m->sup.left = from;
+        rf_crease_ends(m, other, from);
         return RF_SURF_CONTINUE;
     }
     if (to < 0) {
@@ -1571,14 +1589,8 @@ static rf_surface_end face_step(rf_motion *m)
     m->s.v = rf_in_plane(m->s.v, T->n);
     face_dyn f;
     rf_vec3 u0 = rf_v3(0, 0, 0);
-    if (!m->point) {
-        u0 = rf_slip_of(m, T->n);
-        if (!m->sup.rolling && rf_v3_norm(u0) <= RF_SLIP_EPS) {
-            m->sup.rolling = 1;
-            rf_set_spin(m, T->n, rf_v3(0, 0, 0));
-            u0 = rf_v3(0, 0, 0);
-        }
-    }
+    if (!m->point)
+        u0 = rf_face_slip(m, T->n);
     face_setup(m, T->n, &f);
     if (f.mode == LAW_ROLL) {
         if (!rf_roll_holds(m, T->n)) {
@@ -1613,9 +1625,7 @@ rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr)
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
-        m->sup.tri[0] = m->sup.tri[xA < 0 ? 1 : 0];
-        m->sup.tri[1] = -1;
-        m->sup.n = 1;
+        rf_crease_ends(m, m->sup.tri[xA < 0 ? 1 : 0], -1);
         return RF_CREASE_ENDED;
     }
     double s = rf_v3_dot(m->s.v, l);

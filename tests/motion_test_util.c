@@ -194,6 +194,17 @@ const rf_path_point *mt_first_impact(const mt_run *r)
     return r->n_impacts ? &r->impacts[0] : NULL;
 }
 
+double mt_energy_rise(const mt_run *r, double mass)
+{
+    double mg = mass * RF_GRAVITY, rise = 0.0, low = INFINITY;
+    for (size_t i = 1; i < r->npoints; i++) {
+        double e = 1000.0 * r->points[i].energy_kj + mg * r->points[i].p.z;
+        rise = fmax(rise, e - low);
+        low = fmin(low, e);
+    }
+    return rise;
+}
+
 double mt_terrain_distance(const rf_terrain *t, rf_vec3 p)
 {
     double best = INFINITY;

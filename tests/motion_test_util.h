@@ -109,6 +109,10 @@ void mt_run_free(mt_run *r);
 void mt_rk4(void (*f)(const double *y, double *dy, const void *ctx), const void *ctx, double *y,
             int n, double T, long steps);
 const rf_path_point *mt_first_impact(const mt_run *r);
+/* The most the mechanical energy (kinetic and m g z, J) of a rock of mass `mass` rises
+ * along the path points after the start (where the rock may be put onto the terrain)
+ * above the least it has had; 0 when it never rises. */
+double mt_energy_rise(const mt_run *r, double mass);
 
 /* Smallest distance from p to the terrain (all triangles). */
 double mt_terrain_distance(const rf_terrain *t, rf_vec3 p);
