@@ -90,6 +90,17 @@ static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h, const rf
     return scene;
 }
 
+/* The rock goes on in the direction of the step's velocity ve at the speed of its
+ * time, where the step decides (the piece ended on a feature the velocity of its time
+ * does not meet, and ve does).  Taking ve itself, a piece of no time gained the step's
+ * h a in no time, at every such event: a point mass at a grid node, hopping on and off
+ * its faces, went from 17.1 to 17.8 m/s at one instant (46/1/6). */
+static void take_step_direction(rf_motion *m, rf_vec3 ve)
+{
+    double vl = rf_v3_norm(ve);
+    m->s.v = vl > 0 ? rf_v3_scale(ve, rf_v3_norm(m->s.v) / vl) : ve;
+}
+
 static int flight_step(rf_motion *m, double h)
 {
     const rf_terrain *t = m->terrain;
@@ -137,9 +148,9 @@ static int flight_step(rf_motion *m, double h)
     if (hit) {
         /* the velocity at the contact is v + g t; when that leaves the face but the
          * step's velocity meets it, the rock made a hop shorter than the step and is
-         * back on the face with the step's velocity */
+         * back on the face, in the step's direction */
         if (rf_v3_dot(m->s.v, c.n) >= 0 && rf_v3_dot(ve, c.n) < 0)
-            m->s.v = ve;
+            take_step_direction(m, ve);
         m->flight_ex.n = 0;
         if (rf_scene_at_once(m) >= 0)
             return RF_END_STOPPED;
@@ -244,7 +255,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
          * velocity, which the corner stops (with its own, moving out of the corner
          * along the first wall, it went from one wall to the other at every step) */
         if (run->wall >= 0) /* the edge left over is another (column_exit skips it) */
-            m->s.v = ve;
+            take_step_direction(m, ve);
         int end = rf_wall_meet(m, &col, edge, &run->wall, &run->dir);
         if (end == RF_SURF_REST)
             return RF_END_REST;
@@ -256,11 +267,11 @@ static int face_step(rf_motion *m, double h, face_run *run)
     }
     if (tx <= hs) {
         /* the piece crossed the edge with the step's velocity; when the velocity of
-         * its time does not leave over it (along the edge), the rock leaves with the
-         * step's velocity (else it flew back over the face it left, below its plane) */
+         * its time does not leave over it (along the edge), the rock leaves in the
+         * step's direction (else it flew back over the face it left, below its plane) */
         if (rf_v3_dot(col.m[edge], m->s.v) >= -RF_APPROACH_EPS &&
             rf_v3_dot(col.m[edge], ve) < -RF_APPROACH_EPS)
-            m->s.v = ve;
+            take_step_direction(m, ve);
         int end = leave_face(m, edge, &col, a);
         rf_motion_event(m);
         return end;

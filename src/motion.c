@@ -364,8 +364,35 @@ static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
     return 0;
 }
 
+/* A full-contact sphere: the move that takes it out of the terrain it is in (its
+ * centre within r plus the length tolerance of a feature): along the normal of the
+ * nearest feature, where that leaves it clear of every feature and not under the face
+ * under it; else up its vertical to where it is clear (an edge's normal has no side,
+ * and a centre under a valley line would be pushed deeper).  Zero when it is clear. */
+static rf_vec3 sphere_out(rf_motion *m)
+{
+    const rf_terrain *t = m->terrain;
+    rf_vec3 p = m->s.p;
+    rf_contact c;
+    double d = rf_closest_feature(m, p, m->rho + 1.0, &c);
+    if (c.kind == RF_FEAT_FACE)
+        d = rf_triangle_plane_distance(&t->tri[c.tri], p);
+    if (!(d < m->rho + m->tol_len))
+        return rf_v3(0, 0, 0);
+    rf_vec3 q = rf_v3_madd(p, m->rho + m->tol_len - d, c.n);
+    rf_contact near;
+    int32_t under = rf_terrain_locate(t, q.x, q.y);
+    if (rf_closest_feature(m, q, m->rho + 1.0, &near) < m->rho - m->tol_len || under < 0 ||
+        rf_triangle_plane_distance(&t->tri[under], q) < 0) {
+        q = p;
+        q.z = rf_clear_height(m, p) + m->tol_len;
+    }
+    return rf_v3_sub(q, p);
+}
+
 /* Returns 1 when the rock rests: wedged again where a rescue last found it wedged
- * (centre mode), or unable to pay its way out of the terrain (full contact). */
+ * (centre mode), or too slow to pay its way out of the terrain (a full-contact
+ * sphere). */
 static int unstall(rf_motion *m)
 {
     const rf_terrain *t = m->terrain;
@@ -376,9 +403,11 @@ static int unstall(rf_motion *m)
     int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
+        rf_vec3 n = T->n; /* the velocity into the terrain is taken along it */
         if (m->centre) {
             tri = rf_highest_column(m, tri);
             T = &t->tri[tri];
+            n = T->n;
             double gap;
             /* onto the offset plane of the column now under the centre, as a centre
              * moving over a column is lifted (pushed along the normal, it could end
@@ -405,24 +434,29 @@ static int unstall(rf_motion *m)
                 m->s.v = rf_v3(0, 0, 0);
                 m->s.w = rf_v3(0, 0, 0);
             }
+        } else if (m->point) {
+            double dp = rf_triangle_plane_distance(T, m->s.p);
+            if (dp < m->tol_len)
+                m->s.p = rf_v3_madd(m->s.p, m->tol_len - dp, T->n);
         } else {
-            /* out of the feature the free motion took it into, paid from the kinetic
-             * energy.  Pushed onto the offset plane of the face under the centre
-             * instead, a sphere wedged beside a steep face was raised by 0.07 m for
-             * nothing (the plane reaches beyond the face the sphere touches). */
-            rf_contact c;
-            double d = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
-            if (c.kind == RF_FEAT_FACE)
-                d = rf_triangle_plane_distance(&t->tri[c.tri], m->s.p);
-            if (d < m->rho + m->tol_len &&
-                !rf_pay_lift(m, rf_v3_scale(c.n, m->rho + m->tol_len - d))) {
-                m->s.p = p0; /* cannot pay its way out: it rests where it was wedged */
-                return 1;
+            /* out of the terrain, paid from the kinetic energy.  Pushed onto the offset
+             * plane of the face under the centre instead, a sphere wedged beside a steep
+             * face was raised by 0.07 m for nothing (the plane reaches beyond the face
+             * the sphere touches). */
+            rf_vec3 move = sphere_out(m);
+            if (rf_v3_norm(move) > 0) {
+                if (!rf_pay_lift(m, move)) {
+                    /* too slow to pay its way out: it rests out of the terrain (where
+                     * it was, it could lie under a face) */
+                    m->s.p = rf_v3_add(m->s.p, move);
+                    return 1;
+                }
+                n = rf_v3_unit(move);
             }
         }
-        double vn = rf_v3_dot(m->s.v, T->n);
+        double vn = rf_v3_dot(m->s.v, n);
         if (vn < 0)
-            m->s.v = rf_v3_madd(m->s.v, -vn, T->n);
+            m->s.v = rf_v3_madd(m->s.v, -vn, n);
     }
     m->sup.n = 0;
     m->flight_ex.n = 0;

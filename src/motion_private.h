@@ -401,7 +401,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
  * vertical for the rest. */
 rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap);
 /* Moves the rock by a lift `move` paid from the kinetic energy; 0 (and nothing
- * changed) when the rock cannot pay it. */
+ * changed) when the rock cannot pay it, or has no kinetic energy. */
 int rf_pay_lift(rf_motion *m, rf_vec3 move);
 /* Moves the rock on its support until the next event and handles it. */
 rf_surface_end rf_surface_step(rf_motion *m);

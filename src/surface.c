@@ -680,10 +680,10 @@ void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
     m->sup.tri[1] = -1;
     m->sup.left = left;
     if (!m->point && m->sup.rolling) {
-        /* the spin it rolled with turned about the bisector of the two normals, and
-         * slips on the face: it slides until the slip vanishes.  Rolled on, the face's
-         * law (w . n kept, the rest from v) made energy: 1.64 kJ on 11.3 kJ in no time
-         * (30/9/1). */
+        /* it rolled on the plane of the bisector n_m of the two normals (w = n_m x v /
+         * r), which slips on the face by v (1 - n . n_m): it slides until the slip
+         * vanishes.  Rolled on, the face's law (w . n kept, the rest from v) made
+         * energy: 1.64 kJ on 11.3 kJ in no time (30/9/1). */
         m->sup.rolling = 0;
         rf_face_slip(m, m->terrain->tri[on].n);
     }
@@ -1625,7 +1625,7 @@ rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr)
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
-        rf_crease_ends(m, m->sup.tri[xA < 0 ? 1 : 0], -1);
+        rf_crease_ends(m, m->sup.tri[xA < 0 ? 1 : 0], m->sup.left);
         return RF_CREASE_ENDED;
     }
     double s = rf_v3_dot(m->s.v, l);

@@ -605,11 +605,11 @@ TEST(hard_random_rough_terrain_energy_never_increases)
         ENSURE_MSG(!r.nan_seen, "trajectory %ld: NaN", k);
         ENSURE_MSG(r.energy_gain_kj <= 1e-9 * (1.0 + r.rec.max_energy_kj),
                    "trajectory %ld: energy gain %.3g kJ", k, r.energy_gain_kj);
-        /* nor between events: by less than a rise of 0.1 um (rounding where the rock is
-         * put onto a face); a rolling sphere whose crease ended, or one rescued beside
-         * a steep face, rose by up to 0.7 m g r */
+        /* nor between events, by more than a rise through the touch band (1 um; a rock
+         * is put onto a face within it): spheres rolling on where their crease ended
+         * rose by up to 2.5 m g r (0.18 m), 31 of the 10 000 */
         double rise = mt_energy_rise(&r, b.mass);
-        ENSURE_MSG(rise <= 1e-7 * b.mass * G, "trajectory %ld: mechanical energy rises by %.3g J",
+        ENSURE_MSG(rise <= 1e-6 * b.mass * G, "trajectory %ld: mechanical energy rises by %.3g J",
                    k, rise);
         ENSURE_MSG(r.rec.reason != RF_END_MAX_TIME, "trajectory %ld: max_time (%.3f s, %zu points)",
                    k, r.rec.duration_s, r.npoints);
@@ -1147,7 +1147,8 @@ static void replay_energy_never_rises(unsigned long seed, long it, long k, int r
 {
     replay rp;
     mt_run r;
-    replay_open(seed, it, k, RF_MODEL_SPHERE, &rp, &r);
+    replay_scene(seed, it, k, 0, &rp);
+    replay_run(&rp, 0.0, &r);
     ENSURE(r.npoints > 2);
     double mgr = rp.b.mass * G * rp.b.radius, rise = mt_energy_rise(&r, rp.b.mass);
     ENSURE_MSG(rise <= 1e-9 * mgr, "scene %lu/%ld/%ld: energy rises by %.3g m g r", seed, it, k,
@@ -1157,7 +1158,8 @@ static void replay_energy_never_rises(unsigned long seed, long it, long k, int r
     replay_finish(&rp, &r, seed, it, k);
 }
 
-/* replay_energy_never_rises for a centre-contact replay that ends at rest. */
+/* replay_energy_never_rises for a centre-contact sphere of the exact engine that ends
+ * at rest. */
 static void replay_centre_energy_never_rises(unsigned long seed, long it, long k)
 {
     replay rp;
@@ -1192,6 +1194,19 @@ TEST(hard_replay_full_contact_energy_never_rises)
 {
     replay_energy_never_rises(30, 9, 1, RF_END_REST);
     replay_energy_never_rises(33, 9, 6, RF_END_REST);
+}
+
+/* The fixed-step engine: where a piece ended on a feature that the velocity of its time
+ * does not meet and the step's does (a hop shorter than the step, an edge crossed),
+ * the rock took the step's velocity, h a more than it had; at a piece of no time it
+ * gained that in no time, every time.  A point mass hopping on and off its faces at a
+ * grid node went from 17.1 to 17.8 m/s at one instant (46/1/6: 0.49 m g of energy
+ * from nothing), a centre-contact sphere gained 0.083 m g (46/1/16).  It now goes on
+ * in the step's direction at the speed of its time. */
+TEST(hard_replay_fixed_step_gains_nothing_in_no_time)
+{
+    replay_energy_never_rises(46, 1, 6, RF_END_EXITED);
+    replay_energy_never_rises(46, 1, 16, RF_END_EXITED);
 }
 
 /* Centre contact (the scene's full-contact sphere run in centre contact): reflected off

@@ -390,7 +390,7 @@ TEST(motion_fixed_step_converges_to_exact_on_noto)
     ENSURE_MSG(rf_project_load("projects/noto/noto-3.1-no-trees.yaml", &p, &err) == 0, "%s: %s",
                err.file, err.message);
     enum { N = 200 };
-    const double dts[2] = {2e-4, 5e-2};
+    const double dts[2] = {2e-4, 2e-1};
     static double ee[N], ve[N], ef[N], vf[N];
     noto_trajectories(&p, RF_ENGINE_EXACT, 0.0, N, ee, ve);
     double err_e[2], err_v[2], se_e[2], se_v[2];
@@ -404,7 +404,10 @@ TEST(motion_fixed_step_converges_to_exact_on_noto)
     /* the small step agrees within the Monte Carlo noise (4 standard errors) ... */
     ENSURE_MSG(fabs(err_e[0]) <= 4.0 * se_e[0], "max energy off by %.1f kJ (SE %.1f)", err_e[0], se_e[0]);
     ENSURE_MSG(fabs(err_v[0]) <= 4.0 * se_v[0], "road speed off by %.3f m/s (SE %.3f)", err_v[0], se_v[0]);
-    /* ... and the large one (0.05 s) does not: the error shrinks with the step */
+    /* ... and the large one (0.2 s) does not: the error shrinks with the step.  (At
+     * 0.05 s the road speed was 1.4 m/s and the energy 416 kJ too high only through
+     * the step velocity taken at pieces of no time, energy from nothing; without it
+     * the fixed step's road speed is within the noise of 200 rocks up to 0.1 s.) */
     ENSURE_MSG(fabs(err_e[1]) > 4.0 * se_e[1] && fabs(err_e[1]) > 4.0 * fabs(err_e[0]),
                "max energy: %.1f kJ at dt %g, %.1f kJ at dt %g", err_e[1], dts[1], err_e[0], dts[0]);
     ENSURE_MSG(fabs(err_v[1]) > 4.0 * se_v[1] && fabs(err_v[1]) > 4.0 * fabs(err_v[0]),
