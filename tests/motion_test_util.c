@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "scenes.h"
+#include "fixtures/scenes.h"
 #include "test.h"
 
 void mt_profile(rf_terrain *t, const double *pts, size_t n, double width, rf_surface s)

@@ -4,7 +4,7 @@
  * before the time the search returns, and touches at that time; with no contact
  * returned, it penetrates nothing until it leaves the terrain.  A cull that drops a
  * triangle it should have kept shows as a rock passing through a face. */
-#include "motion_private.h"
+#include "engine/motion_private.h"
 #include "motion_test_util.h"
 #include "test.h"
 

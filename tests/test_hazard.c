@@ -5,10 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hazard.h"
+#include "run/hazard.h"
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
-#include "store.h"
+#include "results/store.h"
 #include "db_test_util.h"
 #include "test.h"
 

@@ -2,7 +2,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "measures.h"
+#include "scene/measures.h"
 #include "test.h"
 
 static rf_measure line_measure(double *xy, size_t n)

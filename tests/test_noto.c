@@ -9,8 +9,8 @@
 
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
-#include "rules.h"
-#include "store.h"
+#include "check/rules.h"
+#include "results/store.h"
 #include "db_test_util.h"
 #include "test.h"
 

@@ -13,7 +13,7 @@
 #include "corpus_test_util.h"
 #include "rockfall/project.h"
 #include "test.h"
-#include "yamldoc.h"
+#include "input/yamldoc.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846

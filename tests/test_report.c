@@ -8,10 +8,10 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "report.h"
+#include "report/report.h"
 #include "rockfall/empirical.h"
 #include "rockfall/records.h"
-#include "store.h"
+#include "results/store.h"
 
 /* ---- a small slope, built by hand ------------------------------------------------ */
 

@@ -9,8 +9,8 @@
 #include <unistd.h>
 
 #include "rockfall/project.h"
-#include "rules.h"
-#include "store.h"
+#include "check/rules.h"
+#include "results/store.h"
 #include "corpus_test_util.h"
 #include "db_test_util.h"
 #include "test.h"

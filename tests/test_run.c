@@ -7,7 +7,7 @@
 
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
-#include "store.h"
+#include "results/store.h"
 #include "db_test_util.h"
 #include "test.h"
 

@@ -15,7 +15,7 @@
 
 #include "rockfall/records.h"
 #include "rockfall/version.h"
-#include "store.h"
+#include "results/store.h"
 
 /* ---- a small project, built by hand ------------------------------------------- */
 

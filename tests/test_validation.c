@@ -10,7 +10,7 @@
 #include "rockfall/project.h"
 #include "rockfall/sim.h"
 #include "test.h"
-#include "validation.h"
+#include "fixtures/field.h"
 
 TEST(validation_quantile_and_ks_by_hand)
 {

@@ -13,13 +13,13 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/sim.h"
-#include "scenes.h"
-#include "store.h"
+#include "fixtures/scenes.h"
+#include "results/store.h"
 #include "db_test_util.h"
 #include "motion_test_util.h"
 #include "test.h"
-#include "util.h"
-#include "vegetation.h"
+#include "base/util.h"
+#include "scene/vegetation.h"
 
 /* ---- scenes and observers ---------------------------------------------------------- */
 

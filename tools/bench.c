@@ -20,8 +20,8 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/sim.h"
-#include "scenes.h"
-#include "util.h"
+#include "fixtures/scenes.h"
+#include "base/util.h"
 
 #define N_STATS 2000      /* trajectories per row for the statistics */
 #define N_REFERENCE 40000 /* trajectories of the converged reference */

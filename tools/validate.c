@@ -25,7 +25,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/sim.h"
-#include "validation.h"
+#include "fixtures/field.h"
 
 #define SD_RESTITUTION 0.05
 #define SD_FRICTION 0.05

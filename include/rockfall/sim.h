@@ -13,11 +13,12 @@
 
 #include <gsl/gsl_rng.h>
 
+#include "rockfall/body.h"
 #include "rockfall/project.h"
 #include "rockfall/records.h"
 #include "rockfall/terrain.h"
+#include "rockfall/units.h"
 
-#define RF_GRAVITY 9.81
 
 /* The static scene a trajectory moves through. */
 typedef struct rf_scene {
@@ -28,17 +29,6 @@ typedef struct rf_scene {
     const rf_measure *measures; /* may be empty */
     size_t nmeasures;
 } rf_scene;
-
-/* The rock: mass, radius and moment of inertia (I = 2/5 m r^2 for the sphere). */
-typedef struct rf_body {
-    double mass, radius, inertia;
-    rf_rock_model model;
-} rf_body;
-
-rf_body rf_body_make(double mass, double density, rf_rock_model model);
-/* How far from the terrain the centre touches it: r for the sphere, 0 for the point
- * mass (Fig. 2, left). */
-double rf_body_contact_radius(const rf_body *b);
 
 /* Kinematic state of the rock's centre. */
 typedef struct rf_state {
@@ -68,9 +58,6 @@ typedef struct rf_sink {
 typedef struct rf_workspace rf_workspace;
 rf_workspace *rf_workspace_alloc(const rf_terrain *t);
 void rf_workspace_free(rf_workspace *ws);
-
-/* Total kinetic energy (J): translational plus rotational. */
-double rf_kinetic_energy(const rf_body *b, rf_vec3 v, rf_vec3 w);
 
 /* Simulates one trajectory from `start` (the centre is placed where the caller says;
  * the caller puts it on or above the ground).  Returns 0; fills out. */

@@ -142,4 +142,11 @@ size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, doubl
  * inside), else 0.  Shared by terrain zones, forests and tests. */
 int rf_point_in_polygon(const double *poly_xy, size_t npoly, double x, double y);
 
+/* The most cells a hazard grid may have (each thread keeps one). */
+#define RF_HAZARD_CELLS_MAX 1e7
+
+/* The hazard grid's columns and rows over the terrain for square cells of `cell` (at
+ * least one each, as numbers: no overflow). */
+void rf_hazard_grid(const rf_terrain *t, double cell, double *nx, double *ny);
+
 #endif

@@ -1,0 +1,42 @@
+/* util.h - small helpers shared by the modules: growing arrays, reading files, cell
+ * ranges. */
+#ifndef ROCKFALL_UTIL_H
+#define ROCKFALL_UTIL_H
+
+#include <math.h>
+#include <stddef.h>
+
+#include "rockfall/error.h"
+
+/* Makes room for at least `need` elements of `elem` bytes in *v (capacity *cap),
+ * doubling; returns 0, or -1 when memory runs out (then *v is unchanged). */
+int rf_grow(void **v, size_t *cap, size_t need, size_t elem);
+
+/* Reads a whole file into a NUL-terminated malloc'd buffer (*len excludes the NUL).
+ * Errors name the file: "cannot open 'PATH': reason", "cannot read ...". */
+int rf_read_file(const char *path, char **text, size_t *len, rf_error *err);
+
+/* qsort comparison of doubles, ascending. */
+int rf_cmp_double(const void *a, const void *b);
+
+/* Seconds on the monotonic clock (for intervals). */
+double rf_now_s(void);
+
+/* Index range [*lo, *hi] of n cells of size `size` from c0 that [a, b] touches; 0 when
+ * none. */
+static inline int rf_cell_range(double a, double b, double c0, double size, size_t n,
+                                size_t *lo, size_t *hi)
+{
+    double fa = floor((a - c0) / size), fb = floor((b - c0) / size);
+    if (!(fb >= 0 && fa <= (double)n - 1))
+        return 0;
+    *lo = fa < 0 ? 0 : (size_t)fa;
+    *hi = fb > (double)n - 1 ? n - 1 : (size_t)fb;
+    return 1;
+}
+
+/* fmin and fmax inline (the other argument when one is NaN) */
+static inline double rf_fmin(double a, double b) { return (a < b || b != b) ? a : b; }
+static inline double rf_fmax(double a, double b) { return (a > b || b != b) ? a : b; }
+
+#endif

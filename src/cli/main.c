@@ -1,0 +1,474 @@
+/* main.c - the rockfall command line: run, check, report, empirical.
+ * Exit status: 0 success (all checks pass), 1 a design check fails, 2 bad usage or
+ * bad input. */
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "rockfall/empirical.h"
+#include "rockfall/montecarlo.h"
+#include "rockfall/project.h"
+#include "rockfall/version.h"
+#include "results/query.h"
+#include "report/report.h"
+#include "check/rules.h"
+#include "results/store.h"
+
+enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_BAD_INPUT = 2 };
+
+static const char USAGE[] =
+    "usage: rockfall COMMAND [OPTIONS]\n"
+    "\n"
+    "Design checks for rockfall protection measures (Masuya et al. 2009).\n"
+    "\n"
+    "commands:\n"
+    "  run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
+    "      simulate the project's releases into a results database\n"
+    "  check results.db [--rules FILE] [--run ID]\n"
+    "      classify every interception (Table 3 limit states) and run the design checks\n"
+    "  report results.db [--run ID] --out DIR\n"
+    "      DIR/index.html with the run's summary\n"
+    "  empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L]\n"
+    "      Eq. 1-2 velocity at the slope foot and the attainment width of Fig. 1b\n"
+    "\n"
+    "  rockfall COMMAND --help   help on one command\n"
+    "  rockfall --version\n"
+    "\n"
+    "exit status: 0 success, 1 a design check fails, 2 bad usage or input\n";
+
+static const char RUN_HELP[] =
+    "usage: rockfall run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
+    "\n"
+    "Loads and validates the project, runs every release's Monte Carlo trajectories\n"
+    "and writes one run (trajectories, sampled paths, interceptions, tree hits, hazard\n"
+    "cells) into the results database, which may already hold other runs.\n"
+    "\n"
+    "  -o, --output FILE   results database (default: results.db)\n"
+    "  --seed N            override the project's seed\n"
+    "  --count N           trajectories per release (overrides the project's counts)\n"
+    "  --threads N         worker threads (default 1; results do not depend on it)\n"
+    "  -q, --quiet         no progress or summary\n";
+
+static const char CHECK_HELP[] =
+    "usage: rockfall check results.db [--rules FILE] [--run ID]\n"
+    "\n"
+    "Classifies every interception of a run (default: the newest complete run) into\n"
+    "the limit states of the rule file, writes the classifications and each measure's\n"
+    "checks into the database (replacing an earlier check of the run) and prints per\n"
+    "measure: the number of interceptions, energy at the 50th, 90th, 95th and 99th\n"
+    "percentiles and maximum, the 95th-percentile passing height, the share per limit\n"
+    "state and each check's verdict.\n"
+    "\n"
+    "  --run ID       the run to check\n"
+    "  --rules FILE   rule file (default: the 'rules:' of the run's project),\n"
+    "                 e.g. rules/table3.yaml\n"
+    "\n"
+    "exit status: 0 every check passes, 1 a check fails, 2 bad usage or input\n";
+
+static const char REPORT_HELP[] =
+    "usage: rockfall report results.db [--run ID] --out DIR\n"
+    "\n"
+    "Writes DIR/index.html: the run, where its trajectories ended and what every\n"
+    "measure saw.\n"
+    "\n"
+    "  --run ID    the run (default: the newest complete run)\n"
+    "  --out DIR   output folder (created when missing)\n";
+
+static const char EMPIRICAL_HELP[] =
+    "usage: rockfall empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L] [--beta DEG]\n"
+    "\n"
+    "Velocity at the foot of an equivalent straight slope, Eq. 1-2:\n"
+    "  V = sqrt(1 - mu / tan(theta)) sqrt(2 g H)\n"
+    "with mu given or taken from Table 2 by slope class (A 0.05, B 0.15, C 0.25, D 0.35),\n"
+    "and the attainment width at the foot (Fig. 1b): lines at beta (default 45 degrees)\n"
+    "to both sides of the fall line from the release, over the horizontal distance L\n"
+    "from the release to the foot (default H / tan(theta)): width = 2 L tan(beta).\n"
+    "\n"
+    "  --height H     vertical drop (m, > 0)\n"
+    "  --slope DEG    average gradient (degrees, 0 < DEG < 90)\n"
+    "  --mu MU        equivalent friction coefficient (>= 0)\n"
+    "  --class C      Table 2 class A, B, C or D instead of --mu\n"
+    "  --distance L   horizontal distance from the release to the foot (m)\n"
+    "  --beta DEG     spreading angle (default 45)\n";
+
+static int usage_error(const char *cmd, const char *fmt, const char *arg)
+{
+    fprintf(stderr, "rockfall%s%s: ", cmd ? " " : "", cmd ? cmd : "");
+    fprintf(stderr, fmt, arg);
+    fprintf(stderr, "\n(rockfall %s%s--help for usage)\n", cmd ? cmd : "", cmd ? " " : "");
+    return EXIT_BAD_INPUT;
+}
+
+/* Parses a whole number in [lo, hi]; returns 0 on success. */
+static int parse_long(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int parse_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+static int wants_help(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h"))
+            return 1;
+    return 0;
+}
+
+/* ---- checks ---------------------------------------------------------------------- */
+
+/* Classifies the run's interceptions, writes and prints its checks: EXIT_OK when all
+ * pass, EXIT_CHECK_FAILED when one fails, EXIT_BAD_INPUT on an error. */
+static int check_run(rf_store *s, int64_t run, const rf_rules *rules, int print)
+{
+    rf_error err;
+    long failed = 0;
+    if (rf_rules_evaluate(rf_store_db(s), run, rules, print ? stdout : NULL, &failed, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    return failed ? EXIT_CHECK_FAILED : EXIT_OK;
+}
+
+/* ---- run ---------------------------------------------------------------------- */
+
+static int cmd_run(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        {"output", required_argument, 0, 'o'}, {"seed", required_argument, 0, 's'},
+        {"count", required_argument, 0, 'c'},  {"threads", required_argument, 0, 't'},
+        {"quiet", no_argument, 0, 'q'},        {0, 0, 0, 0}};
+    const char *out = "results.db";
+    long seed = -1, count = 0, threads = 1;
+    int quiet = 0, c;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "o:q", opts, NULL)) != -1) {
+        switch (c) {
+        case 'o': out = optarg; break;
+        case 's':
+            if (parse_long(optarg, 0, 0x7fffffffffffffffL, &seed))
+                return usage_error("run", "--seed takes a whole number >= 0, got '%s'", optarg);
+            break;
+        case 'c':
+            if (parse_long(optarg, 1, RF_COUNT_MAX, &count))
+                return usage_error("run", "--count takes a whole number >= 1, got '%s'", optarg);
+            break;
+        case 't':
+            if (parse_long(optarg, 1, 256, &threads))
+                return usage_error("run", "--threads takes a whole number 1..256, got '%s'", optarg);
+            break;
+        case 'q': quiet = 1; break;
+        default: return usage_error("run", "%s", "bad option");
+        }
+    }
+    if (optind != argc - 1)
+        return usage_error("run", "%s", "expects exactly one PROJECT.yaml");
+
+    rf_project p;
+    rf_error err;
+    if (rf_project_load(argv[optind], &p, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    if (seed >= 0)
+        p.seed = (uint64_t)seed;
+    if (count > 0)
+        for (size_t i = 0; i < p.nreleases; i++)
+            p.releases[i].count = count;
+
+    /* The project's rules are read before the simulation: a bad rule file costs
+     * nothing. */
+    rf_rules rules = {0};
+    if (p.rules_path && rf_rules_load(p.rules_path, &rules, &err)) {
+        rf_error_print(&err, stderr);
+        rf_project_free(&p);
+        return EXIT_BAD_INPUT;
+    }
+    rf_store *s;
+    if (rf_store_open(out, &s, &err)) {
+        rf_error_print(&err, stderr);
+        rf_rules_free(&rules);
+        rf_project_free(&p);
+        return EXIT_BAD_INPUT;
+    }
+    rf_run_options o = {.threads = (int)threads, .progress = !quiet && isatty(2)};
+    rf_run_summary sum;
+    int rc = rf_montecarlo_run(&p, s, &o, &sum, &err);
+    if (rc) {
+        rf_error_print(&err, stderr);
+    } else if (!quiet) {
+        printf("run %lld of '%s' into %s: %ld trajectories in %.2f s (%.0f per second)\n",
+               (long long)sum.run_id, p.name, out, sum.n_trajectories, sum.seconds,
+               sum.seconds > 0 ? (double)sum.n_trajectories / sum.seconds : 0.0);
+        printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
+               sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
+               sum.by_reason[RF_END_MAX_TIME]);
+    }
+    int status = rc ? EXIT_BAD_INPUT : EXIT_OK;
+    if (rc == 0 && p.rules_path) {
+        if (!quiet)
+            printf("\n");
+        status = check_run(s, sum.run_id, &rules, !quiet);
+    } else if (rc == 0 && p.nmeasures > 0 && !quiet) {
+        rf_query_print_measures(rf_store_db(s), sum.run_id, stdout);
+    }
+    rf_store_close(s);
+    rf_rules_free(&rules);
+    rf_project_free(&p);
+    return status;
+}
+
+/* ---- check and report ----------------------------------------------------------- */
+
+/* The arguments of check and report: "DB [--run ID] [--out DIR | --rules FILE]". */
+typedef struct db_args {
+    const char *db;
+    long run;
+    const char *out, *rules;
+} db_args;
+
+/* Opens the database and resolves the run (the newest complete one by default). */
+static int open_run(const db_args *a, rf_store **s, int64_t *run)
+{
+    rf_error err;
+    if (rf_store_open(a->db, s, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    if (rf_query_resolve_run(rf_store_db(*s), a->run, run, &err)) {
+        rf_error_print(&err, stderr);
+        rf_store_close(*s);
+        return EXIT_BAD_INPUT;
+    }
+    return EXIT_OK;
+}
+
+/* Shared by check and report: parses their arguments into *a.  Returns EXIT_OK or an
+ * exit status. */
+static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int want_out)
+{
+    static const struct option opts[] = {{"run", required_argument, 0, 'r'},
+                                         {"out", required_argument, 0, 'o'},
+                                         {"rules", required_argument, 0, 'R'},
+                                         {0, 0, 0, 0}};
+    memset(a, 0, sizeof *a);
+    a->run = -1;
+    int c;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        switch (c) {
+        case 'r':
+            if (parse_long(optarg, 1, 0x7fffffffffffffffL, &a->run))
+                return usage_error(cmd, "--run takes a run id >= 1, got '%s'", optarg);
+            break;
+        case 'o':
+            if (!want_out)
+                return usage_error(cmd, "%s", "--out is an option of report");
+            a->out = optarg;
+            break;
+        case 'R':
+            if (want_out)
+                return usage_error(cmd, "%s", "--rules is an option of check");
+            a->rules = optarg;
+            break;
+        default: return usage_error(cmd, "%s", "bad option");
+        }
+    }
+    if (optind != argc - 1)
+        return usage_error(cmd, "%s", "expects exactly one results database");
+    a->db = argv[optind];
+    if (want_out && !a->out)
+        return usage_error(cmd, "%s", "--out DIR is required");
+    if (access(a->db, R_OK) != 0) {
+        fprintf(stderr, "%s: error: cannot open results database: %s\n", a->db, strerror(errno));
+        return EXIT_BAD_INPUT;
+    }
+    return EXIT_OK;
+}
+
+/* Runs check or report: their arguments, the database and run opened, then the
+ * command's body on the open database, which is closed whatever the body returns. */
+static int db_command(const char *cmd, int argc, char **argv, int want_out,
+                      int (*body)(const db_args *a, rf_store *s, int64_t run))
+{
+    db_args a;
+    rf_store *s;
+    int64_t run;
+    int rc = parse_db_args(cmd, argc, argv, &a, want_out);
+    if (!rc)
+        rc = open_run(&a, &s, &run);
+    if (rc)
+        return rc;
+    rc = body(&a, s, run);
+    rf_store_close(s);
+    return rc;
+}
+
+static int check_body(const db_args *a, rf_store *s, int64_t run)
+{
+    rf_error err;
+    char *path = NULL;
+    rf_rules rules;
+    if ((!a->rules && rf_rules_path_of_run(rf_store_db(s), run, &path, &err)) ||
+        rf_rules_load(a->rules ? a->rules : path, &rules, &err)) {
+        rf_error_print(&err, stderr);
+        free(path);
+        return EXIT_BAD_INPUT;
+    }
+    int rc = check_run(s, run, &rules, 1);
+    rf_rules_free(&rules);
+    free(path);
+    return rc;
+}
+
+static int cmd_check(int argc, char **argv)
+{
+    return db_command("check", argc, argv, 0, check_body);
+}
+
+static int report_body(const db_args *a, rf_store *s, int64_t run)
+{
+    rf_error err;
+    if (rf_report_write(rf_store_db(s), run, a->out, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    printf("%s/index.html\n", a->out);
+    return EXIT_OK;
+}
+
+static int cmd_report(int argc, char **argv)
+{
+    return db_command("report", argc, argv, 1, report_body);
+}
+
+/* ---- empirical ---------------------------------------------------------------- */
+
+static int cmd_empirical(int argc, char **argv)
+{
+    static const struct option opts[] = {
+        {"height", required_argument, 0, 'H'}, {"slope", required_argument, 0, 'S'},
+        {"mu", required_argument, 0, 'm'},     {"class", required_argument, 0, 'C'},
+        {"distance", required_argument, 0, 'L'}, {"beta", required_argument, 0, 'b'},
+        {0, 0, 0, 0}};
+    double height = NAN, slope = NAN, mu = NAN, distance = NAN, beta = 45.0;
+    char cls = 0;
+    int c;
+    optind = 1;
+    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+        switch (c) {
+        case 'H':
+            if (parse_double(optarg, &height) || height <= 0)
+                return usage_error("empirical", "--height takes a number > 0, got '%s'", optarg);
+            break;
+        case 'S':
+            if (parse_double(optarg, &slope) || slope <= 0 || slope >= 90)
+                return usage_error("empirical", "--slope takes degrees in (0, 90), got '%s'", optarg);
+            break;
+        case 'm':
+            if (parse_double(optarg, &mu) || mu < 0)
+                return usage_error("empirical", "--mu takes a number >= 0, got '%s'", optarg);
+            break;
+        case 'C':
+            if (strlen(optarg) != 1 || rf_table2_friction(optarg[0]) < 0)
+                return usage_error("empirical", "--class takes A, B, C or D, got '%s'", optarg);
+            cls = optarg[0];
+            break;
+        case 'L':
+            if (parse_double(optarg, &distance) || distance <= 0)
+                return usage_error("empirical", "--distance takes a number > 0, got '%s'", optarg);
+            break;
+        case 'b':
+            if (parse_double(optarg, &beta) || beta < 0 || beta >= 90)
+                return usage_error("empirical", "--beta takes degrees in [0, 90), got '%s'", optarg);
+            break;
+        default: return usage_error("empirical", "%s", "bad option");
+        }
+    }
+    if (optind != argc)
+        return usage_error("empirical", "unexpected argument '%s'", argv[optind]);
+    if (isnan(height) || isnan(slope))
+        return usage_error("empirical", "%s", "--height and --slope are required");
+    if (isnan(mu) == !cls)
+        return usage_error("empirical", "%s", "give exactly one of --mu and --class");
+    if (cls)
+        mu = rf_table2_friction(cls);
+    double theta = slope * M_PI / 180.0;
+    if (isnan(distance))
+        distance = height / tan(theta);
+    double alpha = rf_empirical_alpha(mu, theta);
+    double v = rf_empirical_velocity(height, theta, mu);
+    printf("height H            %.1f m\n", height);
+    printf("gradient theta      %.1f deg\n", slope);
+    if (cls)
+        printf("friction mu         %.2f (Table 2 class %c)\n", mu, cls);
+    else
+        printf("friction mu         %.3g\n", mu);
+    printf("alpha (Eq. 2)       %.4f\n", alpha);
+    printf("velocity (Eq. 1)    %.1f m/s\n", v);
+    printf("attainment width    %.1f m (beta %.0f deg to both sides over %.1f m, Fig. 1b)\n",
+           rf_empirical_attainment_width(distance, beta * M_PI / 180.0), beta, distance);
+    if (alpha == 0.0)
+        printf("note: mu >= tan(theta): a sliding rock does not keep moving on this slope\n");
+    return EXIT_OK;
+}
+
+/* The commands with their help texts: `rockfall NAME --help` prints the text. */
+static const struct command {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *help;
+} commands[] = {
+    {"run", cmd_run, RUN_HELP},
+    {"check", cmd_check, CHECK_HELP},
+    {"report", cmd_report, REPORT_HELP},
+    {"empirical", cmd_empirical, EMPIRICAL_HELP},
+};
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fputs(USAGE, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    const char *cmd = argv[1];
+    if (!strcmp(cmd, "--help") || !strcmp(cmd, "-h") || !strcmp(cmd, "help")) {
+        fputs(USAGE, stdout);
+        return EXIT_OK;
+    }
+    if (!strcmp(cmd, "--version")) {
+        printf("rockfall %s\n", ROCKFALL_VERSION);
+        return EXIT_OK;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof *commands; i++) {
+        if (strcmp(cmd, commands[i].name))
+            continue;
+        /* --help anywhere among a command's arguments wins over parsing them */
+        if (wants_help(argc - 1, argv + 1)) {
+            fputs(commands[i].help, stdout);
+            return EXIT_OK;
+        }
+        return commands[i].run(argc - 1, argv + 1);
+    }
+    fprintf(stderr, "rockfall: unknown command '%s'\n\n%s", cmd, USAGE);
+    return EXIT_BAD_INPUT;
+}

@@ -1,0 +1,1041 @@
+/* project.c - the project file (YAML): parse, validate and build at the boundary.
+ *
+ * One pass over the document fills rf_project with defaults and checks every value;
+ * then the terrain is built and each release is placed on it.  Every error names the
+ * file, line and column of the offending YAML node. */
+#include "rockfall/project.h"
+#include "rockfall/body.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "input/yamldoc.h"
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+typedef struct loader {
+    rf_ydoc d;
+    rf_project *p;
+    rf_error *err;
+    rf_ynode **file_nodes;   /* YAML node of each terrain file path */
+    rf_ynode **point_nodes;  /* YAML node of each release point */
+    rf_ynode **line_nodes;   /* YAML node of each measure line */
+    rf_ynode *cell_node;     /* hazard: cell, when given */
+    int rolling_given;       /* the terrain surface sets rolling explicitly */
+} loader;
+
+/* Room for "LIST item N", which names a list item in messages. */
+#define WHAT_SIZE 64
+
+/* Bounds of the rock's radius (trajectories per release: RF_COUNT_MAX; the hazard
+ * map's cells: RF_HAZARD_CELLS_MAX). */
+#define RF_ROCK_RADIUS_MIN 1e-3
+#define RF_ROCK_RADIUS_MAX 100.0
+
+static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", "rocks",
+                                       "releases", "measures", "simulation", "hazard",
+                                       "rules", NULL};
+static const char *const terrain_keys[] = {"dem", "mesh", "profile", "up", "surface",
+                                           "zones", NULL};
+static const char *const profile_keys[] = {"points", "width", NULL};
+static const char *const surface_keys[] = {"restitution", "friction", "rolling", "class",
+                                           NULL};
+static const char *const zone_keys[] = {"name", "polygon", "file", "restitution",
+                                        "friction", "rolling", "class", NULL};
+static const char *const dist_keys[] = {"mean", "sd", NULL};
+static const char *const forest_keys[] = {"name", "polygon", "density", "height", "diameter",
+                                          "restitution", "friction", NULL};
+static const char *const rock_keys[] = {"name", "mass", "density", "action_level", NULL};
+static const char *const release_keys[] = {"name", "point", "rock", "count", "height",
+                                           "velocity", "jitter", NULL};
+static const char *const measure_keys[] = {"name", "kind", "line", "height", "importance",
+                                           "behaviour", "mel", "sel", "capacity", NULL};
+static const char *const simulation_keys[] = {"model", "engine", "dt", "contact",
+                                              "stop_speed", "max_time", "paths", NULL};
+static const char *const hazard_keys[] = {"cell", NULL};
+
+/* A list of named items: its key ("rocks"), an item's kind in messages ("rock"), what
+ * its items are called when it is no sequence, an item's keys, and an item's size and
+ * where it keeps its name. */
+typedef struct item_list {
+    const char *key, *kind, *items;
+    const char *const *keys;
+    size_t size, name_offset;
+} item_list;
+
+static const item_list zone_list = {"zones", "zone", "zones", zone_keys,
+                                    sizeof(rf_zone_spec), offsetof(rf_zone_spec, name)};
+static const item_list forest_list = {"vegetation", "vegetation", "entries", forest_keys,
+                                      sizeof(rf_forest), offsetof(rf_forest, name)};
+static const item_list rock_list = {"rocks", "rock", "entries", rock_keys, sizeof(rf_rock),
+                                    offsetof(rf_rock, name)};
+static const item_list release_list = {"releases", "release", "entries", release_keys,
+                                       sizeof(rf_release), offsetof(rf_release, name)};
+static const item_list measure_list = {"measures", "measure", "entries", measure_keys,
+                                       sizeof(rf_measure), offsetof(rf_measure, name)};
+
+const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1] = {
+    "serviceability", "restorability", "ultimate", "near_collapse", NULL};
+const char *const rf_importance_names[RF_N_IMPORTANCES + 1] = {"most_important", "important",
+                                                               "usual", NULL};
+
+static const char *const kind_names[] = {"barrier", "embankment", "control", NULL};
+static const char *const behaviour_names[] = {"stop", "collect", NULL};
+static const char *const model_names[] = {"sphere", "point", NULL};
+static const char *const engine_names[] = {"exact", "fixed_step", NULL};
+static const char *const contact_names[] = {"full", "centre", NULL};
+static const char *const up_names[] = {"z", "y", NULL};
+static const char *const class_names[] = {"A", "B", "C", "D", NULL};
+
+const char *rf_measure_kind_name(rf_measure_kind k)
+{
+    return (unsigned)k < 3 ? kind_names[k] : "?";
+}
+
+const char *rf_importance_name(rf_importance i)
+{
+    return (unsigned)i < RF_N_IMPORTANCES ? rf_importance_names[i] : "?";
+}
+
+const char *rf_behaviour_name(rf_behaviour b)
+{
+    return (unsigned)b < 2 ? behaviour_names[b] : "?";
+}
+
+const char *rf_limit_state_name(rf_limit_state s)
+{
+    if (s == RF_COLLAPSE)
+        return "collapse";
+    return (unsigned)s < RF_N_LIMIT_STATES ? rf_limit_state_names[s] : "?";
+}
+
+/* ---- helpers ----------------------------------------------------------------- */
+
+static int oom(loader *L)
+{
+    return rf_error_set(L->err, L->d.file, 0, 0, "out of memory");
+}
+
+/* A path from the project file, relative to the project file's directory. */
+static char *resolve(const char *dir, const char *rel)
+{
+    if (rel[0] == '/' || !strcmp(dir, "."))
+        return strdup(rel);
+    size_t n = strlen(dir) + strlen(rel) + 2;
+    char *s = malloc(n);
+    if (s)
+        snprintf(s, n, "%s/%s", dir, rel);
+    return s;
+}
+
+/* 1 when path names a regular file that opens for reading; otherwise 0, why set (a
+ * directory or a pipe opens too, but is no file to read). */
+static int readable(const char *path, char *why, size_t size)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        snprintf(why, size, "%s", S_ISDIR(st.st_mode) ? strerror(EISDIR) : "not a regular file");
+        return 0;
+    }
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(why, size, "%s", strerror(errno));
+        return 0;
+    }
+    fclose(f);
+    return 1;
+}
+
+/* The required non-empty string under "name", copied. */
+static int read_name(loader *L, const rf_ynode *map, const char *what, char **out)
+{
+    rf_ynode *n;
+    const char *s = NULL;
+    if (rf_ydoc_require(&L->d, map, "name", what, &n, L->err) ||
+        rf_ydoc_string(&L->d, n, "name", &s, L->err))
+        return -1;
+    *out = strdup(s);
+    return *out ? 0 : oom(L);
+}
+
+/* The name of item i of a list's array. */
+static char **item_name(const item_list *list, void *array, size_t i)
+{
+    return (char **)((char *)array + i * list->size + list->name_offset);
+}
+
+/* Starts item i of a list: a mapping with only the list's keys and a name no earlier
+ * item has.  *count becomes i + 1 once the item holds its name, so that freeing the
+ * project frees it.  `what` gets "LIST item N", which names the item in its other
+ * messages. */
+static int read_item(loader *L, const rf_ynode *n, size_t i, const item_list *list,
+                     void *array, size_t *count, char what[WHAT_SIZE])
+{
+    char **name = item_name(list, array, i);
+    snprintf(what, WHAT_SIZE, "%s item %zu", list->key, i + 1);
+    if (rf_ydoc_mapping_of(&L->d, n, list->keys, what, L->err) || read_name(L, n, what, name))
+        return -1;
+    *count = i + 1;
+    for (size_t j = 0; j < i; j++) {
+        const char *other = *item_name(list, array, j);
+        if (other && !strcmp(other, *name))
+            return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, n, "name"), L->err,
+                                 "duplicate %s name '%s' (%s item %zu has it too)", list->kind,
+                                 *name, list->key, j + 1);
+    }
+    return 0;
+}
+
+/* The list under its key in `parent` (a sequence; at least one item when required) into
+ * a new *array of *count items: read_item starts each, then item(L, node, i, what)
+ * reads the rest. */
+static int read_list(loader *L, const rf_ynode *parent, const item_list *list, int required,
+                     void **array, size_t *count,
+                     int (*item)(loader *, const rf_ynode *, size_t, const char *))
+{
+    rf_ynode *n = rf_ydoc_get(&L->d, parent, list->key);
+    if (!n) {
+        if (required)
+            return rf_ydoc_error(&L->d, parent, L->err,
+                                 "missing required key '%s' in the project file", list->key);
+        return 0;
+    }
+    if (rf_ydoc_sequence(&L->d, n, list->key, required ? 1 : 0, list->items, L->err))
+        return -1;
+    size_t size = rf_ydoc_seq_size(n);
+    if (!size)
+        return 0;
+    *array = calloc(size, list->size);
+    if (!*array)
+        return oom(L);
+    for (size_t i = 0; i < size; i++) {
+        rf_ynode *node = rf_ydoc_seq_item(&L->d, n, i);
+        char what[WHAT_SIZE];
+        if (read_item(L, node, i, list, *array, count, what) || item(L, node, i, what))
+            return -1;
+    }
+    return 0;
+}
+
+/* A DIST: {mean: number, sd: number >= 0} or a plain number (sd 0). */
+static int read_dist(loader *L, const rf_ynode *n, const char *key, rf_yrange mean_range,
+                     rf_dist *out)
+{
+    char k[64];
+    if (n->type == YAML_SCALAR_NODE) {
+        out->sd = 0.0;
+        return rf_ydoc_number(&L->d, n, key, mean_range, &out->mean, L->err);
+    }
+    if (n->type != YAML_MAPPING_NODE) {
+        char got[64];
+        return rf_ydoc_error(&L->d, n, L->err,
+                             "'%s' must be a number or a mapping {mean, sd}, got %s", key,
+                             rf_ydoc_describe(n, got, sizeof got));
+    }
+    snprintf(k, sizeof k, "'%s'", key);
+    rf_ynode *mean;
+    if (rf_ydoc_check_keys(&L->d, n, dist_keys, k, L->err) ||
+        rf_ydoc_require(&L->d, n, "mean", k, &mean, L->err))
+        return -1;
+    snprintf(k, sizeof k, "%s.mean", key);
+    if (rf_ydoc_number(&L->d, mean, k, mean_range, &out->mean, L->err))
+        return -1;
+    out->sd = 0.0;
+    snprintf(k, sizeof k, "%s.sd", key);
+    rf_ynode *sd = rf_ydoc_get(&L->d, n, "sd");
+    return sd ? rf_ydoc_number(&L->d, sd, k, RF_YR_NONNEG, &out->sd, L->err) : 0;
+}
+
+static int opt_dist(loader *L, const rf_ynode *map, const char *key, rf_yrange mean_range,
+                    rf_dist *out)
+{
+    rf_ynode *n = rf_ydoc_get(&L->d, map, key);
+    return n ? read_dist(L, n, key, mean_range, out) : 0;
+}
+
+/* [a, b, ...]: exactly `dims` numbers. */
+static int read_tuple(loader *L, const rf_ynode *n, const char *key, size_t dims,
+                      const char *shape, double *out)
+{
+    char got[64];
+    if (n->type != YAML_SEQUENCE_NODE)
+        return rf_ydoc_error(&L->d, n, L->err, "'%s' must be %s, got %s", key, shape,
+                             rf_ydoc_describe(n, got, sizeof got));
+    size_t size = rf_ydoc_seq_size(n);
+    if (size != dims)
+        return rf_ydoc_error(&L->d, n, L->err, "'%s' must be %s (%zu numbers), got %zu", key,
+                             shape, dims, size);
+    for (size_t i = 0; i < dims; i++)
+        if (rf_ydoc_number(&L->d, rf_ydoc_seq_item(&L->d, n, i), key, RF_YR_ANY, &out[i],
+                           L->err))
+            return -1;
+    return 0;
+}
+
+/* [[x, y], ...] with at least min_points points; *xy is allocated. */
+static int read_points(loader *L, const rf_ynode *n, const char *key, size_t min_points,
+                       double **xy, size_t *count)
+{
+    if (rf_ydoc_sequence(&L->d, n, key, min_points, "points [x, y]", L->err))
+        return -1;
+    size_t np = rf_ydoc_seq_size(n);
+    double *v = malloc(2 * np * sizeof *v);
+    if (!v)
+        return oom(L);
+    for (size_t i = 0; i < np; i++) {
+        if (read_tuple(L, rf_ydoc_seq_item(&L->d, n, i), key, 2, "a list of points [x, y]",
+                       v + 2 * i)) {
+            free(v);
+            return -1;
+        }
+    }
+    *xy = v;
+    *count = np;
+    return 0;
+}
+
+static int read_polyline(loader *L, const rf_ynode *n, const char *key, size_t min_points,
+                         rf_polyline *out)
+{
+    return read_points(L, n, key, min_points, &out->xy, &out->n);
+}
+
+/* restitution / friction / rolling / class of a surface; absent values keep `base`.
+ * rolling defaults to this surface's friction unless `inherit_rolling` is set. */
+static int read_surface(loader *L, const rf_ynode *map, const rf_surface *base,
+                        int inherit_rolling, rf_surface *out, int *rolling_given)
+{
+    *out = *base;
+    rf_ynode *cls = rf_ydoc_get(&L->d, map, "class");
+    rf_ynode *friction = rf_ydoc_get(&L->d, map, "friction");
+    rf_ynode *rolling = rf_ydoc_get(&L->d, map, "rolling");
+    if (opt_dist(L, map, "restitution", RF_YR_UNIT, &out->restitution))
+        return -1;
+    if (friction && read_dist(L, friction, "friction", RF_YR_NONNEG, &out->friction))
+        return -1;
+    if (cls) {
+        int c;
+        if (rf_ydoc_enum(&L->d, cls, "class", class_names, &c, L->err))
+            return -1;
+        if (friction)
+            return rf_ydoc_error(&L->d, cls, L->err,
+                                 "'class' sets the friction from Table 2 and cannot be "
+                                 "given together with 'friction'");
+        out->friction = rf_table2_friction_dist((char)('A' + c));
+    }
+    if (rolling) {
+        if (read_dist(L, rolling, "rolling", RF_YR_NONNEG, &out->rolling))
+            return -1;
+    } else if (!inherit_rolling) {
+        out->rolling = out->friction;
+    }
+    if (rolling_given)
+        *rolling_given = rolling != NULL;
+    return 0;
+}
+
+/* ---- terrain ----------------------------------------------------------------- */
+
+static int add_file(loader *L, rf_ynode *n)
+{
+    rf_terrain_spec *s = &L->p->terrain_spec;
+    const char *path = NULL;
+    if (rf_ydoc_string(&L->d, n, s->source == RF_TERRAIN_DEM ? "dem" : "mesh", &path, L->err))
+        return -1;
+    char *resolved = resolve(L->p->dir, path);
+    if (!resolved)
+        return oom(L);
+    s->files[s->nfiles] = resolved;
+    L->file_nodes[s->nfiles] = n;
+    s->nfiles++;
+    char why[256];
+    if (!readable(resolved, why, sizeof why))
+        return rf_ydoc_error(&L->d, n, L->err, "cannot open terrain file '%s': %s", resolved,
+                             why);
+    return 0;
+}
+
+static int read_profile(loader *L, const rf_ynode *n)
+{
+    rf_terrain_spec *s = &L->p->terrain_spec;
+    rf_ynode *points, *width;
+    if (rf_ydoc_mapping_of(&L->d, n, profile_keys, "'profile'", L->err) ||
+        rf_ydoc_require(&L->d, n, "points", "'profile'", &points, L->err) ||
+        rf_ydoc_require(&L->d, n, "width", "'profile'", &width, L->err))
+        return -1;
+    if (read_points(L, points, "points", 2, &s->profile, &s->nprofile))
+        return -1;
+    for (size_t i = 1; i < s->nprofile; i++) {
+        if (!(s->profile[2 * i] > s->profile[2 * (i - 1)]))
+            return rf_ydoc_error(&L->d, rf_ydoc_seq_item(&L->d, points, i), L->err,
+                                 "profile 'points' must have strictly increasing distances; "
+                                 "point %zu has distance %g after %g",
+                                 i + 1, s->profile[2 * i], s->profile[2 * (i - 1)]);
+    }
+    return rf_ydoc_number(&L->d, width, "width", RF_YR_POSITIVE, &s->width, L->err);
+}
+
+static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *what)
+{
+    rf_terrain_spec *s = &L->p->terrain_spec;
+    rf_zone_spec *z = &s->zones[index];
+    rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
+    rf_ynode *file = rf_ydoc_get(&L->d, n, "file");
+    if (polygon && file)
+        return rf_ydoc_error(&L->d, file, L->err,
+                             "a zone has either 'polygon' or 'file', not both");
+    if (!polygon && !file)
+        return rf_ydoc_error(&L->d, n, L->err, "%s needs 'polygon' or 'file'", what);
+    if (polygon && read_points(L, polygon, "polygon", 3, &z->poly_xy, &z->npoly))
+        return -1;
+    if (file) {
+        const char *path = NULL;
+        if (rf_ydoc_string(&L->d, file, "file", &path, L->err))
+            return -1;
+        if (s->source != RF_TERRAIN_MESH)
+            return rf_ydoc_error(&L->d, file, L->err,
+                                 "a zone 'file' needs a 'mesh' terrain; use 'polygon' here");
+        z->file = resolve(L->p->dir, path);
+        if (!z->file)
+            return oom(L);
+        int found = 0;
+        for (size_t k = 0; k < s->nfiles && !found; k++)
+            found = !strcmp(s->files[k], z->file);
+        if (!found)
+            return rf_ydoc_error(&L->d, file, L->err,
+                                 "zone 'file' must be one of the terrain's 'mesh' files, got "
+                                 "'%s'",
+                                 path);
+    }
+    return read_surface(L, n, &s->surface, L->rolling_given, &z->surface, NULL);
+}
+
+static int read_terrain(loader *L, const rf_ynode *n)
+{
+    rf_terrain_spec *s = &L->p->terrain_spec;
+    if (rf_ydoc_mapping_of(&L->d, n, terrain_keys, "'terrain'", L->err))
+        return -1;
+    rf_ynode *source = NULL;
+    const char *source_key = NULL;
+    size_t npairs = rf_ydoc_map_size(n);
+    for (size_t i = 0; i < npairs; i++) {
+        rf_ynode *k = rf_ydoc_map_key(&L->d, n, i);
+        const char *key = (const char *)k->data.scalar.value;
+        if (strcmp(key, "dem") && strcmp(key, "mesh") && strcmp(key, "profile"))
+            continue;
+        if (source)
+            return rf_ydoc_error(&L->d, k, L->err,
+                                 "'terrain' has both '%s' and '%s'; give exactly one of "
+                                 "'dem', 'mesh' or 'profile'",
+                                 source_key, key);
+        source = rf_ydoc_map_value(&L->d, n, i);
+        source_key = key;
+    }
+    if (!source)
+        return rf_ydoc_error(&L->d, n, L->err,
+                             "'terrain' needs one of 'dem', 'mesh' or 'profile'");
+
+    s->up = 'z';
+    rf_ynode *up = rf_ydoc_get(&L->d, n, "up");
+    if (up) {
+        int u;
+        if (rf_ydoc_enum(&L->d, up, "up", up_names, &u, L->err))
+            return -1;
+        if (strcmp(source_key, "mesh"))
+            return rf_ydoc_error(&L->d, up, L->err, "'up' applies to 'mesh' terrains only");
+        s->up = u ? 'y' : 'z';
+    }
+
+    if (!strcmp(source_key, "profile")) {
+        s->source = RF_TERRAIN_PROFILE;
+        if (read_profile(L, source))
+            return -1;
+    } else {
+        s->source = !strcmp(source_key, "dem") ? RF_TERRAIN_DEM : RF_TERRAIN_MESH;
+        size_t count = 1;
+        if (source->type == YAML_SEQUENCE_NODE) {
+            if (s->source == RF_TERRAIN_DEM)
+                return rf_ydoc_error(&L->d, source, L->err,
+                                     "'dem' must be one file path, got a sequence");
+            if (rf_ydoc_sequence(&L->d, source, "mesh", 1, "file paths", L->err))
+                return -1;
+            count = rf_ydoc_seq_size(source);
+        }
+        s->files = calloc(count, sizeof *s->files);
+        L->file_nodes = calloc(count, sizeof *L->file_nodes);
+        if (!s->files || !L->file_nodes)
+            return oom(L);
+        for (size_t i = 0; i < count; i++)
+            if (add_file(L, source->type == YAML_SEQUENCE_NODE
+                                ? rf_ydoc_seq_item(&L->d, source, i)
+                                : source))
+                return -1;
+    }
+
+    rf_surface base = {{0.3, 0.0}, {0.3, 0.0}, {0.3, 0.0}};
+    rf_ynode *surface = rf_ydoc_get(&L->d, n, "surface");
+    s->surface = base;
+    if (surface) {
+        if (rf_ydoc_mapping_of(&L->d, surface, surface_keys, "'surface'", L->err) ||
+            read_surface(L, surface, &base, 0, &s->surface, &L->rolling_given))
+            return -1;
+    }
+
+    return read_list(L, n, &zone_list, 0, (void **)&s->zones, &s->nzones, read_zone);
+}
+
+/* ---- vegetation, rocks, releases --------------------------------------------- */
+
+static int read_forest(loader *L, const rf_ynode *n, size_t i, const char *what)
+{
+    rf_forest *f = &L->p->forests[i];
+    f->restitution = (rf_dist){0.2, 0.0};
+    f->friction = (rf_dist){0.3, 0.0};
+    rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
+    if (polygon && read_polyline(L, polygon, "polygon", 3, &f->polygon))
+        return -1;
+    rf_ynode *density, *height, *diameter;
+    if (rf_ydoc_require(&L->d, n, "density", what, &density, L->err) ||
+        rf_ydoc_require(&L->d, n, "height", what, &height, L->err) ||
+        rf_ydoc_require(&L->d, n, "diameter", what, &diameter, L->err))
+        return -1;
+    if (rf_ydoc_number(&L->d, density, "density", RF_YR_NONNEG, &f->density, L->err) ||
+        read_dist(L, height, "height", RF_YR_POSITIVE, &f->height) ||
+        rf_ydoc_number(&L->d, diameter, "diameter", RF_YR_POSITIVE, &f->diameter, L->err) ||
+        opt_dist(L, n, "restitution", RF_YR_UNIT, &f->restitution) ||
+        opt_dist(L, n, "friction", RF_YR_NONNEG, &f->friction))
+        return -1;
+    return 0;
+}
+
+static int read_rock(loader *L, const rf_ynode *n, size_t i, const char *what)
+{
+    rf_rock *r = &L->p->rocks[i];
+    rf_ynode *mass;
+    long long level = 2;
+    r->density = 2650.0;
+    if (rf_ydoc_require(&L->d, n, "mass", what, &mass, L->err) ||
+        rf_ydoc_number(&L->d, mass, "mass", RF_YR_POSITIVE, &r->mass, L->err) ||
+        rf_ydoc_opt_number(&L->d, n, "density", RF_YR_POSITIVE, &r->density, L->err) ||
+        rf_ydoc_opt_integer(&L->d, n, "action_level", RF_YR_BETWEEN(1, 3), &level, L->err))
+        return -1;
+    r->action_level = (int)level;
+    r->radius = rf_body_make(r->mass, r->density, RF_MODEL_SPHERE).radius;
+    if (!(r->radius >= RF_ROCK_RADIUS_MIN && r->radius <= RF_ROCK_RADIUS_MAX))
+        return rf_ydoc_error(&L->d, mass, L->err,
+                             "'mass' and 'density' give a rock of radius %g m; it must be "
+                             "%g to %g m",
+                             r->radius, RF_ROCK_RADIUS_MIN, RF_ROCK_RADIUS_MAX);
+    return 0;
+}
+
+static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what)
+{
+    rf_project *p = L->p;
+    rf_release *r = &p->releases[i];
+    rf_ynode *point, *rock;
+    const char *rock_name = NULL;
+    double xy[2];
+    if (rf_ydoc_require(&L->d, n, "point", what, &point, L->err) ||
+        read_tuple(L, point, "point", 2, "a point [x, y]", xy) ||
+        rf_ydoc_require(&L->d, n, "rock", what, &rock, L->err) ||
+        rf_ydoc_string(&L->d, rock, "rock", &rock_name, L->err))
+        return -1;
+    r->x = xy[0];
+    r->y = xy[1];
+    L->point_nodes[i] = point;
+    r->rock = -1;
+    for (size_t k = 0; k < p->nrocks; k++)
+        if (!strcmp(p->rocks[k].name, rock_name))
+            r->rock = (int)k;
+    if (r->rock < 0) {
+        char names[512] = "";
+        size_t used = 0;
+        for (size_t k = 0; k < p->nrocks && used < sizeof names; k++) {
+            int w = snprintf(names + used, sizeof names - used, "%s%s", k ? ", " : "",
+                             p->rocks[k].name);
+            if (w < 0)
+                break;
+            used += (size_t)w;
+        }
+        return rf_ydoc_error(&L->d, rock, L->err,
+                             "'rock' must name a rock defined under 'rocks' (%s); got %s",
+                             names, rock_name);
+    }
+    long long count = 1;
+    r->velocity = rf_v3(0.0, 0.0, 0.0);
+    if (rf_ydoc_opt_integer(&L->d, n, "count", RF_YR_BETWEEN(1, RF_COUNT_MAX), &count, L->err) ||
+        rf_ydoc_opt_number(&L->d, n, "height", RF_YR_NONNEG, &r->height, L->err) ||
+        rf_ydoc_opt_number(&L->d, n, "jitter", RF_YR_NONNEG, &r->jitter, L->err))
+        return -1;
+    r->count = (long)count;
+    rf_ynode *velocity = rf_ydoc_get(&L->d, n, "velocity");
+    if (velocity) {
+        double v[3];
+        if (read_tuple(L, velocity, "velocity", 3, "a vector [vx, vy, vz]", v))
+            return -1;
+        r->velocity = rf_v3(v[0], v[1], v[2]);
+    }
+    return 0;
+}
+
+/* ---- measures ---------------------------------------------------------------- */
+
+static int not_for(loader *L, const rf_ynode *map, const char *key, const char *kind)
+{
+    rf_ynode *k = NULL;
+    size_t n = rf_ydoc_map_size(map);
+    for (size_t i = 0; i < n && !k; i++) {
+        rf_ynode *key_node = rf_ydoc_map_key(&L->d, map, i);
+        if (!strcmp((const char *)key_node->data.scalar.value, key))
+            k = key_node;
+    }
+    if (!k)
+        return 0;
+    return rf_ydoc_error(&L->d, k, L->err, "'%s' is not allowed on %s", key, kind);
+}
+
+static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode **nodes)
+{
+    rf_ynode *cap = rf_ydoc_get(&L->d, map, "capacity");
+    if (!cap) {
+        if (m->kind == RF_EMBANKMENT)
+            return rf_ydoc_error(&L->d, map, L->err,
+                                 "missing required key 'capacity' in measure '%s' (an "
+                                 "embankment needs its capacity in kJ per limit state)",
+                                 m->name);
+        return 0;
+    }
+    if (rf_ydoc_mapping_of(&L->d, cap, rf_limit_state_names, "'capacity'", L->err))
+        return -1;
+    if (rf_ydoc_map_size(cap) == 0)
+        return rf_ydoc_error(&L->d, cap, L->err,
+                             "'capacity' must give at least one of serviceability, "
+                             "restorability, ultimate, near_collapse (kJ)");
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
+        rf_ynode *v = rf_ydoc_get(&L->d, cap, rf_limit_state_names[s]);
+        if (!v)
+            continue;
+        if (m->kind == RF_BARRIER && (s == RF_SERVICEABILITY || s == RF_ULTIMATE))
+            return rf_ydoc_error(&L->d, v, L->err,
+                                 "a barrier's %s capacity comes from '%s'; remove it from "
+                                 "'capacity'",
+                                 rf_limit_state_names[s], s == RF_ULTIMATE ? "mel" : "sel");
+        if (m->kind == RF_BARRIER && s == RF_NEAR_COLLAPSE)
+            return rf_ydoc_error(&L->d, v, L->err,
+                                 "a barrier's last limit state is its MEL (ultimate); "
+                                 "'near_collapse' is for embankments");
+        if (rf_ydoc_number(&L->d, v, rf_limit_state_names[s], RF_YR_POSITIVE, &m->capacity[s],
+                           L->err))
+            return -1;
+        nodes[s] = v;
+    }
+    return 0;
+}
+
+static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what)
+{
+    rf_measure *m = &L->p->measures[i];
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+        m->capacity[s] = -1.0;
+    m->mel = m->sel = -1.0;
+    rf_ynode *kind, *line;
+    int k;
+    if (rf_ydoc_require(&L->d, n, "kind", what, &kind, L->err) ||
+        rf_ydoc_enum(&L->d, kind, "kind", kind_names, &k, L->err) ||
+        rf_ydoc_require(&L->d, n, "line", what, &line, L->err) ||
+        read_polyline(L, line, "line", 2, &m->line))
+        return -1;
+    L->line_nodes[i] = line;
+    m->kind = (rf_measure_kind)k;
+    int importance = RF_IMPORTANT, behaviour = RF_STOP;
+    if (rf_ydoc_opt_enum(&L->d, n, "importance", rf_importance_names, &importance, L->err))
+        return -1;
+    rf_ynode *behaviour_node = rf_ydoc_get(&L->d, n, "behaviour");
+    if (behaviour_node &&
+        rf_ydoc_enum(&L->d, behaviour_node, "behaviour", behaviour_names, &behaviour, L->err))
+        return -1;
+    m->importance = (rf_importance)importance;
+    m->behaviour = (rf_behaviour)behaviour;
+
+    if (m->kind == RF_CONTROL) {
+        if (behaviour == RF_STOP && behaviour_node)
+            return rf_ydoc_error(&L->d, behaviour_node, L->err,
+                                 "a control line never stops a rock: 'behaviour' must be "
+                                 "collect (or left out), got stop");
+        m->behaviour = RF_COLLECT;
+        m->height = 0.0;
+        static const char *const not_on_control[] = {"height", "mel", "sel", "capacity"};
+        for (size_t j = 0; j < sizeof not_on_control / sizeof *not_on_control; j++)
+            if (not_for(L, n, not_on_control[j], "a control line"))
+                return -1;
+        return 0;
+    }
+
+    rf_ynode *height;
+    if (rf_ydoc_require(&L->d, n, "height", what, &height, L->err) ||
+        rf_ydoc_number(&L->d, height, "height", RF_YR_POSITIVE, &m->height, L->err))
+        return -1;
+
+    /* the node of each capacity given; a barrier's SEL of MEL / 3 for want of 'sel' has
+     * none */
+    rf_ynode *nodes[RF_N_LIMIT_STATES] = {NULL};
+    if (m->kind == RF_BARRIER) {
+        rf_ynode *mel;
+        if (rf_ydoc_require(&L->d, n, "mel", what, &mel, L->err) ||
+            rf_ydoc_number(&L->d, mel, "mel", RF_YR_POSITIVE, &m->mel, L->err))
+            return -1;
+        m->sel = m->mel / 3.0;
+        rf_ynode *sel = rf_ydoc_get(&L->d, n, "sel");
+        if (sel) {
+            if (rf_ydoc_number(&L->d, sel, "sel", RF_YR_POSITIVE, &m->sel, L->err))
+                return -1;
+            if (m->sel > m->mel)
+                return rf_ydoc_error(&L->d, sel, L->err,
+                                     "'sel' (%g kJ) must not exceed 'mel' (%g kJ)", m->sel,
+                                     m->mel);
+        }
+        m->capacity[RF_SERVICEABILITY] = m->sel;
+        m->capacity[RF_ULTIMATE] = m->mel;
+        nodes[RF_SERVICEABILITY] = sel;
+        nodes[RF_ULTIMATE] = mel;
+    } else {
+        if (not_for(L, n, "mel", "an embankment") || not_for(L, n, "sel", "an embankment"))
+            return -1;
+    }
+    if (read_capacity(L, n, m, nodes))
+        return -1;
+    int prev = -1;
+    for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
+        /* capacities not given; a barrier's SEL of MEL / 3 without 'sel' is a default,
+         * which the rule file may set otherwise (docs/rules.md): no bound on the
+         * capacities above it */
+        if (!nodes[s])
+            continue;
+        if (prev >= 0 && m->capacity[s] < m->capacity[prev])
+            return rf_ydoc_error(&L->d, nodes[s], L->err,
+                                 "%s capacity (%g kJ) must not be below the %s capacity "
+                                 "(%g kJ): capacities must not decrease from serviceability "
+                                 "to near_collapse",
+                                 rf_limit_state_names[s], m->capacity[s],
+                                 rf_limit_state_names[prev], m->capacity[prev]);
+        prev = s;
+    }
+    return 0;
+}
+
+/* ---- simulation, hazard ------------------------------------------------------ */
+
+static int read_simulation(loader *L, const rf_ynode *n)
+{
+    rf_simulation *s = &L->p->sim;
+    if (rf_ydoc_mapping_of(&L->d, n, simulation_keys, "'simulation'", L->err))
+        return -1;
+    int model = (int)s->model, engine = (int)s->engine, contact = (int)s->contact;
+    long long paths = s->paths;
+    if (rf_ydoc_opt_enum(&L->d, n, "model", model_names, &model, L->err) ||
+        rf_ydoc_opt_enum(&L->d, n, "engine", engine_names, &engine, L->err) ||
+        rf_ydoc_opt_number(&L->d, n, "dt", RF_YR_POSITIVE, &s->dt, L->err) ||
+        rf_ydoc_opt_enum(&L->d, n, "contact", contact_names, &contact, L->err) ||
+        rf_ydoc_opt_number(&L->d, n, "stop_speed", RF_YR_POSITIVE, &s->stop_speed, L->err) ||
+        rf_ydoc_opt_number(&L->d, n, "max_time", RF_YR_POSITIVE, &s->max_time, L->err) ||
+        rf_ydoc_opt_integer(&L->d, n, "paths", RF_YR_NONNEG, &paths, L->err))
+        return -1;
+    s->model = (rf_rock_model)model;
+    s->engine = (rf_engine_kind)engine;
+    s->contact = (rf_contact_kind)contact;
+    s->paths = (long)paths;
+    return 0;
+}
+
+/* ---- the document ------------------------------------------------------------ */
+
+static int read_document(loader *L)
+{
+    rf_project *p = L->p;
+    rf_ynode *root = rf_ydoc_root(&L->d);
+    if (!root)
+        return rf_error_set(L->err, L->d.file, 1, 1,
+                            "the project file is empty; expected a mapping with 'name', "
+                            "'terrain', 'rocks' and 'releases'");
+    if (rf_ydoc_mapping_of(&L->d, root, top_keys, "the project file", L->err))
+        return -1;
+
+    rf_ynode *terrain;
+    const char *s = NULL;
+    if (read_name(L, root, "the project file", &p->name))
+        return -1;
+    long long seed = 1;
+    if (rf_ydoc_opt_integer(&L->d, root, "seed", RF_YR_NONNEG, &seed, L->err))
+        return -1;
+    p->seed = (uint64_t)seed;
+
+    if (rf_ydoc_require(&L->d, root, "terrain", "the project file", &terrain, L->err) ||
+        read_terrain(L, terrain))
+        return -1;
+    if (read_list(L, root, &forest_list, 0, (void **)&p->forests, &p->nforests, read_forest) ||
+        read_list(L, root, &rock_list, 1, (void **)&p->rocks, &p->nrocks, read_rock))
+        return -1;
+    rf_ynode *releases = rf_ydoc_get(&L->d, root, "releases");
+    if (releases && releases->type == YAML_SEQUENCE_NODE && rf_ydoc_seq_size(releases)) {
+        L->point_nodes = calloc(rf_ydoc_seq_size(releases), sizeof *L->point_nodes);
+        if (!L->point_nodes)
+            return oom(L);
+    }
+    rf_ynode *measures = rf_ydoc_get(&L->d, root, "measures");
+    if (measures && measures->type == YAML_SEQUENCE_NODE && rf_ydoc_seq_size(measures)) {
+        L->line_nodes = calloc(rf_ydoc_seq_size(measures), sizeof *L->line_nodes);
+        if (!L->line_nodes)
+            return oom(L);
+    }
+    if (read_list(L, root, &release_list, 1, (void **)&p->releases, &p->nreleases,
+                  read_release) ||
+        read_list(L, root, &measure_list, 0, (void **)&p->measures, &p->nmeasures,
+                  read_measure))
+        return -1;
+
+    rf_ynode *sim = rf_ydoc_get(&L->d, root, "simulation");
+    if (sim && read_simulation(L, sim))
+        return -1;
+    rf_ynode *hazard = rf_ydoc_get(&L->d, root, "hazard");
+    if (hazard && (rf_ydoc_mapping_of(&L->d, hazard, hazard_keys, "'hazard'", L->err) ||
+                   rf_ydoc_opt_number(&L->d, hazard, "cell", RF_YR_POSITIVE, &p->hazard_cell,
+                                      L->err)))
+        return -1;
+    L->cell_node = hazard ? rf_ydoc_get(&L->d, hazard, "cell") : NULL;
+
+    rf_ynode *rules = rf_ydoc_get(&L->d, root, "rules");
+    if (rules) {
+        if (rf_ydoc_string(&L->d, rules, "rules", &s, L->err))
+            return -1;
+        if (!(p->rules_path = resolve(p->dir, s)))
+            return oom(L);
+        char why[256];
+        if (!readable(p->rules_path, why, sizeof why))
+            return rf_ydoc_error(&L->d, rules, L->err, "cannot open rules file '%s': %s",
+                                 p->rules_path, why);
+    }
+    return 0;
+}
+
+/* Builds the terrain; file-level failures of the builder (no line) point at the path
+ * in the YAML, errors inside a terrain file keep that file's own location. */
+static int build_terrain(loader *L)
+{
+    rf_project *p = L->p;
+    rf_terrain_spec *s = &p->terrain_spec;
+    if (rf_terrain_build(s, &p->terrain, L->err) == 0)
+        return 0;
+    if (L->err && L->err->line == 0) {
+        for (size_t i = 0; i < s->nfiles; i++) {
+            if (!strcmp(L->err->file, s->files[i])) {
+                char msg[sizeof L->err->message];
+                snprintf(msg, sizeof msg, "%s", L->err->message);
+                return rf_ydoc_error(&L->d, L->file_nodes[i], L->err, "terrain file '%s': %s",
+                                     s->files[i], msg);
+            }
+        }
+        if (!L->err->file[0]) {
+            char msg[sizeof L->err->message];
+            snprintf(msg, sizeof msg, "%s", L->err->message);
+            return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, rf_ydoc_root(&L->d), "terrain"),
+                                 L->err, "terrain: %s", msg);
+        }
+    }
+    return -1;
+}
+
+static int place_releases(loader *L)
+{
+    rf_project *p = L->p;
+    const rf_terrain *t = &p->terrain;
+    for (size_t i = 0; i < p->nreleases; i++) {
+        rf_release *r = &p->releases[i];
+        double z = 0.0;
+        if (rf_terrain_height(t, r->x, r->y, &z) >= 0) {
+            r->z = z;
+            continue;
+        }
+        if (r->x >= t->xmin && r->x <= t->xmax && r->y >= t->ymin && r->y <= t->ymax)
+            return rf_ydoc_error(&L->d, L->point_nodes[i], L->err,
+                                 "release '%s' point (%g, %g) is in a hole of the terrain "
+                                 "(nodata); it must be on the terrain",
+                                 r->name, r->x, r->y);
+        return rf_ydoc_error(&L->d, L->point_nodes[i], L->err,
+                             "release '%s' point (%g, %g) is off the terrain (x %g..%g, "
+                             "y %g..%g)",
+                             r->name, r->x, r->y, t->xmin, t->xmax, t->ymin, t->ymax);
+    }
+    return 0;
+}
+
+/* 1 when the segment a-b meets the box [x0, x1] x [y0, y1] (Liang-Barsky clipping). */
+static int segment_meets_box(const double *a, const double *b, double x0, double x1, double y0,
+                             double y1)
+{
+    double t0 = 0.0, t1 = 1.0, d[2] = {b[0] - a[0], b[1] - a[1]};
+    double lo[2] = {x0, y0}, hi[2] = {x1, y1};
+    for (int k = 0; k < 2; k++) {
+        if (d[k] == 0.0) {
+            if (a[k] < lo[k] || a[k] > hi[k])
+                return 0;
+            continue;
+        }
+        double ta = (lo[k] - a[k]) / d[k], tb = (hi[k] - a[k]) / d[k];
+        if (ta > tb) {
+            double tmp = ta;
+            ta = tb;
+            tb = tmp;
+        }
+        t0 = fmax(t0, ta);
+        t1 = fmin(t1, tb);
+        if (t0 > t1)
+            return 0;
+    }
+    return 1;
+}
+
+/* A measure is draped on the terrain: its line must reach the terrain somewhere. */
+static int check_measures_on_terrain(loader *L)
+{
+    const rf_project *p = L->p;
+    const rf_terrain *t = &p->terrain;
+    for (size_t i = 0; i < p->nmeasures; i++) {
+        const rf_polyline *l = &p->measures[i].line;
+        int meets = 0;
+        for (size_t k = 0; k + 1 < l->n && !meets; k++)
+            meets = segment_meets_box(&l->xy[2 * k], &l->xy[2 * k + 2], t->xmin, t->xmax,
+                                      t->ymin, t->ymax);
+        if (!meets)
+            return rf_ydoc_error(&L->d, L->line_nodes[i], L->err,
+                                 "measure '%s' line lies entirely off the terrain (x %g..%g, "
+                                 "y %g..%g)",
+                                 p->measures[i].name, t->xmin, t->xmax, t->ymin, t->ymax);
+    }
+    return 0;
+}
+
+static int set_paths(loader *L, const char *path)
+{
+    rf_project *p = L->p;
+    p->path = strdup(path);
+    if (!p->path)
+        return oom(L);
+    const char *slash = strrchr(path, '/');
+    if (!slash) {
+        p->dir = strdup(".");
+    } else if (slash == path) {
+        p->dir = strdup("/");
+    } else {
+        p->dir = strndup(path, (size_t)(slash - path));
+    }
+    if (!p->dir)
+        return oom(L);
+    p->yaml_text = strdup(L->d.text);
+    return p->yaml_text ? 0 : oom(L);
+}
+
+/* The hazard map's grid over the terrain stays within RF_HAZARD_CELLS_MAX cells (each
+ * thread keeps one). */
+static int check_hazard_grid(loader *L)
+{
+    const rf_terrain *t = &L->p->terrain;
+    double c = L->p->hazard_cell, nx, ny;
+    rf_hazard_grid(t, c, &nx, &ny);
+    double cells = nx * ny;
+    if (cells <= RF_HAZARD_CELLS_MAX)
+        return 0;
+    if (L->cell_node)
+        return rf_ydoc_error(&L->d, L->cell_node, L->err,
+                             "'cell' %g m makes a hazard grid of %.3g cells over the terrain; "
+                             "at most %g",
+                             c, cells, RF_HAZARD_CELLS_MAX);
+    return rf_error_set(L->err, L->p->path, 0, 0,
+                        "the default hazard cell of %g m makes a grid of %.3g cells over the "
+                        "terrain; set a larger 'hazard: {cell: ...}' (at most %g cells)",
+                        c, cells, RF_HAZARD_CELLS_MAX);
+}
+
+int rf_project_load(const char *path, rf_project *p, rf_error *err)
+{
+    memset(p, 0, sizeof *p);
+    p->seed = 1;
+    p->sim = (rf_simulation){RF_MODEL_SPHERE, RF_ENGINE_EXACT, 0.001, RF_CONTACT_FULL,
+                             0.1, 300.0, 10};
+    p->hazard_cell = 5.0;
+    p->terrain_spec.up = 'z';
+
+    loader L;
+    memset(&L, 0, sizeof L);
+    L.p = p;
+    L.err = err;
+    int rc = rf_ydoc_load_file(&L.d, path, err);
+    if (rc == 0)
+        rc = set_paths(&L, path);
+    if (rc == 0)
+        rc = read_document(&L);
+    if (rc == 0)
+        rc = build_terrain(&L);
+    if (rc == 0)
+        rc = place_releases(&L);
+    if (rc == 0)
+        rc = check_measures_on_terrain(&L);
+    if (rc == 0)
+        rc = check_hazard_grid(&L);
+    free(L.file_nodes);
+    free(L.point_nodes);
+    free(L.line_nodes);
+    rf_ydoc_free(&L.d);
+    if (rc)
+        rf_project_free(p);
+    return rc;
+}
+
+static void free_spec(rf_terrain_spec *s)
+{
+    for (size_t i = 0; i < s->nfiles; i++)
+        free(s->files[i]);
+    free(s->files);
+    free(s->profile);
+    for (size_t i = 0; i < s->nzones; i++) {
+        free(s->zones[i].name);
+        free(s->zones[i].poly_xy);
+        free(s->zones[i].file);
+    }
+    free(s->zones);
+}
+
+void rf_project_free(rf_project *p)
+{
+    free(p->path);
+    free(p->dir);
+    free(p->yaml_text);
+    free(p->name);
+    free_spec(&p->terrain_spec);
+    rf_terrain_free(&p->terrain);
+    for (size_t i = 0; i < p->nforests; i++) {
+        free(p->forests[i].name);
+        free(p->forests[i].polygon.xy);
+    }
+    free(p->forests);
+    for (size_t i = 0; i < p->nrocks; i++)
+        free(p->rocks[i].name);
+    free(p->rocks);
+    for (size_t i = 0; i < p->nreleases; i++)
+        free(p->releases[i].name);
+    free(p->releases);
+    for (size_t i = 0; i < p->nmeasures; i++) {
+        free(p->measures[i].name);
+        free(p->measures[i].line.xy);
+    }
+    free(p->measures);
+    free(p->rules_path);
+    memset(p, 0, sizeof *p);
+}

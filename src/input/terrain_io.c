@@ -1,0 +1,489 @@
+/* terrain_io.c - readers of terrain files: ESRI ASCII grids, STL and OBJ meshes. */
+#include "input/terrain_io.h"
+#include "base/util.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+
+/* ---- a text scanner that knows its line and column ------------------------------ */
+
+typedef struct scanner {
+    const char *path;
+    const char *p, *end, *line_start;
+    int line;
+} scanner;
+
+static void scan_init(scanner *s, const char *path, const char *buf, size_t len)
+{
+    s->path = path;
+    s->p = s->line_start = buf;
+    s->end = buf + len;
+    s->line = 1;
+}
+
+static int scan_column(const scanner *s, const char *at) { return (int)(at - s->line_start) + 1; }
+
+/* Skips blanks; also newlines when cross_lines.  Returns 1 when a token follows. */
+static int scan_skip(scanner *s, int cross_lines)
+{
+    while (s->p < s->end) {
+        char c = *s->p;
+        if (c == '\n') {
+            if (!cross_lines)
+                return 0;
+            s->p++;
+            s->line++;
+            s->line_start = s->p;
+        } else if (isspace((unsigned char)c) || c == '\0') {
+            s->p++;
+        } else {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The token at s->p (after scan_skip returned 1): [*start, return value). */
+static const char *scan_token(scanner *s, const char **start)
+{
+    *start = s->p;
+    while (s->p < s->end && !isspace((unsigned char)*s->p) && *s->p != '\0')
+        s->p++;
+    return s->p;
+}
+
+static void scan_to_next_line(scanner *s)
+{
+    while (s->p < s->end && *s->p != '\n')
+        s->p++;
+}
+
+static int token_is(const char *a, const char *a_end, const char *word)
+{
+    size_t n = (size_t)(a_end - a);
+    if (strlen(word) != n)
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (tolower((unsigned char)a[i]) != tolower((unsigned char)word[i]))
+            return 0;
+    return 1;
+}
+
+/* A finite decimal number filling the whole token. */
+static int parse_number(const char *a, const char *a_end, double *x)
+{
+    if (a == a_end)
+        return 0;
+    char tmp[128];
+    size_t n = (size_t)(a_end - a);
+    if (n >= sizeof tmp)
+        return 0;
+    memcpy(tmp, a, n);
+    tmp[n] = '\0';
+    char *e;
+    errno = 0;
+    double v = strtod(tmp, &e);
+    if (e != tmp + n || !isfinite(v))
+        return 0;
+    *x = v;
+    return 1;
+}
+
+/* How much of the text [a, b) an error message shows: 40 characters at most. */
+static int shown_len(const char *a, const char *b) { return (int)(b - a > 40 ? 40 : b - a); }
+
+/* Reads the next token as a number (crossing lines when cross_lines). */
+static int scan_number(scanner *s, int cross_lines, double *x, rf_error *err)
+{
+    if (!scan_skip(s, cross_lines))
+        return rf_error_set(err, s->path, s->line, scan_column(s, s->p), "expected a number");
+    const char *a, *b = scan_token(s, &a);
+    if (!parse_number(a, b, x))
+        return rf_error_set(err, s->path, s->line, scan_column(s, a),
+                            "expected a number, found '%.*s'", shown_len(a, b), a);
+    return 0;
+}
+
+/* ---- ESRI ASCII grid ---------------------------------------------------------------- */
+
+void rf_asc_free(rf_asc_grid *g)
+{
+    free(g->z);
+    memset(g, 0, sizeof *g);
+}
+
+static int looks_numeric(char c) { return isdigit((unsigned char)c) || c == '-' || c == '+' || c == '.'; }
+
+static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
+{
+    enum { NCOLS, NROWS, XLL, YLL, CELL, NKEYS };
+    static const char *key_name[NKEYS] = {"ncols", "nrows", "xllcorner", "yllcorner", "cellsize"};
+    double val[NKEYS] = {0};
+    int have[NKEYS] = {0}, x_corner = 0, y_corner = 0;
+    rf_mark mark[NKEYS] = {{0, 0}};
+
+    while (scan_skip(s, 1) && !looks_numeric(*s->p)) {
+        const char *k, *k_end = scan_token(s, &k);
+        int line = s->line, col = scan_column(s, k);
+        int klen = shown_len(k, k_end);
+        int key = -1, is_nodata = 0;
+        if (token_is(k, k_end, "ncols"))
+            key = NCOLS;
+        else if (token_is(k, k_end, "nrows"))
+            key = NROWS;
+        else if (token_is(k, k_end, "xllcorner"))
+            key = XLL, x_corner = 1;
+        else if (token_is(k, k_end, "xllcenter"))
+            key = XLL, x_corner = 0;
+        else if (token_is(k, k_end, "yllcorner"))
+            key = YLL, y_corner = 1;
+        else if (token_is(k, k_end, "yllcenter"))
+            key = YLL, y_corner = 0;
+        else if (token_is(k, k_end, "cellsize"))
+            key = CELL;
+        else if (token_is(k, k_end, "nodata_value"))
+            is_nodata = 1;
+        else
+            return rf_error_set(err, s->path, line, col, "unknown grid header key '%.*s'",
+                                klen, k);
+        if ((is_nodata && g->has_nodata) || (!is_nodata && have[key]))
+            return rf_error_set(err, s->path, line, col, "grid header key '%.*s' given twice",
+                                klen, k);
+        double v;
+        if (scan_number(s, 0, &v, err))
+            return -1;
+        if (is_nodata) {
+            g->has_nodata = 1;
+            g->nodata = v;
+        } else {
+            val[key] = v;
+            have[key] = 1;
+            mark[key] = (rf_mark){line, col};
+        }
+        scan_to_next_line(s);
+    }
+    int data_line = s->line, data_col = scan_column(s, s->p);
+    for (int k = 0; k < NKEYS; k++)
+        if (!have[k])
+            return rf_error_set(err, s->path, data_line, data_col, "missing grid header key '%s'",
+                                key_name[k]);
+    for (int k = NCOLS; k <= NROWS; k++)
+        if (val[k] < 2 || val[k] > 1e8 || val[k] != floor(val[k]))
+            return rf_error_set(err, s->path, mark[k].line, mark[k].column,
+                                "%s must be a whole number of at least 2", key_name[k]);
+    if (!(val[CELL] > 0))
+        return rf_error_set(err, s->path, mark[CELL].line, mark[CELL].column,
+                            "cellsize must be positive");
+
+    g->ncols = (size_t)val[NCOLS];
+    g->nrows = (size_t)val[NROWS];
+    g->cell = val[CELL];
+    /* With *llcorner the nodes are the cell centres, half a cell in from the corner. */
+    g->x0 = val[XLL] + (x_corner ? 0.5 * g->cell : 0.0);
+    g->y0 = val[YLL] + (y_corner ? 0.5 * g->cell : 0.0);
+    size_t count = g->ncols * g->nrows;
+    g->z = malloc(count * sizeof *g->z);
+    if (!g->z)
+        return rf_error_set(err, s->path, 0, 0, "out of memory for a %zu x %zu grid", g->ncols,
+                            g->nrows);
+    /* The first data row is the northernmost. */
+    for (size_t r = 0; r < g->nrows; r++) {
+        size_t j = g->nrows - 1 - r;
+        for (size_t i = 0; i < g->ncols; i++) {
+            if (!scan_skip(s, 1))
+                return rf_error_set(err, s->path, s->line, scan_column(s, s->p),
+                                    "expected %zu values, found %zu", count, r * g->ncols + i);
+            if (scan_number(s, 1, &g->z[j * g->ncols + i], err))
+                return -1;
+        }
+    }
+    if (scan_skip(s, 1))
+        return rf_error_set(err, s->path, s->line, scan_column(s, s->p),
+                            "more than the %zu values of a %zu x %zu grid", count, g->ncols,
+                            g->nrows);
+    return 0;
+}
+
+int rf_asc_read(const char *path, rf_asc_grid *g, rf_error *err)
+{
+    memset(g, 0, sizeof *g);
+    char *buf;
+    size_t len;
+    if (rf_read_file(path, &buf, &len, err))
+        return -1;
+    scanner s;
+    scan_init(&s, path, buf, len);
+    int rc = asc_parse(&s, g, err);
+    free(buf);
+    if (rc)
+        rf_asc_free(g);
+    return rc;
+}
+
+/* ---- triangle lists --------------------------------------------------------------- */
+
+void rf_tri_list_free(rf_tri_list *l)
+{
+    free(l->v);
+    memset(l, 0, sizeof *l);
+}
+
+static rf_vec3 to_world(double x, double y, double z, char up)
+{
+    /* up 'y': the file's x and z are the horizontal plane, so world (X, Y, Z) = (x, z, y). */
+    return up == 'y' ? rf_v3(x, z, y) : rf_v3(x, y, z);
+}
+
+static int tri_push(rf_tri_list *l, rf_vec3 a, rf_vec3 b, rf_vec3 c)
+{
+    if (rf_grow((void **)&l->v, &l->cap, l->n + 1, 3 * sizeof *l->v))
+        return -1;
+    l->v[3 * l->n] = a;
+    l->v[3 * l->n + 1] = b;
+    l->v[3 * l->n + 2] = c;
+    l->n++;
+    return 0;
+}
+
+/* ---- STL ------------------------------------------------------------------------------ */
+
+static uint32_t le32(const unsigned char *b)
+{
+    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
+}
+
+static double le_float(const unsigned char *b)
+{
+    uint32_t u = le32(b);
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return (double)f;
+}
+
+static int stl_binary_size_matches(size_t len, const unsigned char *b)
+{
+    if (len < 84)
+        return 0;
+    uint64_t n = le32(b + 80);
+    return (uint64_t)len == 84 + 50 * n;
+}
+
+static int stl_read_binary(const char *path, const unsigned char *b, char up, rf_tri_list *out,
+                           rf_error *err)
+{
+    uint32_t n = le32(b + 80);
+    for (uint32_t k = 0; k < n; k++) {
+        const unsigned char *f = b + 84 + 50 * (size_t)k + 12; /* skip the facet normal */
+        rf_vec3 v[3];
+        for (int i = 0; i < 3; i++) {
+            const unsigned char *q = f + 12 * i;
+            v[i] = to_world(le_float(q), le_float(q + 4), le_float(q + 8), up);
+            if (!isfinite(v[i].x) || !isfinite(v[i].y) || !isfinite(v[i].z))
+                return rf_error_set(err, path, 0, 0, "facet %u of binary STL has a non-finite vertex",
+                                    (unsigned)k + 1);
+        }
+        if (tri_push(out, v[0], v[1], v[2]))
+            return rf_error_set(err, path, 0, 0, "out of memory");
+    }
+    return 0;
+}
+
+/* Ascii STL: the vertices between "outer loop" and "endloop" form one facet (a polygon
+ * with more than three is fan-triangulated). */
+static int stl_read_ascii(scanner *s, char up, rf_tri_list *out, rf_error *err)
+{
+    rf_vec3 first = {0, 0, 0}, prev = {0, 0, 0};
+    int nloop = 0, in_loop = 0, loop_line = 0, loop_col = 0;
+    while (scan_skip(s, 1)) {
+        const char *a, *b = scan_token(s, &a);
+        if (token_is(a, b, "loop")) {
+            in_loop = 1;
+            nloop = 0;
+            loop_line = s->line;
+            loop_col = scan_column(s, a);
+        } else if (token_is(a, b, "vertex")) {
+            if (!in_loop)
+                return rf_error_set(err, s->path, s->line, scan_column(s, a),
+                                    "'vertex' outside 'outer loop'");
+            double x, y, z;
+            if (scan_number(s, 0, &x, err) || scan_number(s, 0, &y, err) ||
+                scan_number(s, 0, &z, err))
+                return -1;
+            rf_vec3 v = to_world(x, y, z, up);
+            if (nloop == 0)
+                first = v;
+            else if (nloop >= 2 && tri_push(out, first, prev, v))
+                return rf_error_set(err, s->path, 0, 0, "out of memory");
+            prev = v;
+            nloop++;
+        } else if (token_is(a, b, "endloop")) {
+            if (!in_loop || nloop < 3)
+                return rf_error_set(err, s->path, loop_line, loop_col,
+                                    "a facet needs at least 3 vertices");
+            in_loop = 0;
+        } else if (token_is(a, b, "solid") || token_is(a, b, "endsolid")) {
+            scan_to_next_line(s); /* the name may be anything */
+        } else if (token_is(a, b, "normal")) {
+            double x;
+            for (int i = 0; i < 3; i++)
+                if (scan_number(s, 0, &x, err))
+                    return -1;
+        } else if (!token_is(a, b, "facet") && !token_is(a, b, "outer") &&
+                   !token_is(a, b, "endfacet")) {
+            return rf_error_set(err, s->path, s->line, scan_column(s, a),
+                                "unexpected '%.*s' in ascii STL", shown_len(a, b), a);
+        }
+    }
+    if (in_loop)
+        return rf_error_set(err, s->path, s->line, scan_column(s, s->p),
+                            "file ends inside a facet");
+    return 0;
+}
+
+/* ---- OBJ ------------------------------------------------------------------------------ */
+
+typedef struct vert_list {
+    rf_vec3 *v;
+    size_t n, cap;
+} vert_list;
+
+/* An OBJ face index ("7", "7/2", "7//3", "7/2/3", "-1"): the 0-based vertex index. */
+static int obj_index(const char *a, const char *b, size_t nverts, size_t *idx)
+{
+    const char *slash = memchr(a, '/', (size_t)(b - a));
+    const char *e = slash ? slash : b;
+    if (e == a || (size_t)(e - a) > 20)
+        return 0;
+    char tmp[24];
+    memcpy(tmp, a, (size_t)(e - a));
+    tmp[e - a] = '\0';
+    char *end;
+    long long k = strtoll(tmp, &end, 10);
+    if (*end != '\0' || k == 0)
+        return 0;
+    if (k > 0 && (unsigned long long)k <= nverts)
+        *idx = (size_t)(k - 1);
+    else if (k < 0 && (unsigned long long)(-k) <= nverts)
+        *idx = nverts - (size_t)(-k);
+    else
+        return 0;
+    return 1;
+}
+
+static int obj_parse(scanner *s, char up, rf_tri_list *out, vert_list *vl, rf_error *err)
+{
+    while (scan_skip(s, 1)) {
+        const char *a, *b = scan_token(s, &a);
+        if (token_is(a, b, "v")) {
+            double x, y, z;
+            if (scan_number(s, 0, &x, err) || scan_number(s, 0, &y, err) ||
+                scan_number(s, 0, &z, err))
+                return -1;
+            if (rf_grow((void **)&vl->v, &vl->cap, vl->n + 1, sizeof *vl->v))
+                return rf_error_set(err, s->path, 0, 0, "out of memory");
+            vl->v[vl->n++] = to_world(x, y, z, up);
+        } else if (token_is(a, b, "f")) {
+            int fline = s->line, fcol = scan_column(s, a);
+            size_t first = 0, prev = 0, n = 0;
+            while (scan_skip(s, 0)) {
+                const char *ia, *ib = scan_token(s, &ia);
+                size_t idx;
+                if (!obj_index(ia, ib, vl->n, &idx))
+                    return rf_error_set(err, s->path, s->line, scan_column(s, ia),
+                                        "bad vertex index '%.*s' (%zu vertices so far)",
+                                        shown_len(ia, ib), ia, vl->n);
+                if (n == 0)
+                    first = idx;
+                else if (n >= 2 && tri_push(out, vl->v[first], vl->v[prev], vl->v[idx]))
+                    return rf_error_set(err, s->path, 0, 0, "out of memory");
+                prev = idx;
+                n++;
+            }
+            if (n < 3)
+                return rf_error_set(err, s->path, fline, fcol, "a face needs at least 3 vertices");
+        }
+        /* Anything else (vt, vn, g, o, s, usemtl, mtllib, l, comments) does not shape
+         * the surface. */
+        scan_to_next_line(s);
+    }
+    return 0;
+}
+
+/* ---- meshes ------------------------------------------------------------------------- */
+
+static int has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), m = strlen(ext);
+    return n >= m && token_is(path + n - m, path + n, ext);
+}
+
+int rf_mesh_read(const char *path, char up, rf_tri_list *out, rf_error *err)
+{
+    char *buf;
+    size_t len;
+    if (rf_read_file(path, &buf, &len, err))
+        return -1;
+    size_t n_before = out->n;
+    scanner s;
+    scan_init(&s, path, buf, len);
+    int rc;
+    if (has_extension(path, ".obj")) {
+        vert_list vl = {NULL, 0, 0};
+        rc = obj_parse(&s, up, out, &vl, err);
+        free(vl.v);
+    } else if (stl_binary_size_matches(len, (const unsigned char *)buf)) {
+        rc = stl_read_binary(path, (const unsigned char *)buf, up, out, err);
+    } else {
+        rc = stl_read_ascii(&s, up, out, err);
+    }
+    free(buf);
+    if (rc)
+        out->n = n_before;
+    return rc;
+}
+
+/* ---- rows of numbers ------------------------------------------------------------ */
+
+int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
+{
+    memset(out, 0, sizeof *out);
+    char *buf;
+    size_t len, cap = 0;
+    if (rf_read_file(path, &buf, &len, err))
+        return -1;
+    scanner s;
+    scan_init(&s, path, buf, len);
+    int rc = 0;
+    while (rc == 0 && scan_skip(&s, 1)) {
+        if (*s.p == '#') {
+            scan_to_next_line(&s);
+            continue;
+        }
+        if (rf_grow((void **)&out->v, &cap, (out->n + 1) * ncol, sizeof *out->v)) {
+            rc = rf_error_set(err, path, s.line, 0, "out of memory");
+            break;
+        }
+        for (size_t k = 0; rc == 0 && k < ncol; k++)
+            rc = scan_number(&s, 0, &out->v[out->n * ncol + k], err);
+        if (rc == 0)
+            out->n++;
+        scan_to_next_line(&s);
+    }
+    free(buf);
+    if (rc)
+        rf_points_free(out);
+    return rc;
+}
+
+void rf_points_free(rf_points *p)
+{
+    free(p->v);
+    p->v = NULL;
+    p->n = 0;
+}
