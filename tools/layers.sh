@@ -8,7 +8,7 @@
 # include/rockfall/NAME.h belongs to the layer the table below names, and includes only
 # its layer and those below.  Within the engine no two files depend on each other, even
 # through others: the includes of engine headers (a header NAME.h stands for NAME.c)
-# form no cycle.  With BUILD (a build folder holding src/LAYER/NAME.o), the same two
+# form no cycle.  No source file is over 1000 lines, no function over 120.  With BUILD (a build folder holding src/LAYER/NAME.o), the same two
 # rules are checked on what the objects call: no object calls a layer above its own,
 # and the engine's objects call each other without a cycle.
 # Prints each violation with its file and line and exits 1; exits 0 when there is none.
@@ -108,6 +108,30 @@ awk '$3 == "engine" && $1 ~ /^src\/engine\// {
 if ! tsort "$tmp/engine_includes" >/dev/null 2>"$tmp/tsort"; then
     echo "src/engine: the engine's files include each other in a cycle:"
     sed 's/^/  /' "$tmp/tsort"
+    bad=1
+fi
+
+# ---- sizes ---------------------------------------------------------------------------
+# No source file over 1000 lines, no function body ({ to } at the first column) over 120.
+for f in "$ROOT"/src/*/*.[ch]; do
+    n=$(wc -l <"$f")
+    if [ "$n" -gt 1000 ]; then
+        echo "${f#"$ROOT"/}:1: $n lines (at most 1000)"
+        bad=1
+    fi
+done
+for f in "$ROOT"/src/*/*.c; do
+    awk -v f="${f#"$ROOT"/}" '
+        /^[A-Za-z_].*\(/ { sig = $0; sigline = FNR }
+        /^\{/ { start = FNR; name = sig; sub(/\(.*/, "", name); sub(/.*[ *]/, "", name) }
+        /^\}/ && start {
+            len = FNR - start + 1
+            if (len > 120) print f ":" sigline ": function " name " is " len " lines (at most 120)"
+            start = 0
+        }' "$f"
+done >"$tmp/long"
+if [ -s "$tmp/long" ]; then
+    cat "$tmp/long"
     bad=1
 fi
 
