@@ -58,20 +58,22 @@ for f in "$ROOT"/src/*/*.[ch] "$ROOT"/include/rockfall/*.h; do
         name=${rel##*/}
         layer=$(public_layer "${name%.h}")
         if [ -z "$layer" ]; then
-            echo "$rel:1: public header without a layer (add it to tools/layers.sh and docs/architecture.md)"
-            bad=1
+            echo "$rel:1: public header without a layer (add it to tools/layers.sh and docs/architecture.md)" >>"$tmp/early"
             continue
         fi
         ;;
     esac
     if [ "$(rank "$layer")" -lt 0 ]; then
-        echo "$rel:1: folder '$layer' is not a layer ($LAYERS)"
-        bad=1
+        echo "$rel:1: folder '$layer' is not a layer ($LAYERS)" >>"$tmp/early"
         continue
     fi
     awk -v f="$rel" -v l="$layer" '/^[ \t]*#[ \t]*include[ \t]*"/ {
         t = $0; sub(/^[^"]*"/, "", t); sub(/".*$/, "", t); print f, FNR, l, t }' "$f"
 done >"$tmp/includes"
+if [ -s "$tmp/early" ]; then
+    cat "$tmp/early"
+    bad=1
+fi
 
 while read -r file line layer target; do
     case $target in
