@@ -15,6 +15,8 @@
 
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
+#include "motion_test_util.h"
+#include "replay_test_util.h"
 #include "results/store.h"
 #include "test.h"
 
@@ -129,4 +131,31 @@ TEST(determinism_noto_rows_hash_same_any_threads_and_stored)
                (unsigned long long)t1, DET_TRAJECTORIES_HASH);
     ENSURE_MSG(i1 == DET_INTERCEPTIONS_HASH, "interceptions 0x%016llx, stored 0x%016llx",
                (unsigned long long)i1, DET_INTERCEPTIONS_HASH);
+}
+
+/* ---- the same trajectory twice ------------------------------------------------------ */
+
+/* One process, the same rock and seed twice on a rough slope: the record and every path
+ * point are the same bytes. */
+TEST(hard_same_seed_bit_identical_records)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 99);
+    rf_terrain t;
+    rough_terrain(&t, "det.asc", rng);
+    for (int k = 0; k < 20; k++) {
+        rf_state s = mt_state(rf_v3(3.0 + k, 5.0 + k, 50.0), rf_v3(1.0, 0.5, 0.0));
+        mt_run a, b;
+        mt_simulate(&t, k % 2 ? RF_MODEL_POINT : RF_MODEL_SPHERE, 2385.0, RF_CONTACT_FULL, &s,
+                    1000 + (unsigned long)k, &a);
+        mt_simulate(&t, k % 2 ? RF_MODEL_POINT : RF_MODEL_SPHERE, 2385.0, RF_CONTACT_FULL, &s,
+                    1000 + (unsigned long)k, &b);
+        ENSURE(memcmp(&a.rec, &b.rec, sizeof a.rec) == 0);
+        ENSURE(a.npoints == b.npoints);
+        ENSURE(memcmp(a.points, b.points, a.npoints * sizeof *a.points) == 0);
+        mt_run_free(&a);
+        mt_run_free(&b);
+    }
+    gsl_rng_free(rng);
+    rf_terrain_free(&t);
 }
