@@ -4,6 +4,7 @@
  * edges, where the rock leaves, and before an impact at the same instant takes energy. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "motion_test_util.h"
@@ -328,5 +329,62 @@ TEST(measures_engine_line_where_the_rock_leaves)
         ENSURE_MSG(run.icpt[0].outcome == (stop ? RF_OUT_STOPPED : RF_OUT_PASSED), "mode %d: outcome %d, height %g", mode, (int)run.icpt[0].outcome, run.icpt[0].passing_height_m);
         ENSURE(run.rec.reason == (stop ? RF_END_STOPPED : RF_END_EXITED));
     }
+    rf_terrain_free(&t);
+}
+
+/* ---- a flight at any speed ------------------------------------------------------------ */
+
+/* A point mass launched horizontally at 250 m/s, 200 m above level ground, across eight
+ * control lines (seven across its path, one oblique): the flight's crossings are roots
+ * of the horizontal path, so each line is recorded once, in order, at t = (x - x0) / vx,
+ * with the centre at z0 - g t^2 / 2, the speed hypot(vx, g t), 1/2 m V^2 and nothing
+ * rotational, and the height above the ground z; the rock then leaves the terrain. */
+TEST(scene_events_fast_flight_crosses_each_line_at_its_exact_time)
+{
+    const double x0 = 10.0, y0 = 50.0, z0 = 200.0, vx = 250.0, mass = 385.0;
+    rf_terrain t;
+    mt_incline(&t, 0.0, 300.0, 100.0, surface(0.3, 0.3, 0.05));
+    double lines[8][4];
+    rf_measure ms[8];
+    double xs[8];
+    for (int k = 0; k < 7; k++) {
+        xs[k] = 20.0 + 40.0 * k + 0.385 * k * k;
+        double *q = lines[k];
+        q[0] = q[2] = xs[k], q[1] = -5.0, q[3] = 105.0;
+        ms[k] = mt_measure(RF_CONTROL, RF_COLLECT, q, 2, 0.0, 0.0);
+    }
+    /* oblique: from (140, -50) to (180, 150), crossed at y = 50, x = 160 */
+    lines[7][0] = 140.0, lines[7][1] = -50.0, lines[7][2] = 180.0, lines[7][3] = 150.0;
+    ms[7] = mt_measure(RF_CONTROL, RF_COLLECT, lines[7], 2, 0.0, 0.0);
+    xs[7] = 160.0;
+    rf_simulation sim = mt_sim(RF_MODEL_POINT, RF_CONTACT_FULL, 300.0);
+    rf_body b = rf_body_make(mass, 2650.0, RF_MODEL_POINT);
+    rf_state s0 = mt_state(rf_v3(x0, y0, z0), rf_v3(vx, 0.0, 0.0));
+    mt_scene_run *run = malloc(sizeof *run);
+    ENSURE(run != NULL);
+    run_scene(&t, &sim, &b, ms, 8, &s0, run);
+    ENSURE(run->rec.reason == RF_END_EXITED);
+    ENSURE(run->rec.n_impacts == 0);
+    ENSURE_MSG(run->n == 8, "%d crossings", run->n);
+    double last_t = 0.0;
+    for (int i = 0; i < run->n; i++) {
+        const rf_interception_record *r = &run->icpt[i];
+        check_record(r, &b);
+        ENSURE(r->measure >= 0 && r->measure < 8);
+        double x = xs[r->measure], tc = (x - x0) / vx;
+        ENSURE_MSG(r->t_s > last_t, "crossing %d out of order", i);
+        last_t = r->t_s;
+        ENSURE_REL(r->t_s, tc, 1e-12);
+        ENSURE_REL(r->p.x, x, 1e-12);
+        ENSURE_SMALL(r->p.y - y0, 1e-9);
+        double z = z0 - 0.5 * G * tc * tc, V = hypot(vx, G * tc);
+        ENSURE_REL(r->p.z, z, 1e-12);
+        ENSURE_REL(r->speed_ms, V, 1e-12);
+        ENSURE_REL(r->energy_kj, 0.5 * mass * V * V / 1000.0, 1e-12);
+        ENSURE(r->energy_rot_kj == 0.0);
+        ENSURE_REL(r->passing_height_m, z, 1e-12);
+        ENSURE(r->outcome == RF_OUT_PASSED);
+    }
+    free(run);
     rf_terrain_free(&t);
 }
