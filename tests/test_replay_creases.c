@@ -2,7 +2,6 @@
  * thalweg, valley lines, convex edges and shoulders, a sharp ridge; the rock goes on
  * along them or off them without looping between faces in no time, and pays for every
  * rise. */
-
 #include "test.h"
 
 #include <stdlib.h>

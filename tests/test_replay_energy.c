@@ -1,7 +1,6 @@
 /* test_replay_energy.c - hard cases that pin energy: it never rises - not at an
  * impact, not between events (by more than the touch band), not in a rescue, not in a
  * sample - over 10 000 random trajectories and the replays that once gained some. */
-
 #include "test.h"
 
 #include <stdlib.h>

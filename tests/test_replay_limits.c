@@ -1,7 +1,6 @@
 /* test_replay_limits.c - hard cases that pin the limits of the inputs: restitution and
  * friction at and beyond their truncation limits, e = 1 bouncing for ever, and rocks of
  * 1 kg and 100 t. */
-
 #include "test.h"
 
 #include <stdlib.h>

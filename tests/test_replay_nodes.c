@@ -1,7 +1,6 @@
 /* test_replay_nodes.c - hard cases that pin rocks on vertices, edges and node lines:
  * exact hits on a pyramid's peak, its edges and grid corners, point masses falling
  * along a column's border, and measure lines lying on the grid's node lines. */
-
 #include "test.h"
 
 #include <stdlib.h>

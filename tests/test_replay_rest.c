@@ -1,7 +1,6 @@
 /* test_replay_rest.c - hard cases that pin rest: a rock bouncing to rest, a resting
  * rock staying put, and replays that stalled (events in no time, the event cap) where
  * they should rest. */
-
 #include "test.h"
 
 #include <stdlib.h>

@@ -1,7 +1,6 @@
 /* test_replay_stay_out.c - hard cases that pin the terrain's surface as a hard one: a
  * full-contact sphere never comes nearer to it than 0.99 r, whether it is big against
  * the cells, started overlapping the terrain, or one of the replays that sank into it. */
-
 #include "test.h"
 
 #include <stdlib.h>

@@ -1,7 +1,6 @@
 /* test_replay_terrain_edges.c - hard cases that pin where the terrain ends: nodata
  * holes in a grid, holes, cracks and outlines of meshes, and a real mesh of three files;
  * a rock leaves the terrain where its centre comes over no ground, and only there. */
-
 #include "test.h"
 
 #include <stdlib.h>

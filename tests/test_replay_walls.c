@@ -2,7 +2,6 @@
  * contact (Eq. 6-7) among the columns of faces whose offset planes rise above the
  * centre - a rock meets them, is reflected off them, slides along them and is never
  * lifted onto them for nothing nor lets through into a column under its plane. */
-
 #include "test.h"
 
 #include <stdlib.h>
