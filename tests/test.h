@@ -9,8 +9,9 @@
 
 typedef void (*rf_test_fn)(void);
 void rf_test_register(const char *name, rf_test_fn fn, const char *file);
+/* Reports the failure and ends the case's process: it does not return. */
 void rf_test_fail(const char *file, int line, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+    __attribute__((format(printf, 3, 4), noreturn));
 /* Path of a file under ../shared (the shared folder beside the repository). */
 const char *rf_test_shared(const char *rel);
 /* The Authume quarry's mesh (../shared/validation/authume): the paths of its three STL

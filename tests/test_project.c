@@ -1,5 +1,5 @@
 /* test_project.c - the project-file loader: example projects, the bad-file corpus,
- * defaults, a fully specified project read back, and the YAML access layer. */
+ * defaults, a fully specified project read back. */
 #include <glob.h>
 #include <math.h>
 #include <stdio.h>
@@ -13,7 +13,6 @@
 #include "corpus_test_util.h"
 #include "rockfall/project.h"
 #include "test.h"
-#include "input/yamldoc.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -398,138 +397,4 @@ TEST(project_enum_names)
     ENSURE(!strcmp(rf_limit_state_name(RF_SERVICEABILITY), "serviceability"));
     ENSURE(!strcmp(rf_limit_state_name(RF_NEAR_COLLAPSE), "near_collapse"));
     ENSURE(!strcmp(rf_limit_state_name(RF_COLLAPSE), "collapse"));
-}
-
-/* ---- the YAML access layer --------------------------------------------------------- */
-
-static rf_ydoc load_text(const char *text)
-{
-    rf_ydoc d;
-    rf_error err = {{0}};
-    int rc = rf_ydoc_load_text(&d, "mem.yaml", text, strlen(text), &err);
-    ENSURE_MSG(rc == 0, "%s", err.message);
-    return d;
-}
-
-TEST(yamldoc_scalars)
-{
-    rf_ydoc d = load_text("a: 2.385\nb: 7\nc: 2.5\nd: \"7\"\ne: yes\nf: -1e3\ng: .inf\nh: 0x10\n"
-                          "i:\n");
-    rf_ynode *root = rf_ydoc_root(&d);
-    rf_error err = {{0}};
-    double x = 0;
-    long long i = 0;
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "a"), "a", RF_YR_ANY, &x, &err) == 0);
-    ENSURE(x == 2.385);
-    ENSURE(rf_ydoc_integer(&d, rf_ydoc_get(&d, root, "b"), "b", RF_YR_ANY, &i, &err) == 0);
-    ENSURE(i == 7);
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "b"), "b", RF_YR_ANY, &x, &err) == 0);
-    ENSURE(x == 7.0);
-    ENSURE(rf_ydoc_integer(&d, rf_ydoc_get(&d, root, "c"), "c", RF_YR_AT_LEAST(1), &i,
-                           &err) != 0);
-    ENSURE(!strcmp(err.message, "'c' must be an integer >= 1, got 2.5"));
-    ENSURE(err.line == 3 && err.column == 4 && !strcmp(err.file, "mem.yaml"));
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "d"), "d", RF_YR_ANY, &x, &err) != 0);
-    ENSURE(strstr(err.message, "got \"7\""));
-    int flag = 0;
-    ENSURE(rf_ydoc_bool(&d, rf_ydoc_get(&d, root, "e"), "e", &flag, &err) == 0 && flag == 1);
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "f"), "f", RF_YR_ANY, &x, &err) == 0);
-    ENSURE(x == -1000.0);
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "f"), "f", RF_YR_NONNEG, &x, &err) != 0);
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "g"), "g", RF_YR_ANY, &x, &err) != 0);
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "h"), "h", RF_YR_ANY, &x, &err) != 0);
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "i"), "i", RF_YR_ANY, &x, &err) != 0);
-    ENSURE(!strcmp(err.message, "'i' must be a number, got nothing"));
-    ENSURE(rf_ydoc_number(&d, rf_ydoc_get(&d, root, "a"), "a", RF_YR_UNIT, &x, &err) != 0);
-    ENSURE(!strcmp(err.message, "'a' must be a number in [0, 1], got 2.385"));
-    ENSURE(rf_ydoc_get(&d, root, "zz") == NULL);
-    rf_ydoc_free(&d);
-}
-
-TEST(yamldoc_keys_and_hints)
-{
-    static const char *const allowed[] = {"restitution", "friction", "rolling", NULL};
-    rf_ydoc d = load_text("friction: 1\nrestitusion: 2\n");
-    rf_error err = {{0}};
-    ENSURE(rf_ydoc_check_keys(&d, rf_ydoc_root(&d), allowed, "'surface'", &err) != 0);
-    ENSURE(err.line == 2 && err.column == 1);
-    ENSURE(!strcmp(err.message,
-                   "unknown key 'restitusion' in 'surface' (did you mean 'restitution'?)"));
-    rf_ydoc_free(&d);
-
-    d = load_text("friction: 1\nfriction: 2\n");
-    ENSURE(rf_ydoc_check_keys(&d, rf_ydoc_root(&d), allowed, "'surface'", &err) != 0);
-    ENSURE(strstr(err.message, "duplicate key 'friction'") && err.line == 2);
-    rf_ydoc_free(&d);
-
-    ENSURE(rf_edit_distance("mass", "mass") == 0);
-    ENSURE(rf_edit_distance("mas", "mass") == 1);
-    ENSURE(rf_edit_distance("kitten", "sitting") == 3);
-    char buf[64];
-    ENSURE(!strcmp(rf_yrange_describe(RF_YR_BETWEEN(1, 3), 1, buf, sizeof buf),
-                   "an integer in 1..3"));
-    ENSURE(!strcmp(rf_yrange_describe(RF_YR_POSITIVE, 0, buf, sizeof buf), "a number > 0"));
-}
-
-TEST(yamldoc_syntax_errors)
-{
-    rf_ydoc d;
-    rf_error err = {{0}};
-    const char *text = "a: [1, 2\nb: 3\n";
-    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
-    ENSURE(strstr(err.message, "YAML syntax error") && err.line >= 1 && err.column >= 1);
-    ENSURE(d.text == NULL && d.loaded == 0);
-    text = "a: 1\n---\nb: 2\n";
-    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
-    ENSURE(err.line == 3 && err.column == 1 && strstr(err.message, "second YAML document"));
-    text = "# nothing\n";
-    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) == 0);
-    ENSURE(rf_ydoc_root(&d) == NULL);
-    rf_ydoc_free(&d);
-    text = "a: \xff\xfe\n";
-    ENSURE(rf_ydoc_load_text(&d, "s.yaml", text, strlen(text), &err) != 0);
-    ENSURE(err.line == 1 && strstr(err.message, "YAML syntax error"));
-}
-
-/* A scalar with an explicit tag other than a number's, a boolean's or null's is a
- * string, whatever the file's line breaks (LF, CR, U+2028 in a quoted string), a byte
- * order mark, anchors, comments between anchor and tag, or aliases: no number is read
- * from it; !!int and untagged numbers still are. */
-TEST(project_tagged_scalars_are_strings)
-{
-    static const struct {
-        const char *text;
-        const char *key;
-        int number; /* 1: read as a number (100), 0: refused */
-    } cases[] = {
-        {"a: !!str 100\n", "a", 0},
-        {"a: !!int 100\n", "a", 1},
-        {"a: !!float 100\n", "a", 1},
-        {"a: !foo 100\n", "a", 0},
-        {"a: ! 100\n", "a", 0},
-        {"a: &x !!str 100\nb: *x\n", "b", 0},
-        {"a: &x 100\nb: *x\n", "b", 1},
-        {"s: \"x\xe2\x80\xa8y\"\nb: !!str 5\na: 100\n", "a", 1},
-        {"s: \"x\xe2\x80\xa8y\"\na: !!str 100\n", "a", 0},
-        {"s: x\rb: 5\ra: !!str 100\r", "a", 0},
-        {"s: x\rb: !!str 5\ra: 100\r", "a", 1},
-        {"\xef\xbb\xbf" "a: !!str 100\n", "a", 0},
-        {"a: &x # comment\n  !!str 100\n", "a", 0},
-        {"q: [&y , !!str 5]\na: 100\n", "a", 1},
-        {"n: \xc3\xbc\xc3\xbc\na: {b: !!str 1, c: 2}\nc: 100\n", "c", 1},
-    };
-    for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
-        rf_ydoc d;
-        rf_error err;
-        ENSURE_MSG(rf_ydoc_load_text(&d, "t.yaml", cases[k].text, strlen(cases[k].text), &err) == 0,
-                   "case %zu: %s", k, err.message);
-        rf_ynode *n = rf_ydoc_get(&d, rf_ydoc_root(&d), cases[k].key);
-        ENSURE_MSG(n != NULL, "case %zu: no '%s'", k, cases[k].key);
-        double v = 0.0;
-        int rc = rf_ydoc_number(&d, n, cases[k].key, RF_YR_POSITIVE, &v, &err);
-        ENSURE_MSG((rc == 0) == cases[k].number, "case %zu: read %s", k, rc == 0 ? "a number" : "no number");
-        if (cases[k].number)
-            ENSURE(v == 100.0);
-        rf_ydoc_free(&d);
-    }
 }

@@ -1,0 +1,390 @@
+/* test_scene_events.c - the events of a scene beyond its terrain (scene_events.c):
+ * crossings of measure lines offered for every piece of motion the engines take - found
+ * once each, at any speed, on a curved path or a fixed step's, on the terrain's own
+ * edges, where the rock leaves, and before an impact at the same instant takes energy. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "motion_test_util.h"
+#include "scene_test_util.h"
+#include "test.h"
+
+#define G RF_GRAVITY
+
+/* ---- a line where an impact happens ----------------------------------------------- */
+
+/* A control line on the foot of the plane of measures_engine_slide_control_eq12, where
+ * it meets flat ground without restitution: the point mass reaches the line and the
+ * concave edge at the same moment.  The line records the energy the impact starts from,
+ * not what is left after the flat ground took the speed across it: sliding down the
+ * fall line from rest (a segment of constant acceleration), the speed of Eq. 1-2; set
+ * off across the fall line, along a path that turns towards it (hodograph.c); in either
+ * engine.  A barrier there stops the rock before the impact. */
+TEST(measures_engine_line_on_a_concave_break_sees_the_rock_before_the_impact)
+{
+    const double theta = 37.85 * M_PI / 180.0, mu = 0.2385, len = 123.85;
+    const double pts[6] = {0.0, len * tan(theta), len, 0.0, len + 100.0, 0.0};
+    rf_terrain t;
+    mt_profile(&t, pts, 3, 100.0, surface(0.0, mu, mu));
+    double line[] = {len, -10.0, len, 110.0};
+    rf_measure ms[2] = {mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0),
+                        mt_measure(RF_BARRIER, RF_STOP, line, 2, 2.385, 1e6)};
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    /* where the line is met on it, the crossing's time and the edge's can round apart
+     * either way by a hair: several starts */
+    const double ys[3] = {27.25, 47.25, 62.85};
+    for (int k = 0; k < 12; k++) {
+        int across = k % 2, engine = k / 2 % 2;
+        rf_vec3 v0 = rf_v3(0, across ? 3.85 : 0.0, 0);
+        rf_state s0 = mt_state(rf_v3(6.35, ys[k / 4], (len - 6.35) * tan(theta)), v0);
+        mt_scene_run run;
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &ms[0], 1, &s0, 1, &run);
+        const rf_interception_record *r = &run.icpt[0];
+        ENSURE_SMALL(r->p.x - len, 1e-9);
+        ENSURE_SMALL(r->p.z, 1e-9);
+        ENSURE_MSG(run.nimp > 0, "start %d: no impact on the flat ground", k);
+        ENSURE_SMALL(r->t_s - run.imp_t[0], 1e-9);
+        ENSURE_MSG(fabs(r->energy_kj - run.imp_e0[0]) <= 1e-9 * run.imp_e0[0],
+                   "start %d: %.9g kJ at the line, %.9g kJ before the impact", k, r->energy_kj,
+                   run.imp_e0[0]);
+        if (!across && !engine) {
+            double V = sqrt(1.0 - mu / tan(theta)) * sqrt(2.0 * G * s0.p.z);
+            ENSURE_REL(r->speed_ms, V, 1e-6);
+        }
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &ms[1], 1, &s0, 1, &run);
+        ENSURE_MSG(run.rec.reason == RF_END_STOPPED && run.icpt[0].outcome == RF_OUT_STOPPED,
+                   "start %d: reason %d, outcome %d", k, run.rec.reason, run.icpt[0].outcome);
+        ENSURE_SMALL(run.rec.stop.x - len, 1e-9);
+        ENSURE_MSG(run.nimp == 0, "start %d: an impact at %g s", k, run.imp_t[0]);
+    }
+    rf_terrain_free(&t);
+}
+
+/* A control line at the foot of a 30-degree rise, across flat frictionless ground: the
+ * rock slides to it with its start's energy and meets the rise there; every model and
+ * both engines record that energy, not what the impact on the rise (and in centre
+ * contact the lift onto its offset plane) leaves.  In centre contact the centre meets
+ * the rise's face a hair before the column's edge, which is the line (the crossing was
+ * recorded after that impact, within 1e-9 m of it). */
+TEST(measures_engine_line_at_the_foot_of_a_rise_sees_the_rock_before_the_impact)
+{
+    const double len = 62.85, rise = 30.0 * M_PI / 180.0;
+    const double pts[6] = {0.0, 0.0, len, 0.0, len + 50.0, 50.0 * tan(rise)};
+    rf_terrain t;
+    mt_profile(&t, pts, 3, 100.0, surface(0.0, 0.0, 0.0));
+    double line[] = {len, -10.0, len, 110.0};
+    rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    static const struct {
+        rf_rock_model model;
+        rf_contact_kind contact;
+        rf_engine_kind engine;
+    } cases[4] = {{RF_MODEL_POINT, RF_CONTACT_FULL, RF_ENGINE_EXACT},
+                  {RF_MODEL_SPHERE, RF_CONTACT_CENTRE, RF_ENGINE_EXACT},
+                  {RF_MODEL_SPHERE, RF_CONTACT_FULL, RF_ENGINE_EXACT},
+                  {RF_MODEL_SPHERE, RF_CONTACT_CENTRE, RF_ENGINE_FIXED_STEP}};
+    for (int k = 0; k < 4 * 3; k++) {
+        rf_simulation sim = engine_sim(cases[k % 4].model, cases[k % 4].engine, 0.001);
+        sim.contact = cases[k % 4].contact;
+        rf_body b = rf_body_make(2385.0, 2650.0, sim.model);
+        double r = rf_body_contact_radius(&b);
+        rf_state s0 = mt_state(rf_v3(12.35, 23.85 + 17.0 * (k / 4), r), rf_v3(12.85, 0, 0));
+        double E0 = 0.5 * b.mass * rf_v3_norm2(s0.v) / 1000.0;
+        mt_scene_run run;
+        run_scene(&t, &sim, &b, &m, 1, &s0, &run);
+        ENSURE_MSG(run.n >= 1, "case %d: no crossing", k);
+        const rf_interception_record *ic = &run.icpt[0];
+        check_record(ic, &b);
+        ENSURE_SMALL(ic->p.x - len, 1e-8);
+        ENSURE_MSG(run.nimp > 0 && run.imp_t[0] < ic->t_s + 1e-3, "case %d: no impact on the rise", k);
+        /* a full-contact sphere meets the rise before its centre reaches the line */
+        if (sim.model == RF_MODEL_SPHERE && sim.contact == RF_CONTACT_FULL)
+            ENSURE(ic->energy_kj < E0 * (1.0 - 1e-6));
+        else
+            ENSURE_MSG(fabs(ic->energy_kj - E0) <= 1e-9 * E0, "case %d: %.9g kJ at the line, %.9g before", k,
+                       ic->energy_kj, E0);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- lines drawn on the terrain's own edges ------------------------------------------ */
+
+/* A control line drawn along a break line of the terrain (a profile's vertex line, as
+ * a line along a DEM grid line): the crossing coincides with the move from one face
+ * to the next, and is recorded once, by sliding and rolling rocks and by flights
+ * that land exactly on it, under both engines. */
+TEST(measures_engine_line_on_terrain_edge)
+{
+    const double pts[6] = {0.0, 23.85, 100.0, 13.85, 300.0, 11.35};
+    rf_terrain t;
+    mt_profile(&t, pts, 3, 100.0, surface(0.0, 0.0385, 0.005));
+    double line[] = {100.0, -5.0, 100.0, 105.0};
+    double diag[] = {-5.0, -5.0, 105.0, 105.0}; /* the diagonal of the first segment's faces */
+    rf_measure ms[2] = {mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0, 0),
+                        mt_measure(RF_CONTROL, RF_COLLECT, diag, 2, 0, 0)};
+    const double slope = 10.0 / 100.0;
+    for (int mode = 0; mode < 4 * 6; mode++) {
+        rf_rock_model model = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+        int fixed = (mode >> 1) & 1, start = mode >> 2;
+        rf_simulation sim = engine_k(model, fixed);
+        rf_body b = rf_body_make(2385.0, 2650.0, model);
+        double x0 = 12.385 + 1.7 * start, y0 = 30.5 + 2.385 * start, vy = 3.85 - 0.55 * start;
+        double r = rf_body_contact_radius(&b);
+        double nz = 1.0 / sqrt(1.0 + slope * slope);
+        rf_state s0 = mt_state(rf_v3(x0 + r * slope * nz, y0, 23.85 - slope * x0 + r * nz),
+                               rf_v3(8.5, vy, -8.5 * slope));
+        mt_scene_run run;
+        run_scene(&t, &sim, &b, ms, 2, &s0, &run);
+        int n_line = 0, n_diag = 0;
+        for (int i = 0; i < run.n; i++) {
+            check_record(&run.icpt[i], &b);
+            n_line += run.icpt[i].measure == 0;
+            n_diag += run.icpt[i].measure == 1;
+        }
+        ENSURE_MSG(n_line == 1 && n_diag == 1, "mode %d: %d crossings of the break line, %d of the diagonal",
+                   mode, n_line, n_diag);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- fixed steps: each step's path is the one it takes ------------------------------ */
+
+/* A point mass slides from rest down a 30 degree plane (mu 0.2, 3.2 m/s^2) under fixed
+ * steps of 0.1 s.  A semi-implicit Euler step ends at p + h v_new, 14 mm beyond the
+ * parabola through its end velocities at these speeds.  A control line placed anywhere
+ * along the path - scanned in 2 mm steps over more than a step's length, so that some
+ * positions fall in those slivers - is crossed exactly once. */
+TEST(measures_engine_fixed_step_crosses_every_line_once)
+{
+    const double theta = 30.0 * M_PI / 180.0, L = 40.0, H = L * tan(theta);
+    const double pts[4] = {0.0, H, L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, pts, 2, 40.0, surface(0.0, 0.2, 0.0));
+    rf_simulation sim = engine_sim(RF_MODEL_POINT, RF_ENGINE_FIXED_STEP, 0.1);
+    rf_body b = rf_body_make(385.0, 2650.0, RF_MODEL_POINT);
+    rf_state s0 = mt_state(rf_v3(2.0, 20.0, H - 2.0 * tan(theta)), rf_v3(0.0, 0.0, 0.0));
+    int missed = 0, twice = 0;
+    for (int k = 0; k < 400; k++) {
+        double x = 10.0 + 0.002 * k;
+        double line[4] = {x, 10.0, x, 30.0};
+        rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+        mt_scene_run run;
+        run_scene(&t, &sim, &b, &m, 1, &s0, &run);
+        ENSURE(run.rec.reason == RF_END_EXITED);
+        missed += run.n == 0;
+        twice += run.n > 1;
+        for (int i = 0; i < run.n; i++)
+            ENSURE_SMALL(run.icpt[i].p.x - x, 1e-9);
+    }
+    ENSURE_MSG(missed == 0 && twice == 0, "%d of 400 lines missed, %d counted twice", missed, twice);
+    rf_terrain_free(&t);
+}
+
+/* ---- the exact engine off the fall line: each crossing recorded once -------------- */
+
+/* A rock launched across a 30 degree plane turns towards the fall line (the closed-form
+ * surface law, hodograph.c), and a control line at 45 degrees across the slope is placed
+ * anywhere along its curved path (400 positions 1.3 mm apart, over more than a step of
+ * the path), for both senses of the launch and both slants of the line.  The step's
+ * parabola departs from the path by up to about RF_PATH_DEV; a crossing located on it
+ * left the state a hair short of the line, the next step found the same crossing again
+ * just after its start, and it was recorded twice (in 1 554 of these 3 200 runs, and in
+ * 19 of the example slope's 485 road crossings).  Located on the path, each is recorded
+ * once, on the line. */
+TEST(measures_engine_exact_curved_path_crosses_every_line_once)
+{
+    const double theta = 30.0 * M_PI / 180.0, L = 60.0, H = L * tan(theta);
+    const double pts[4] = {0.0, H, L, 0.0};
+    rf_terrain t;
+    mt_profile(&t, pts, 2, 80.0, surface(0.0, 0.3, 0.05));
+    for (int mode = 0; mode < 8; mode++) {
+        rf_rock_model rm = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+        double side = mode & 2 ? -1.0 : 1.0, slant = mode & 4 ? -1.0 : 1.0;
+        rf_simulation sim = engine_k(rm, 0);
+        rf_body b = rf_body_make(385.0, 2650.0, rm);
+        double r = rf_body_contact_radius(&b);
+        rf_state s0 = mt_state(rf_v3(2.0 + r * sin(theta), 40.0, H - 2.0 * tan(theta) + r * cos(theta)),
+                               rf_v3(0.5 * cos(theta), 7.385 * side, -0.5 * sin(theta)));
+        int missed = 0, twice = 0;
+        for (int k = 0; k < 400; k++) {
+            double x = 12.0 + 0.0013 * k;
+            double line[4] = {x - 40.0 * slant, 0.0, x + 40.0 * slant, 80.0};
+            rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+            mt_scene_run run;
+            run_scene(&t, &sim, &b, &m, 1, &s0, &run);
+            missed += run.n == 0;
+            twice += run.n > 1;
+            for (int i = 0; i < run.n; i++) {
+                check_record(&run.icpt[i], &b);
+                /* on the line x - slant (y - 40) = x0 */
+                double off = run.icpt[i].p.x - x - slant * (run.icpt[i].p.y - 40.0);
+                ENSURE_MSG(fabs(off) <= 1e-9, "mode %d line %d: crossing %.3g m off the line",
+                           mode, k, off);
+            }
+        }
+        ENSURE_MSG(missed == 0 && twice == 0, "mode %d: %d of 400 lines missed, %d counted twice",
+                   mode, missed, twice);
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- one passage of a line ------------------------------------------------------------ */
+
+/* A point mass launched up a 30 degree plane (mu 0.2) across a control line along the
+ * contour turns and slides back across it.  When it turns within its radius beyond
+ * the line, that is one passage of the line: one crossing, on the way up (at the
+ * valley line that the example's road edge follows, a point mass wandered across it
+ * by 0.2 mm and was recorded twice).  Turning further beyond, it crosses twice: up and
+ * back down.  Both engines. */
+TEST(measures_engine_back_within_radius_is_one_passage)
+{
+    const double theta = 30.0 * M_PI / 180.0, mu = 0.2, L = 60.0, xc = 30.0, x0 = 34.0;
+    rf_terrain t;
+    mt_incline(&t, theta, L, 40.0, surface(0.0, mu, 0.0));
+    double line[] = {xc, -5.0, xc, 45.0};
+    rf_measure m = mt_measure(RF_CONTROL, RF_COLLECT, line, 2, 0.0, 0.0);
+    rf_body b = rf_body_make(2385.0, 2650.0, RF_MODEL_POINT);
+    const double decel = G * (sin(theta) + mu * cos(theta)); /* sliding up (Eq. 1-2) */
+    const double beyond[6] = {0.1, 0.5, 0.8, 1.25, 2.0, 5.0}; /* turning point, in radii */
+    for (int k = 0; k < 6 * 2; k++) {
+        int engine = k & 1;
+        double e = beyond[k >> 1] * b.radius; /* horizontal, beyond the line */
+        double s = (x0 - xc + e) / cos(theta); /* along the plane to the turning point */
+        double V = sqrt(2.0 * decel * s);
+        rf_state s0 = mt_incline_state(theta, L, x0, 20.0, 0.0,
+                                       rf_v3(-V * cos(theta), 0.0, V * sin(theta)));
+        int want = beyond[k >> 1] < 1.0 ? 1 : 2;
+        mt_scene_run run;
+        run_engine(&t, RF_MODEL_POINT, engine, &b, &m, 1, &s0, want, &run);
+        for (int i = 0; i < run.n; i++)
+            ENSURE_SMALL(run.icpt[i].p.x - xc, 1e-9);
+        /* the first on the way up, the second on the way back down */
+        ENSURE(run.icpt[0].t_s < (V / decel));
+        if (run.n > 1)
+            ENSURE(run.icpt[1].t_s > (V / decel));
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- the largest energy of a trajectory ------------------------------------------------ */
+
+/* A sphere rolls from rest down a 30 degree plane (mu_r 0.1) into a barrier that stops
+ * it: the interception carries m g dh (1 - mu_r / tan(theta)), 2/7 of it rotational,
+ * and the trajectory's max_energy_kj is that energy (it was the translational energy
+ * with the spin of the last event, 15 % short, and the stop took the rest). */
+TEST(measures_engine_max_energy_is_the_stopped_rocks)
+{
+    const double theta = 30.0 * M_PI / 180.0, mu_r = 0.1, L = 100.0, x0 = 10.0, xb = 60.0;
+    rf_terrain t;
+    mt_incline(&t, theta, L, 40.0, surface(0.0, 0.9, mu_r));
+    double line[] = {xb, -5.0, xb, 45.0};
+    rf_measure m = mt_measure(RF_BARRIER, RF_STOP, line, 2, 5.0, 1e6);
+    rf_body b = rf_body_make(1000.0, 2650.0, RF_MODEL_SPHERE);
+    rf_state s0 = mt_incline_state(theta, L, x0, 20.0, b.radius, rf_v3(0, 0, 0));
+    double dx = xb - (x0 + b.radius * sin(theta)); /* the centre's horizontal travel */
+    double E = b.mass * G * dx * tan(theta) * (1.0 - mu_r / tan(theta)) / 1000.0;
+    for (int engine = 0; engine < 2; engine++) {
+        mt_scene_run run;
+        run_engine(&t, RF_MODEL_SPHERE, engine, &b, &m, 1, &s0, 1, &run);
+        const rf_interception_record *r = &run.icpt[0];
+        ENSURE(r->outcome == RF_OUT_STOPPED && run.rec.reason == RF_END_STOPPED);
+        fprintf(stderr, "engine %d: interception %.9g kJ (rotational %.9g), max %.9g, want %.9g\n",
+                engine, r->energy_kj, r->energy_rot_kj, run.rec.max_energy_kj, E);
+        ENSURE(run.rec.max_energy_kj >= r->energy_kj);
+        ENSURE_REL(run.rec.max_energy_kj, r->energy_kj, engine ? 1e-3 : 1e-12);
+        if (engine == 0) {
+            ENSURE_REL(r->energy_kj, E, 1e-9);
+            ENSURE_REL(r->energy_rot_kj, 2.0 / 7.0 * E, 1e-9);
+        }
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- a line on the terrain's edge ------------------------------------------------------ */
+
+/* A rock leaves the terrain exactly where a line is drawn along its edge: sliding off
+ * the end of a flat profile, or flying over it.  The crossing is recorded at the edge
+ * (it was left to the next piece of motion, which a rock that has left never takes); a
+ * stop barrier there stops the rock.  Both rock models, both engines. */
+TEST(measures_engine_line_where_the_rock_leaves)
+{
+    const double flat[4] = {0.0, 5.0, 60.0, 5.0};
+    rf_terrain t;
+    mt_profile(&t, flat, 2, 40.0, surface(0.0, 0.1, 0.01));
+    double edge[] = {60.0, -5.0, 60.0, 45.0};
+    for (int mode = 0; mode < 16; mode++) {
+        rf_rock_model model = mode & 1 ? RF_MODEL_SPHERE : RF_MODEL_POINT;
+        int engine = (mode >> 1) & 1, stop = (mode >> 2) & 1, fly = mode >> 3;
+        rf_measure m = stop ? mt_measure(RF_BARRIER, RF_STOP, edge, 2, 8.0, 1e6)
+                            : mt_measure(RF_CONTROL, RF_COLLECT, edge, 2, 0.0, 0.0);
+        rf_body b = rf_body_make(1000.0, 2650.0, model);
+        double r = rf_body_contact_radius(&b);
+        /* sliding or rolling off the end, or in flight over it (4.9 m lower there) */
+        rf_state s0 = fly ? mt_state(rf_v3(40.0, 20.0, 15.0 + r), rf_v3(20.0, 0.0, 0.0))
+                          : mt_state(rf_v3(40.0, 20.0, 5.0 + r), rf_v3(8.0, 0.0, 0.0));
+        mt_scene_run run;
+        run_engine(&t, model, engine, &b, &m, 1, &s0, 1, &run);
+        ENSURE_SMALL(run.icpt[0].p.x - 60.0, 1e-9);
+        ENSURE_MSG(run.icpt[0].outcome == (stop ? RF_OUT_STOPPED : RF_OUT_PASSED), "mode %d: outcome %d, height %g", mode, (int)run.icpt[0].outcome, run.icpt[0].passing_height_m);
+        ENSURE(run.rec.reason == (stop ? RF_END_STOPPED : RF_END_EXITED));
+    }
+    rf_terrain_free(&t);
+}
+
+/* ---- a flight at any speed ------------------------------------------------------------ */
+
+/* A point mass launched horizontally at 250 m/s, 200 m above level ground, across eight
+ * control lines (seven across its path, one oblique): the flight's crossings are roots
+ * of the horizontal path, so each line is recorded once, in order, at t = (x - x0) / vx,
+ * with the centre at z0 - g t^2 / 2, the speed hypot(vx, g t), 1/2 m V^2 and nothing
+ * rotational, and the height above the ground z; the rock then leaves the terrain. */
+TEST(scene_events_fast_flight_crosses_each_line_at_its_exact_time)
+{
+    const double x0 = 10.0, y0 = 50.0, z0 = 200.0, vx = 250.0, mass = 385.0;
+    rf_terrain t;
+    mt_incline(&t, 0.0, 300.0, 100.0, surface(0.3, 0.3, 0.05));
+    double lines[8][4];
+    rf_measure ms[8];
+    double xs[8];
+    for (int k = 0; k < 7; k++) {
+        xs[k] = 20.0 + 40.0 * k + 0.385 * k * k;
+        double *q = lines[k];
+        q[0] = q[2] = xs[k], q[1] = -5.0, q[3] = 105.0;
+        ms[k] = mt_measure(RF_CONTROL, RF_COLLECT, q, 2, 0.0, 0.0);
+    }
+    /* oblique: from (140, -50) to (180, 150), crossed at y = 50, x = 160 */
+    lines[7][0] = 140.0, lines[7][1] = -50.0, lines[7][2] = 180.0, lines[7][3] = 150.0;
+    ms[7] = mt_measure(RF_CONTROL, RF_COLLECT, lines[7], 2, 0.0, 0.0);
+    xs[7] = 160.0;
+    rf_simulation sim = mt_sim(RF_MODEL_POINT, RF_CONTACT_FULL, 300.0);
+    rf_body b = rf_body_make(mass, 2650.0, RF_MODEL_POINT);
+    rf_state s0 = mt_state(rf_v3(x0, y0, z0), rf_v3(vx, 0.0, 0.0));
+    mt_scene_run *run = malloc(sizeof *run);
+    ENSURE(run != NULL);
+    run_scene(&t, &sim, &b, ms, 8, &s0, run);
+    ENSURE(run->rec.reason == RF_END_EXITED);
+    ENSURE(run->rec.n_impacts == 0);
+    ENSURE_MSG(run->n == 8, "%d crossings", run->n);
+    double last_t = 0.0;
+    for (int i = 0; i < run->n; i++) {
+        const rf_interception_record *r = &run->icpt[i];
+        check_record(r, &b);
+        ENSURE(r->measure >= 0 && r->measure < 8);
+        double x = xs[r->measure], tc = (x - x0) / vx;
+        ENSURE_MSG(r->t_s > last_t, "crossing %d out of order", i);
+        last_t = r->t_s;
+        ENSURE_REL(r->t_s, tc, 1e-12);
+        ENSURE_REL(r->p.x, x, 1e-12);
+        ENSURE_SMALL(r->p.y - y0, 1e-9);
+        double z = z0 - 0.5 * G * tc * tc, V = hypot(vx, G * tc);
+        ENSURE_REL(r->p.z, z, 1e-12);
+        ENSURE_REL(r->speed_ms, V, 1e-12);
+        ENSURE_REL(r->energy_kj, 0.5 * mass * V * V / 1000.0, 1e-12);
+        ENSURE(r->energy_rot_kj == 0.0);
+        ENSURE_REL(r->passing_height_m, z, 1e-12);
+        ENSURE(r->outcome == RF_OUT_PASSED);
+    }
+    free(run);
+    rf_terrain_free(&t);
+}
