@@ -13,7 +13,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/version.h"
-#include "results/query.h"
+#include "results/run_view.h"
 #include "report/report.h"
 #include "check/rules.h"
 #include "results/store.h"

@@ -18,7 +18,7 @@
 #include "rockfall/empirical.h"
 #include "rockfall/project.h"
 #include "rockfall/terrain.h"
-#include "results/query.h"
+#include "results/run_view.h"
 #include "report/svg.h"
 
 const double rf_report_energy_limits[RF_REPORT_N_ENERGY_LIMITS] = {1000.0, 3000.0, 6000.0};
