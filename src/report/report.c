@@ -15,9 +15,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "input/measure_kinds.h"
 #include "rockfall/empirical.h"
 #include "rockfall/project.h"
-#include "rockfall/terrain.h"
 #include "results/run_view.h"
 #include "report/svg.h"
 
@@ -56,22 +56,9 @@ static const char *const OUTCOME_COLOURS[N_OUTCOMES] = {"#4daf4a", "#9ecae1", "#
 
 /* ---- data of the run ------------------------------------------------------------ */
 
-typedef struct rep_release {
-    int64_t id;
-    char *name, *rock;
-    double x, y, z, mass;
-    int action_level;
-    long count;
-} rep_release;
-
-typedef struct rep_measure {
-    int64_t id;
-    long idx;
-    char *name, *kind, *importance;
-    double height, mel, sel, cap[RF_N_LIMIT_STATES];
-    double *xy;
-    size_t n;
-} rep_measure;
+/* The run's releases and measures, as the run view holds them. */
+typedef rf_view_release rep_release;
+typedef rf_view_measure rep_measure;
 
 typedef struct rep_arrival {
     double s, speed, energy, zground;
@@ -79,7 +66,8 @@ typedef struct rep_arrival {
 } rep_arrival;
 
 typedef struct contour_grid {
-    double *z; /* nx * ny heights, NAN off the terrain; NULL without a terrain */
+    const double *z; /* nx * ny heights, NAN off the terrain (the run view's); NULL
+                      * without a terrain */
     size_t nx, ny;
     double x0, y0, step;
     double zmin, zmax, interval;
@@ -90,15 +78,16 @@ typedef struct report {
     int64_t run;
     const char *dir;
     rf_error *err;
-    char *project, *project_path, *seed, *status, *started, *finished, *version, *yaml;
+    rf_run_view view; /* everything the report reads of the run but its bulk rows */
+    const char *project, *project_path, *seed, *status, *started, *finished, *version;
     rep_release *rel;
     size_t nrel;
     const char **rel_fills, **rel_names; /* of each release (at least one), for the charts */
     rep_measure *mea;
     size_t nmea;
     long n_traj, n_path_traj;
-    int have_project;
-    rf_project proj;
+    int have_terrain;        /* the run stored its terrain (terrain_grids) */
+    double mu;               /* the surface's mean friction; NaN when not stored */
     contour_grid grid;
     double bx0, bx1, by0, by1; /* plan extent (m) */
     double pw, ph;             /* plan plot size (px) */
@@ -120,26 +109,9 @@ static sqlite3_stmt *prep(report *r, const char *sql, int64_t id)
     return st;
 }
 
-static char *col_dup(sqlite3_stmt *st, int i)
-{
-    const char *t = (const char *)sqlite3_column_text(st, i);
-    return strdup(t ? t : "");
-}
-
 static int oom(report *r)
 {
     return rf_error_set(r->err, r->dir, 0, 0, "out of memory");
-}
-
-/* One value of a query with ?1 = id, as a double (NAN when none). */
-static double query_real(report *r, const char *sql, int64_t id)
-{
-    sqlite3_stmt *st = prep(r, sql, id);
-    double v = NAN;
-    if (st && sqlite3_step(st) == SQLITE_ROW)
-        v = rf_query_column_real(st, 0);
-    sqlite3_finalize(st);
-    return v;
 }
 
 /* Runs sql with ?1 = id and hands each row to row(r, st, ctx), which returns 0, or -1
@@ -199,72 +171,42 @@ static const char *release_colour(size_t k)
 
 static const char *measure_colour(const rep_measure *m)
 {
-    if (!strcmp(m->kind, "barrier"))
-        return "#d62728";
-    if (!strcmp(m->kind, "embankment"))
-        return "#8c510a";
-    return "#252525";
+    return m->kind >= 0 ? rf_measure_kinds[m->kind].colour : "#252525";
 }
 
+/* A protected line (a control line): the report draws the arrivals along it. */
 static int is_control(const rep_measure *m)
 {
-    return !strcmp(m->kind, "control");
+    return m->kind >= 0 && rf_measure_kinds[m->kind].reach_line;
 }
 
 /* ---- loading ---------------------------------------------------------------------- */
 
+/* The run through the run view; the report's names point into it. */
 static int load_run(report *r)
 {
-    sqlite3_stmt *st = prep(r,
-                            "SELECT project, project_path, seed, status, started_at, finished_at,"
-                            " version, project_yaml FROM runs WHERE id = ?1",
-                            r->run);
-    if (!st)
+    if (rf_run_view_load(r->db, r->run, &r->view, r->err))
         return -1;
-    int rc = sqlite3_step(st);
-    if (rc == SQLITE_ROW) {
-        r->project = col_dup(st, 0);
-        r->project_path = col_dup(st, 1);
-        r->seed = col_dup(st, 2);
-        r->status = col_dup(st, 3);
-        r->started = col_dup(st, 4);
-        r->finished = col_dup(st, 5);
-        r->version = col_dup(st, 6);
-        r->yaml = col_dup(st, 7);
-    }
-    sqlite3_finalize(st);
-    if (rc == SQLITE_DONE)
-        return rf_error_set(r->err, sqlite3_db_filename(r->db, "main"), 0, 0,
-                            "no run %lld in this database", (long long)r->run);
-    if (rc != SQLITE_ROW)
-        return db_error(r);
-    if (!r->project || !r->project_path || !r->seed || !r->status || !r->started ||
-        !r->finished || !r->version || !r->yaml)
-        return oom(r);
+    const rf_run_view *v = &r->view;
+    r->project = v->project;
+    r->project_path = v->project_path;
+    r->seed = v->seed;
+    r->status = v->status;
+    r->started = v->started;
+    r->finished = v->finished;
+    r->version = v->version;
+    r->rel = v->rel;
+    r->nrel = v->nrel;
+    r->mea = v->mea;
+    r->nmea = v->nmea;
+    r->n_traj = v->n_trajectories;
+    r->have_terrain = v->has_grid;
+    r->mu = v->surface_friction;
     return 0;
-}
-
-static int release_row(report *r, sqlite3_stmt *st, void *ctx)
-{
-    rep_release *e = next_elem(r, ctx);
-    if (!e)
-        return -1;
-    *e = (rep_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
-                       .rock = col_dup(st, 2), .x = rf_query_column_real(st, 3),
-                       .y = rf_query_column_real(st, 4), .z = rf_query_column_real(st, 5),
-                       .mass = rf_query_column_real(st, 6),
-                       .action_level = sqlite3_column_int(st, 7),
-                       .count = (long)sqlite3_column_int64(st, 8)};
-    return e->name && e->rock ? 0 : oom(r);
 }
 
 static int load_releases(report *r)
 {
-    if (load_rows(r,
-                  "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
-                  " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
-                  r->run, release_row, (void **)&r->rel, &r->nrel, sizeof *r->rel))
-        return -1;
     size_t n = r->nrel ? r->nrel : 1;
     r->rel_fills = calloc(n, sizeof *r->rel_fills);
     r->rel_names = calloc(n, sizeof *r->rel_names);
@@ -277,81 +219,13 @@ static int load_releases(report *r)
     return 0;
 }
 
-static int vertex_row(report *r, sqlite3_stmt *st, void *ctx)
+/* What the report says of a run without its terrain. */
+static void note_terrain(report *r)
 {
-    double *xy = next_elem(r, ctx);
-    if (!xy)
-        return -1;
-    xy[0] = rf_query_column_real(st, 0);
-    xy[1] = rf_query_column_real(st, 1);
-    return 0;
-}
-
-/* The measure's polyline from its JSON text. */
-static int load_line(report *r, rep_measure *m)
-{
-    return load_rows(r,
-                     "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
-                     " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
-                     m->id, vertex_row, (void **)&m->xy, &m->n, 2 * sizeof *m->xy);
-}
-
-static int measure_row(report *r, sqlite3_stmt *st, void *ctx)
-{
-    rep_measure *m = next_elem(r, ctx);
-    if (!m)
-        return -1;
-    *m = (rep_measure){.id = sqlite3_column_int64(st, 0),
-                       .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
-                       .kind = col_dup(st, 3), .importance = col_dup(st, 4),
-                       .height = rf_query_column_real(st, 5), .mel = rf_query_column_real(st, 6),
-                       .sel = rf_query_column_real(st, 7)};
-    for (int k = 0; k < RF_N_LIMIT_STATES; k++)
-        m->cap[k] = rf_query_column_real(st, 8 + k);
-    return m->name && m->kind && m->importance ? 0 : oom(r);
-}
-
-static int load_measures(report *r)
-{
-    if (load_rows(r,
-                  "SELECT id, idx, name, kind, importance, height_m, mel_kj,"
-                  " sel_kj, cap_serviceability_kj, cap_restorability_kj,"
-                  " cap_ultimate_kj, cap_near_collapse_kj"
-                  " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
-                  r->run, measure_row, (void **)&r->mea, &r->nmea, sizeof *r->mea))
-        return -1;
-    for (size_t k = 0; k < r->nmea; k++)
-        if (load_line(r, &r->mea[k]))
-            return -1;
-    return 0;
-}
-
-/* Reloads the project for its terrain; on failure the report goes on without it. */
-static void load_project(report *r)
-{
-    if (!r->project_path[0]) {
-        fputs("<li>The run does not name its project file: the figures have no terrain "
+    if (!r->have_terrain)
+        fputs("<li>The run stores no terrain (a run without one, or one written before "
+              "schema version 2 of the results database): the figures have no terrain "
               "contours.</li>\n",
-              r->notes);
-        return;
-    }
-    rf_error perr = {0};
-    if (rf_project_load(r->project_path, &r->proj, &perr)) {
-        fputs("<li>The project file could not be reloaded for the terrain, so the figures "
-              "have no contours: ",
-              r->notes);
-        if (perr.file[0]) {
-            rf_svg_escape(r->notes, perr.file);
-            fputs(": ", r->notes);
-        }
-        rf_svg_escape(r->notes, perr.message);
-        fputs("</li>\n", r->notes);
-        return;
-    }
-    r->have_project = 1;
-    if (strcmp(r->proj.yaml_text ? r->proj.yaml_text : "", r->yaml))
-        fputs("<li>The project file has changed since this run: the terrain contours come "
-              "from the file as it is now.</li>\n",
               r->notes);
 }
 
@@ -370,12 +244,11 @@ static void grow(double *lo, double *hi, double v)
 static int compute_extent(report *r)
 {
     double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-    if (r->have_project) {
-        const rf_terrain *t = &r->proj.terrain;
-        x0 = t->xmin;
-        x1 = t->xmax;
-        y0 = t->ymin;
-        y1 = t->ymax;
+    if (r->have_terrain) { /* the extent fitted when the terrain was stored */
+        x0 = r->view.grid.x0;
+        x1 = r->view.grid.x1;
+        y0 = r->view.grid.y0;
+        y1 = r->view.grid.y1;
     } else {
         for (size_t k = 0; k < r->nrel; k++) {
             grow(&x0, &x1, r->rel[k].x);
@@ -414,21 +287,10 @@ static int compute_extent(report *r)
         x1 += pad;
         y0 -= pad;
         y1 += pad;
+        rf_plan_extent_fit(&x0, &x1, &y0, &y1);
     }
-    /* The plot keeps 1 m the same in x and y; a very flat or tall extent is widened. */
+    /* The plot keeps 1 m the same in x and y (the extent is fitted to that). */
     double dx = x1 - x0, dy = y1 - y0;
-    if (dy < 0.25 * dx) {
-        double extra = (0.25 * dx - dy) / 2;
-        y0 -= extra;
-        y1 += extra;
-        dy = y1 - y0;
-    }
-    if (dx < 0.4 * dy) {
-        double extra = (0.4 * dy - dx) / 2;
-        x0 -= extra;
-        x1 += extra;
-        dx = x1 - x0;
-    }
     r->bx0 = x0;
     r->bx1 = x1;
     r->by0 = y0;
@@ -442,37 +304,25 @@ static int compute_extent(report *r)
     return 0;
 }
 
+/* The contour levels of the stored terrain grid. */
 static int build_contour_grid(report *r)
 {
-    if (!r->have_project)
+    if (!r->have_terrain)
         return 0;
     contour_grid *g = &r->grid;
-    double dx = r->bx1 - r->bx0, dy = r->by1 - r->by0;
-    g->step = fmax(dx, dy) / CONTOUR_NODES;
-    g->nx = (size_t)ceil(dx / g->step) + 1;
-    g->ny = (size_t)ceil(dy / g->step) + 1;
-    g->x0 = r->bx0;
-    g->y0 = r->by0;
-    g->z = malloc(g->nx * g->ny * sizeof *g->z);
-    if (!g->z)
-        return oom(r);
+    const rf_terrain_grid *t = &r->view.grid;
+    g->step = t->step;
+    g->nx = t->nx;
+    g->ny = t->ny;
+    g->x0 = t->x0;
+    g->y0 = t->y0;
     g->zmin = INFINITY;
     g->zmax = -INFINITY;
-    for (size_t j = 0; j < g->ny; j++)
-        for (size_t i = 0; i < g->nx; i++) {
-            double z = NAN;
-            double x = fmin(g->x0 + (double)i * g->step, r->bx1);
-            double y = fmin(g->y0 + (double)j * g->step, r->by1);
-            if (rf_terrain_height(&r->proj.terrain, x, y, &z) < 0)
-                z = NAN;
-            g->z[j * g->nx + i] = z;
-            grow(&g->zmin, &g->zmax, z);
-        }
-    if (!(g->zmax > g->zmin)) {
-        free(g->z);
-        g->z = NULL;
+    for (size_t k = 0; k < t->nx * t->ny; k++)
+        grow(&g->zmin, &g->zmax, t->z[k]);
+    if (!(g->zmax > g->zmin))
         return 0;
-    }
+    g->z = t->z;
     g->interval = rf_svg_nice_step(g->zmax - g->zmin, 14);
     return 0;
 }
@@ -679,7 +529,7 @@ static void legend_measures(report *r, legend *l)
         char attrs[160], label[300];
         snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"%s\"%s", measure_colour(m),
                  is_control(m) ? "3" : "5", is_control(m) ? " stroke-dasharray=\"8 4\"" : "");
-        snprintf(label, sizeof label, "%s (%s)", m->name, m->kind);
+        snprintf(label, sizeof label, "%s (%s)", m->name, m->kind_name);
         legend_line(l, attrs, label);
     }
 }
@@ -901,9 +751,9 @@ static void crosscheck_release(report *r, const rep_measure *m, const road_stats
     const rep_release *e = &r->rel[k];
     double px, py;
     c->s_centre = rf_polyline_station(m->xy, m->n, e->x, e->y, &c->L, &px, &py);
-    double zroad = NAN;
-    if (r->have_project && rf_terrain_height(&r->proj.terrain, px, py, &zroad) < 0)
-        zroad = NAN;
+    (void)px, (void)py;
+    const rf_view_ground *gp = rf_run_view_ground(&r->view, e->id, m->id);
+    double zroad = gp ? gp->z : NAN;
     double zsum = 0, vsum = 0;
     long nz = 0;
     c->n = 0;
@@ -932,7 +782,7 @@ static void crosscheck_release(report *r, const rep_measure *m, const road_stats
         c->v_max = NAN;
     c->H = e->z - zroad;
     c->theta = c->L > 0 ? atan2(c->H, c->L) : NAN;
-    double mu = r->have_project ? r->proj.terrain_spec.surface.friction.mean : NAN;
+    double mu = r->mu;
     c->v_project = c->H > 0 && isfinite(mu) ? rf_empirical_velocity(c->H, c->theta, mu) : NAN;
     /* the paper's crosscheck uses Table 2 class D */
     double mu_d = rf_table2_friction('D');
@@ -1125,9 +975,8 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     char mu_d_text[64], mu_text[64];
     snprintf(mu_d_text, sizeof mu_d_text, "mu = %.2f (Table 2, D)", rf_table2_friction('D'));
     const char *what[2] = {mu_d_text, "mu of the project"};
-    if (r->have_project) {
-        snprintf(mu_text, sizeof mu_text, "mu = %.2f (project)",
-                 r->proj.terrain_spec.surface.friction.mean);
+    if (isfinite(r->mu)) {
+        snprintf(mu_text, sizeof mu_text, "mu = %.2f (project)", r->mu);
         what[1] = mu_text;
     }
     for (size_t k = 0; lines && k < r->nrel; k++) {
@@ -1293,9 +1142,9 @@ static int section_road(report *r)
               f);
         fputs("<table><tr><th>release</th><th>L (m)</th><th>H (m)</th><th>&theta; (&deg;)</th>",
               f);
-        if (r->have_project) {
+        if (isfinite(r->mu)) {
             fputs("<th>V Eq. 1, &mu; = ", f);
-            put_num(f, r->proj.terrain_spec.surface.friction.mean, 2);
+            put_num(f, r->mu, 2);
             fputs(" (project) (m/s)</th>", f);
         }
         fputs("<th>V Eq. 1, &mu; = ", f);
@@ -1311,7 +1160,7 @@ static int section_road(report *r)
             td_num(f, c->L, 1);
             td_num(f, c->H, 1);
             td_num(f, c->theta * 180.0 / M_PI, 1);
-            if (r->have_project)
+            if (isfinite(r->mu))
                 td_num(f, c->v_project, 1);
             td_num(f, c->v_class_d, 1);
             td_num(f, c->v_mean, 1);
@@ -1344,9 +1193,9 @@ static int section_road(report *r)
             }
         }
         fputs("</table>\n", f);
-        if (!r->have_project)
-            fputs("<p>Without the project file the mean surface friction is unknown, and the "
-                  "road's height comes from the crossings (centre height minus passing "
+        if (!isfinite(r->mu))
+            fputs("<p>The run stores no terrain: the mean surface friction is unknown, and "
+                  "the road's height comes from the crossings (centre height minus passing "
                   "height).</p>\n",
                   f);
         free(rs.a);
@@ -1399,8 +1248,8 @@ static int read_hazard_summary(report *r, hazard_summary *h)
 /* The project's cell size, else the spacing of the cells (5 m when unknown). */
 static double hazard_cell_size(const report *r, const hazard_summary *h)
 {
-    if (r->have_project && r->proj.hazard_cell > 0)
-        return r->proj.hazard_cell;
+    if (r->view.hazard_cell > 0)
+        return r->view.hazard_cell;
     if (h->step_x > 0)
         return h->step_x;
     return h->step_y > 0 ? h->step_y : 5.0;
@@ -1581,7 +1430,8 @@ static int figure_measure(report *r, const rep_measure *m, const rf_crossing_row
         hist_add(&h, (size_t)OUTCOME_STACK[x[i].outcome], x[i].energy);
     double cmax = hist_top(&h);
     char title[600];
-    snprintf(title, sizeof title, "Energy at %s (%s) against its capacities", m->name, m->kind);
+    snprintf(title, sizeof title, "Energy at %s (%s) against its capacities", m->name,
+             m->kind_name);
     if (hist_open(r, &h, file, title, cmax * 1.12))
         return -1;
     rf_svg *s = &h.s;
@@ -1776,8 +1626,8 @@ static int section_measures(report *r, long *npass, long *nfail)
         }
         fputs("<tr>", f);
         td_text(f, m->name);
-        td_text(f, m->kind);
-        td_text(f, m->importance);
+        td_text(f, m->kind_name);
+        td_text(f, m->importance_name);
         td_num(f, m->height, 1);
         fprintf(f, "<td>%ld</td><td>%ld</td><td>%ld</td><td>%ld</td><td>%ld</td>", s->n,
                 s->n_stopped, s->n_overtopped, s->n_broke_through, s->n_passed);
@@ -1803,14 +1653,14 @@ static int section_measures(report *r, long *npass, long *nfail)
         fputs("<h3>", f);
         rf_svg_escape(f, m->name);
         fputs(" (", f);
-        rf_svg_escape(f, m->kind);
+        rf_svg_escape(f, m->kind_name);
         fputs(")</h3>\n", f);
         if (!is_control(m)) {
             fputs("<li>", r->summary);
             rf_svg_escape(r->summary, m->name);
             fprintf(r->summary,
                     " (%s): %ld crossings, %ld stopped, %ld overtopped, %ld broke through",
-                    m->kind, s->n, s->n_stopped, s->n_overtopped, s->n_broke_through);
+                    m->kind_name, s->n, s->n_stopped, s->n_overtopped, s->n_broke_through);
             /* the verdict is the rules engine's, as stored in `checks` */
             double stored = NAN, passed = NAN;
             sqlite3_stmt *st = prep(r,
@@ -1976,31 +1826,9 @@ static int make_dirs(const char *dir, rf_error *err)
 
 static void free_report(report *r)
 {
-    free(r->project);
-    free(r->project_path);
-    free(r->seed);
-    free(r->status);
-    free(r->started);
-    free(r->finished);
-    free(r->version);
-    free(r->yaml);
-    for (size_t k = 0; k < r->nrel; k++) {
-        free(r->rel[k].name);
-        free(r->rel[k].rock);
-    }
-    free(r->rel);
     free(r->rel_fills);
     free(r->rel_names);
-    for (size_t k = 0; k < r->nmea; k++) {
-        free(r->mea[k].name);
-        free(r->mea[k].kind);
-        free(r->mea[k].importance);
-        free(r->mea[k].xy);
-    }
-    free(r->mea);
-    free(r->grid.z);
-    if (r->have_project)
-        rf_project_free(&r->proj);
+    rf_run_view_free(&r->view);
 }
 
 /* A memory stream's text, closed. */
@@ -2046,10 +1874,8 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
     if (!status)
         status = make_dirs(dir, err);
     if (!status)
-        status = load_releases(&r) || load_measures(&r) ? -1 : 0;
+        status = load_releases(&r);
     if (!status) {
-        r.n_traj = (long)query_real(&r, "SELECT count(*) FROM trajectories WHERE run_id = ?1",
-                                    run);
         r.summary = open_memstream(&sum_text, &sum_len);
         r.notes = open_memstream(&notes_text, &notes_len);
         r.body = open_memstream(&body_text, &body_len);
@@ -2059,7 +1885,7 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
     if (!status) {
         if (strcmp(r.status, "complete"))
             fputs("<li>This run is not complete: its results are partial.</li>\n", r.notes);
-        load_project(&r);
+        note_terrain(&r);
         status = compute_extent(&r) || build_contour_grid(&r) ? -1 : 0;
     }
     if (!status) {
