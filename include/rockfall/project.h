@@ -52,9 +52,11 @@ typedef struct rf_release {
     double jitter;    /* radius of the random horizontal offset (m, >= 0); default 0 */
 } rf_release;
 
-/* The row of a measure's kind in rf_measure_kinds (src/input/measure_kinds.h), the
- * one table of what each kind is and does. */
-typedef enum rf_measure_kind { RF_BARRIER, RF_EMBANKMENT, RF_CONTROL } rf_measure_kind;
+/* The row of a measure's kind in rf_measure_kinds (src/input/measure_kinds.c), the
+ * one table of what each kind is and does; RF_N_MEASURE_KINDS counts them. */
+typedef enum rf_measure_kind {
+    RF_BARRIER, RF_EMBANKMENT, RF_CONTROL, RF_N_MEASURE_KINDS
+} rf_measure_kind;
 /* What a measure does to a rock that crosses it (interceptions.outcome). */
 typedef enum rf_outcome {
     RF_OUT_STOPPED, RF_OUT_OVERTOPPED, RF_OUT_BROKE_THROUGH, RF_OUT_PASSED

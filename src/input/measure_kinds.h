@@ -5,8 +5,9 @@
  * (measures.kind, a row of measure_kinds), its name in the report, what Table 3
  * classifies for it, the keys the project loader reads for it and the outcome of a
  * rock crossing it.  The loader, the store, the rules and the report read a kind's
- * facts only from here; a new kind is one row and its functions (and, when Table 3
- * classifies it, its `capacities` entry in the rule file). */
+ * facts only from here; a new kind is its name in rf_measure_kind (project.h), one row
+ * here and its functions, and, when Table 3 classifies it, its `capacities` entry in
+ * the rule file. */
 #ifndef ROCKFALL_MEASURE_KINDS_H
 #define ROCKFALL_MEASURE_KINDS_H
 
@@ -30,7 +31,8 @@ typedef struct rf_measure_kind_class {
                           * `capacities`, the checks judge it */
     int reach_line;      /* the protected line: the layout counts the rockfalls across
                           * it, the report draws their arrivals along it */
-    int has_mel;         /* a rule file may take its capacities from mel and sel */
+    int has_mel;         /* it has a MEL and a SEL (measures.mel_kj, sel_kj, sel_source), from
+                          * which a rule file may take its capacities */
     const char *states;  /* JSON list of the limit states it may have a capacity for
                           * (measure_kinds.limit_states) */
     const char *const *keys; /* its keys besides name, kind, line, importance, behaviour */
@@ -42,7 +44,6 @@ typedef struct rf_measure_kind_class {
     rf_outcome (*outcome)(const rf_measure *m, double passing_height_m, double energy_kj);
 } rf_measure_kind_class;
 
-#define RF_N_MEASURE_KINDS 3
 extern const rf_measure_kind_class rf_measure_kinds[RF_N_MEASURE_KINDS];
 
 /* Every key a measure item may have: the common ones and every kind's, NULL-ended. */

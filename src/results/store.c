@@ -302,8 +302,8 @@ static int insert_measure_row(rf_store *s, const rf_project *p, size_t i, rf_err
     if (!line)
         return rf_error_set(err, s->path, 0, 0, "out of memory writing measure '%s'", m->name);
     sqlite3_stmt *st = s->stmt[ST_MEASURE];
-    int barrier = m->kind == RF_BARRIER;
     assert((unsigned)m->kind < RF_N_MEASURE_KINDS);
+    int has_mel = rf_measure_kinds[m->kind].has_mel;
     bind_int(st, 1, s->run_id);
     bind_int(st, 2, (int64_t)i);
     bind_text(st, 3, m->name);
@@ -311,12 +311,12 @@ static int insert_measure_row(rf_store *s, const rf_project *p, size_t i, rf_err
     bind_text(st, 5, rf_importance_name(m->importance));
     bind_real(st, 6, m->height);
     bind_text(st, 7, rf_behaviour_name(m->behaviour));
-    bind_given(st, 8, barrier ? m->mel : -1.0);
-    bind_given(st, 9, barrier ? m->sel : -1.0);
+    bind_given(st, 8, has_mel ? m->mel : -1.0);
+    bind_given(st, 9, has_mel ? m->sel : -1.0);
     for (int k = 0; k < RF_N_LIMIT_STATES; k++)
         bind_given(st, 10 + k, m->capacity[k]);
     bind_text(st, 14, line);
-    bind_text(st, 15, !barrier ? NULL : m->sel_given ? "given" : "default: MEL/3");
+    bind_text(st, 15, !has_mel ? NULL : m->sel_given ? "given" : "default: MEL/3");
     int status = step_statement(s, ST_MEASURE, "writing a measure", err);
     free(line);
     if (status)
