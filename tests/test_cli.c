@@ -229,3 +229,54 @@ TEST(cli_version_1_file_checked_reported_and_upgraded)
     free(before);
     free(after);
 }
+
+/* The report draws the terrain the run stored: after the project's DEM file is
+ * changed, and after it is deleted, the plan is the same, byte for byte. */
+TEST(cli_report_keeps_the_terrain_of_the_run)
+{
+    char dir[512], path[700], db[700], args[2048], out[16384];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    /* the Noto project beside a copy of its DEM, without its rule file */
+    char *yaml = rf_test_read_text("projects/noto/noto-3.3.yaml");
+    ENSURE(yaml);
+    char *rules = strstr(yaml, "\nrules:");
+    ENSURE(rules);
+    rules[1] = '\0';
+    snprintf(path, sizeof path, "%s/noto.yaml", dir);
+    FILE *f = fopen(path, "w");
+    ENSURE(f && fputs(yaml, f) >= 0);
+    fclose(f);
+    free(yaml);
+    char dem[700];
+    snprintf(dem, sizeof dem, "%s/terrain.asc", dir);
+    copy_file("projects/noto/terrain.asc", dem);
+    snprintf(db, sizeof db, "%s/noto.db", dir);
+    snprintf(args, sizeof args, "run %s --count 2 --quiet -o %s", path, db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+
+    const char *steps[3] = {"as run", "changed", "deleted"};
+    char *first = NULL;
+    for (int k = 0; k < 3; k++) {
+        if (k == 1) { /* another slope: a plane 100 m lower */
+            f = fopen(dem, "w");
+            ENSURE(f);
+            fputs("ncols 3\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 150\n"
+                  "NODATA_value -9999\n0 0 0\n0 0 0\n0 0 0\n", f);
+            fclose(f);
+        } else if (k == 2) {
+            ENSURE(remove(dem) == 0);
+        }
+        snprintf(args, sizeof args, "report %s --out %s/report-%d", db, dir, k);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s: %s", steps[k], out);
+        snprintf(path, sizeof path, "%s/report-%d/plan.svg", dir, k);
+        char *plan = rf_test_read_text(path);
+        ENSURE(plan && strstr(plan, "contours every"));
+        if (!first)
+            first = plan;
+        else {
+            ENSURE_MSG(!strcmp(first, plan), "plan.svg differs with the DEM %s", steps[k]);
+            free(plan);
+        }
+    }
+    free(first);
+}
