@@ -4,7 +4,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-#include "results/query.h"
+#include "results/run_view.h"
 #include "test.h"
 
 /* The query's statement stepped to its first row. */

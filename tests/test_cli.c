@@ -92,3 +92,191 @@ TEST(cli_bad_project_touches_no_database)
     struct stat st;
     ENSURE_MSG(stat(db, &st) != 0, "a database was created for a bad project");
 }
+
+/* ---- the results database's schema policy ------------------------------------------- */
+
+#include <unistd.h>
+
+/* A database written by rockfall at schema version 1 (tests/test_store.c). */
+#define V1_FIXTURE "tests/data/results-v1.db"
+
+static char *slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    ENSURE_MSG(f, "cannot open %s", path);
+    char *buf = malloc(1 << 20);
+    ENSURE(buf);
+    *len = fread(buf, 1, 1 << 20, f);
+    fclose(f);
+    ENSURE(*len > 0 && *len < (1 << 20));
+    return buf;
+}
+
+static void copy_file(const char *from, const char *to)
+{
+    size_t len;
+    char *buf = slurp(from, &len);
+    FILE *o = fopen(to, "wb");
+    ENSURE(o && fwrite(buf, 1, len, o) == len);
+    fclose(o);
+    free(buf);
+}
+
+static int exists_file(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* `rockfall ARGS` as the user nobody when this runs as root (who may write anywhere),
+ * else as ourselves: its exit status. */
+static int rockfall_unprivileged(const char *args, char *out, size_t cap)
+{
+    if (geteuid() != 0)
+        return rf_test_rockfall(args, out, cap);
+    fflush(NULL);
+    pid_t pid = fork();
+    ENSURE(pid >= 0);
+    if (pid == 0) {
+        if (setgid(65534) != 0 || setuid(65534) != 0)
+            _exit(99);
+        _exit(rf_test_rockfall(args, out, cap));
+    }
+    int st;
+    ENSURE(waitpid(pid, &st, 0) == pid && WIFEXITED(st));
+    return WEXITSTATUS(st);
+}
+
+/* report opens the file read-only: a file it may only read, in a folder it may not
+ * write, of schema version 1 (in the WAL journal) and of the current version, gives a
+ * report and stays byte for byte as it was. */
+TEST(cli_report_on_a_read_only_file_in_a_read_only_folder)
+{
+    char dir[512], ro[600], v1[700], v2[700], args[2048], out[8192];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    ENSURE(chmod(dir, 0777) == 0);
+    snprintf(ro, sizeof ro, "%s/ro", dir);
+    ENSURE(mkdir(ro, 0755) == 0);
+    snprintf(v1, sizeof v1, "%s/v1.db", ro);
+    snprintf(v2, sizeof v2, "%s/v2.db", ro);
+    copy_file(V1_FIXTURE, v1);
+    snprintf(args, sizeof args, "run projects/noto/noto-3.3.yaml --count 2 --quiet -o %s", v2);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) <= 1, "%s", out);
+    ENSURE(chmod(v1, 0444) == 0 && chmod(v2, 0444) == 0 && chmod(ro, 0555) == 0);
+    const char *dbs[2] = {v1, v2};
+    for (int k = 0; k < 2; k++) {
+        size_t la, lb;
+        char *before = slurp(dbs[k], &la);
+        snprintf(args, sizeof args, "report %s --out %s/report-%d", dbs[k], dir, k);
+        ENSURE_MSG(rockfall_unprivileged(args, out, sizeof out) == 0, "%s: %s", dbs[k], out);
+        char *after = slurp(dbs[k], &lb);
+        ENSURE_MSG(la == lb && memcmp(before, after, la) == 0, "%s changed", dbs[k]);
+        free(before);
+        free(after);
+        char index[700];
+        snprintf(index, sizeof index, "%s/report-%d/index.html", dir, k);
+        ENSURE(exists_file(index));
+    }
+    chmod(ro, 0755);
+}
+
+/* A file of schema version 1 is read by check and report as it is, and upgraded by
+ * run; another program's SQLite file is refused by all three and left alone. */
+TEST(cli_version_1_file_checked_reported_and_upgraded)
+{
+    char dir[512], db[600], args[2048], out[16384];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    snprintf(db, sizeof db, "%s/v1.db", dir);
+    copy_file(V1_FIXTURE, db);
+    snprintf(args, sizeof args, "check %s", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out); /* Table 3 fails */
+    ENSURE_MSG(strstr(out, "B1 (barrier, important)"), "%s", out);
+    snprintf(args, sizeof args, "report %s --out %s/report-v1", db, dir);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    char path[700];
+    snprintf(path, sizeof path, "%s/report-v1/index.html", dir);
+    char *html = rf_test_read_text(path);
+    ENSURE(html && strstr(html, "stores no terrain"));
+    free(html);
+
+    snprintf(args, sizeof args, "run projects/noto/noto-3.3.yaml --count 2 --quiet -o %s", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) <= 1, "%s", out);
+    snprintf(args, sizeof args, "check %s --run 1", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out);
+    snprintf(args, sizeof args, "report %s --run 2 --out %s/report-v2", db, dir);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    snprintf(path, sizeof path, "%s/report-v2/plan.svg", dir);
+    char *plan = rf_test_read_text(path);
+    ENSURE(plan && strstr(plan, "contours every") && !strstr(plan, "no terrain contours"));
+    free(plan);
+
+    /* not ours: refused, untouched */
+    const char *other = rf_test_write("photos.db", "");
+    char sql[1024];
+    snprintf(sql, sizeof sql, "sqlite3 %s 'CREATE TABLE photos (id INTEGER PRIMARY KEY)'", other);
+    if (system(sql) != 0)
+        return; /* no sqlite3 shell: the store's tests cover the library */
+    size_t la, lb;
+    char *before = slurp(other, &la);
+    const char *cmds[3] = {"run projects/noto/noto-3.3.yaml --count 2 -o", "check", "report"};
+    for (int k = 0; k < 3; k++) {
+        snprintf(args, sizeof args, "%s %s%s", cmds[k], other, k == 2 ? " --out x" : "");
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s: %s", cmds[k], out);
+        ENSURE_MSG(strstr(out, "not a rockfall results database"), "%s: %s", cmds[k], out);
+    }
+    char *after = slurp(other, &lb);
+    ENSURE(la == lb && memcmp(before, after, la) == 0);
+    free(before);
+    free(after);
+}
+
+/* The report draws the terrain the run stored: after the project's DEM file is
+ * changed, and after it is deleted, the plan is the same, byte for byte. */
+TEST(cli_report_keeps_the_terrain_of_the_run)
+{
+    char dir[512], path[700], db[700], args[2048], out[16384];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    /* the Noto project beside a copy of its DEM, without its rule file */
+    char *yaml = rf_test_read_text("projects/noto/noto-3.3.yaml");
+    ENSURE(yaml);
+    char *rules = strstr(yaml, "\nrules:");
+    ENSURE(rules);
+    rules[1] = '\0';
+    snprintf(path, sizeof path, "%s/noto.yaml", dir);
+    FILE *f = fopen(path, "w");
+    ENSURE(f && fputs(yaml, f) >= 0);
+    fclose(f);
+    free(yaml);
+    char dem[700];
+    snprintf(dem, sizeof dem, "%s/terrain.asc", dir);
+    copy_file("projects/noto/terrain.asc", dem);
+    snprintf(db, sizeof db, "%s/noto.db", dir);
+    snprintf(args, sizeof args, "run %s --count 2 --quiet -o %s", path, db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+
+    const char *steps[3] = {"as run", "changed", "deleted"};
+    char *first = NULL;
+    for (int k = 0; k < 3; k++) {
+        if (k == 1) { /* another slope: a plane 100 m lower */
+            f = fopen(dem, "w");
+            ENSURE(f);
+            fputs("ncols 3\nnrows 3\nxllcenter 0\nyllcenter 0\ncellsize 150\n"
+                  "NODATA_value -9999\n0 0 0\n0 0 0\n0 0 0\n", f);
+            fclose(f);
+        } else if (k == 2) {
+            ENSURE(remove(dem) == 0);
+        }
+        snprintf(args, sizeof args, "report %s --out %s/report-%d", db, dir, k);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s: %s", steps[k], out);
+        snprintf(path, sizeof path, "%s/report-%d/plan.svg", dir, k);
+        char *plan = rf_test_read_text(path);
+        ENSURE(plan && strstr(plan, "contours every"));
+        if (!first)
+            first = plan;
+        else {
+            ENSURE_MSG(!strcmp(first, plan), "plan.svg differs with the DEM %s", steps[k]);
+            free(plan);
+        }
+    }
+    free(first);
+}

@@ -2,6 +2,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "check/rules.h"
+#include "input/measure_kinds.h"
 #include "scene/measures.h"
 #include "test.h"
 
@@ -225,4 +227,52 @@ TEST(measures_coincident_lines_all_crossed)
                                     5.0 + RF_CROSSING_EPS, 100.0, c, RF_MAX_COINCIDENT_CROSSINGS);
     ENSURE(k == 1 && c[0].measure == 0);
     ENSURE_REL(c[0].t, 6.25, 1e-15);
+}
+
+/* ---- the kind table ------------------------------------------------------------------ */
+
+/* Every kind is one complete row: a unique name found by its name, a label and colour,
+ * its reader and outcome; rf_measure_outcome is the row's outcome. */
+TEST(measure_kinds_table_rows_are_complete)
+{
+    for (int k = 0; k < RF_N_MEASURE_KINDS; k++) {
+        const rf_measure_kind_class *c = &rf_measure_kinds[k];
+        ENSURE_MSG(c->name && c->label && c->colour && c->states && c->keys && c->read &&
+                       c->outcome,
+                   "kind %d", k);
+        ENSURE(rf_measure_kind_find(c->name) == k);
+        ENSURE(!strcmp(rf_measure_kind_name((rf_measure_kind)k), c->name));
+        ENSURE(c->states[0] == '[');
+        for (const char *const *key = c->keys; *key; key++) {
+            int listed = 0;
+            for (const char *const *all = rf_measure_item_keys; *all; all++)
+                listed |= !strcmp(*all, *key);
+            ENSURE_MSG(listed, "%s's key %s is no measure item key", c->name, *key);
+        }
+        rf_measure m = {.kind = (rf_measure_kind)k, .height = 5.0, .behaviour = RF_STOP,
+                        .capacity = {1000, -1, 3000, -1}};
+        for (double h = 0.5; h < 10.0; h += 3.0)
+            for (double e = 10.0; e < 1e4; e *= 7.0)
+                ENSURE(rf_measure_outcome(&m, h, e) == c->outcome(&m, h, e));
+    }
+    ENSURE(rf_measure_kind_find("wall") == -1 && rf_measure_kind_find(NULL) == -1);
+    /* only a kind that is no protected line is classified by Table 3 */
+    ENSURE(rf_measure_kinds[RF_CONTROL].reach_line && !rf_measure_kinds[RF_CONTROL].classified);
+    ENSURE(rf_measure_kinds[RF_BARRIER].has_mel && !rf_measure_kinds[RF_EMBANKMENT].has_mel);
+}
+
+/* The rule file gives capacities to exactly the kinds the table says Table 3
+ * classifies: a rule file without one of them is refused. */
+TEST(measure_kinds_rule_file_covers_the_classified_kinds)
+{
+    rf_rules r;
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_rules_load("rules/table3.yaml", &r, &err) == 0, "%s", err.message);
+    for (int k = 0; k < RF_N_MEASURE_KINDS; k++) {
+        int any = 0;
+        for (int s = 0; s < RF_N_LIMIT_STATES; s++)
+            any |= r.capacity[k][s] != RF_CAP_NONE;
+        ENSURE_MSG(any == rf_measure_kinds[k].classified, "%s", rf_measure_kinds[k].name);
+    }
+    rf_rules_free(&r);
 }

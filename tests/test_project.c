@@ -232,6 +232,7 @@ TEST(project_barrier_and_rolling_defaults)
     ENSURE(b && b->kind == RF_BARRIER && b->behaviour == RF_STOP);
     ENSURE(b->importance == RF_IMPORTANT);
     ENSURE(b->mel == 2385.0 && b->sel == 2385.0 / 3.0);
+    ENSURE(b->sel_given == 0); /* stored as sel_source 'default: MEL/3' */
     ENSURE(b->capacity[RF_SERVICEABILITY] == 2385.0 / 3.0);
     ENSURE(b->capacity[RF_ULTIMATE] == 2385.0);
     ENSURE(b->capacity[RF_RESTORABILITY] < 0 && b->capacity[RF_NEAR_COLLAPSE] < 0);
@@ -317,8 +318,9 @@ TEST(project_full_read_back)
     m = measure_named(&p, "B1");
     ENSURE(m && m->kind == RF_BARRIER && m->height == 5.0 && m->mel == 3000.0);
     ENSURE(m->sel == 1000.0 && m->behaviour == RF_STOP && m->importance == RF_IMPORTANT);
+    ENSURE(m->sel_given == 0); /* 1000 = MEL / 3, the default */
     m = measure_named(&p, "B2");
-    ENSURE(m && m->mel == 2000.0 && m->sel == 1000.0);
+    ENSURE(m && m->mel == 2000.0 && m->sel == 1000.0 && m->sel_given == 1);
     ENSURE(m->capacity[RF_SERVICEABILITY] == 1000.0 && m->capacity[RF_RESTORABILITY] == 1500.0);
     ENSURE(m->capacity[RF_ULTIMATE] == 2000.0 && m->capacity[RF_NEAR_COLLAPSE] < 0);
     m = measure_named(&p, "E2");

@@ -36,6 +36,8 @@ typedef struct test_project {
     rf_release releases[2];
     rf_measure measures[3];
     double lines[3][4];
+    rf_project loaded; /* the project file, loaded for its terrain when it exists */
+    int has_loaded;
 } test_project;
 
 enum { M_ROAD, M_E1, M_B1 };
@@ -187,6 +189,13 @@ static rf_store *project_store(test_project *t, const char *project_path, int wi
                                const char *db)
 {
     make_project(t, project_path, with_road);
+    rf_error err = {0};
+    if (rf_project_load(project_path, &t->loaded, &err) == 0) {
+        t->has_loaded = 1;
+        t->p.terrain = t->loaded.terrain;
+        t->p.terrain_spec = t->loaded.terrain_spec;
+        t->p.hazard_cell = t->loaded.hazard_cell;
+    }
     return open_store(rf_test_path(db));
 }
 
@@ -323,21 +332,33 @@ TEST(report_full_run_writes_every_figure)
     /* text from the database is escaped */
     ENSURE(strstr(html, "<h1>slope &lt;test&gt; &amp; &#39;co&#39;</h1>"));
     ENSURE(!strstr(html, "<test>") && !strstr(html, "B<1>"));
-    ENSURE(!strstr(html, "nan") && !strstr(html, "could not be reloaded"));
+    ENSURE(!strstr(html, "nan") && !strstr(html, "stores no terrain"));
 
-    /* deterministic: a second report is the same, byte for byte */
-    const char *dir2 = rf_test_path("again");
-    report_ok(s, run, dir2);
-    const char *files[] = {"index.html", "plan.svg", "hazard-energy.svg", "road-0-position.svg",
-                           "measure-1-energy.svg"};
-    for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
-        char a[700], b[700];
-        snprintf(a, sizeof a, "%s/%s", dir, files[k]);
-        snprintf(b, sizeof b, "%s/%s", dir2, files[k]);
-        char *ta = read_text(a), *tb = read_text(b);
-        ENSURE_MSG(strcmp(ta, tb) == 0, "%s differs", files[k]);
-        free(ta);
-        free(tb);
+    /* deterministic, and from the database alone: a second report is the same, byte
+     * for byte, after the project file (which holds the terrain) is changed to another
+     * slope, and a third after it is deleted */
+    rf_test_write("slope.yaml", "name: other\n"
+                                "terrain:\n"
+                                "  profile: {points: [[0, 10], [50, 0], [130, 0]], width: 30}\n");
+    const char *dirs[2] = {"again", "gone"};
+    for (int d = 0; d < 2; d++) {
+        if (d == 1)
+            ENSURE(remove(rf_test_path("slope.yaml")) == 0);
+        char dir2[600];
+        snprintf(dir2, sizeof dir2, "%.500s", rf_test_path(dirs[d]));
+        report_ok(s, run, dir2);
+        const char *files[] = {"index.html", "plan.svg", "hazard-energy.svg",
+                               "road-0-position.svg", "road-0-velocity.svg",
+                               "measure-1-energy.svg"};
+        for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+            char a[700], b[700];
+            snprintf(a, sizeof a, "%s/%s", dir, files[k]);
+            snprintf(b, sizeof b, "%s/%s", dir2, files[k]);
+            char *ta = read_text(a), *tb = read_text(b);
+            ENSURE_MSG(strcmp(ta, tb) == 0, "%s differs (%s)", files[k], dirs[d]);
+            free(ta);
+            free(tb);
+        }
     }
     free(plan);
     free(pos);
@@ -347,6 +368,7 @@ TEST(report_full_run_writes_every_figure)
     free(b1);
     free(html);
     rf_store_close(s);
+    rf_project_free(&t.loaded);
 }
 
 TEST(report_without_road_paths_cells_or_project)
@@ -357,7 +379,7 @@ TEST(report_without_road_paths_cells_or_project)
     const char *dir = rf_test_path("bare/deeper/report");
     char *html = report_html(s, run, dir);
     ENSURE(strstr(html, "no control line"));
-    ENSURE(strstr(html, "could not be reloaded"));
+    ENSURE(strstr(html, "stores no terrain"));
     ENSURE(strstr(html, "/nonexistent/slope.yaml"));
     ENSURE(strstr(html, "No sampled paths"));
     ENSURE(strstr(html, "no hazard cells"));

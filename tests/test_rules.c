@@ -234,7 +234,7 @@ static void scene_init(scene *t, rf_importance importance, const char *yaml)
         t->measures[at[i]] = (rf_measure){.name = (char *)barriers[i], .kind = RF_BARRIER,
                                           .line = line, .height = 5.0,
                                           .importance = importance, .behaviour = RF_STOP,
-                                          .mel = 3000.0, .sel = 1000.0,
+                                          .mel = 3000.0, .sel = 1000.0, .sel_given = 1,
                                           .capacity = {1000.0, -1, 3000.0, -1}};
     t->measures[M_E1] = (rf_measure){.name = "E1", .kind = RF_EMBANKMENT, .line = line,
                                      .height = 6.0, .importance = importance,
@@ -684,7 +684,10 @@ TEST(rules_sel_default_lives_in_the_rule_file)
                                "  - {name: B2, kind: barrier, mel: 3000, sel: 1000, height: 5}\n"
                                "  - {name: B3, kind: barrier, mel: 3000, height: 5}\n";
     scene t;
-    scene_open(&t, RF_USUAL, yaml, "sel.db");
+    scene_init(&t, RF_USUAL, yaml);
+    /* as the loader leaves B1 and B3: SEL = MEL / 3, marked as the default */
+    t.measures[M_B1].sel_given = t.measures[M_B3].sel_given = 0;
+    scene_begin(&t, rf_test_path("sel.db"));
     hit(&t, 2, M_B1, 1250.0, RF_OUT_STOPPED);
     hit(&t, 2, M_B2, 1250.0, RF_OUT_STOPPED);
     hit(&t, 2, M_B3, 800.0, RF_OUT_STOPPED);
@@ -722,6 +725,16 @@ TEST(rules_sel_default_lives_in_the_rule_file)
                    no_default[k]);
         rf_rules_free(&none);
     }
+    /* the database, not the project text, says whether SEL was given: B1 marked as
+     * given keeps its stored SEL = 1000 under the rule file's MEL / 2 */
+    ENSURE(sqlite3_exec(db, "UPDATE measures SET sel_source = 'given' WHERE name = 'B1'", NULL,
+                        NULL, NULL) == SQLITE_OK);
+    evaluate(&t, &half);
+    ENSURE(dbt_real(db, q, "B1") == 0.0);
+    ENSURE(sqlite3_exec(db, "UPDATE measures SET sel_source = 'default: MEL/3' WHERE name = 'B2'",
+                        NULL, NULL, NULL) == SQLITE_OK);
+    evaluate(&t, &half);
+    ENSURE(dbt_real(db, q, "B2") == 1.0); /* 1250 within SEL = 3000 / 2 */
     rf_rules_free(&half);
     rf_rules_free(&r);
     rf_store_close(t.s);
@@ -755,6 +768,7 @@ TEST(rules_path_of_run)
     scene t;
     scene_init(&t, RF_USUAL, "name: x\nrules: ../../rules/table3.yaml\n");
     t.p.path = "projects/site/site.yaml";
+    t.p.rules_path = "projects/site/../../rules/table3.yaml"; /* as the loader resolves it */
     scene_begin(&t, rf_test_path("path.db"));
     scene_finish(&t);
     char *path = NULL;
@@ -764,7 +778,8 @@ TEST(rules_path_of_run)
     free(path);
     rf_store_close(t.s);
 
-    scene_open(&t, RF_USUAL, "name: x\n", "path2.db");
+    /* the stored path, not the project text, names the rule file */
+    scene_open(&t, RF_USUAL, "name: x\nrules: ../../rules/table3.yaml\n", "path2.db");
     scene_finish(&t);
     ENSURE(rf_rules_path_of_run(rf_store_db(t.s), t.run, &path, &err) != 0);
     ENSURE(path == NULL && strstr(err.message, "--rules"));

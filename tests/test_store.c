@@ -15,6 +15,8 @@
 
 #include "rockfall/records.h"
 #include "rockfall/version.h"
+#include "input/measure_kinds.h"
+#include "results/schema.h"
 #include "results/store.h"
 
 /* ---- a small project, built by hand ------------------------------------------- */
@@ -285,7 +287,8 @@ TEST(store_schema_has_every_table_and_column)
 {
     static const char *const tables[][20] = {
         {"runs", "id", "project", "seed", "status", "started_at", "finished_at",
-         "n_trajectories", "version", "project_yaml"},
+         "n_trajectories", "version", "project_yaml", "rules_path", "surface_friction",
+         "hazard_cell_m"},
         {"releases", "id", "run_id", "name", "x", "y", "z", "rock", "mass_kg", "radius_m",
          "action_level", "count", "velocity_x", "velocity_y", "velocity_z", "height_m",
          "jitter_m"},
@@ -294,7 +297,13 @@ TEST(store_schema_has_every_table_and_column)
          "n_tree_hits"},
         {"measures", "id", "run_id", "name", "kind", "importance", "height_m", "behaviour",
          "mel_kj", "sel_kj", "cap_serviceability_kj", "cap_restorability_kj",
-         "cap_ultimate_kj", "cap_near_collapse_kj", "line"},
+         "cap_ultimate_kj", "cap_near_collapse_kj", "line", "sel_source"},
+        {"measure_kinds", "name", "label", "classified", "reach_line", "limit_states"},
+        {"rockfall_schema", "version", "application"},
+        {"terrain_grids", "run_id", "xmin", "xmax", "ymin", "ymax", "x0", "y0", "x1", "y1",
+         "step", "nx", "ny", "z"},
+        {"ground_points", "run_id", "release_id", "measure_id", "x", "y", "z"},
+        {"check_rules", "run_id", "path", "name", "text", "checked_at"},
         {"interceptions", "id", "run_id", "trajectory_id", "measure_id", "t_s", "x", "y", "z",
          "speed_ms", "energy_kj", "energy_trans_kj", "energy_rot_kj", "passing_height_m",
          "outcome"},
@@ -319,7 +328,10 @@ TEST(store_schema_has_every_table_and_column)
             ENSURE_MSG(has_column(db, table, tables[t][c]), "no column %s.%s", table,
                        tables[t][c]);
         if (has_column(db, table, "run_id")) {
-            ENSURE_MSG(has_index_on(db, table, "run_id"), "no index on %s(run_id)", table);
+            ENSURE_MSG(has_index_on(db, table, "run_id") ||
+                           dbt_int(db, "SELECT pk FROM pragma_table_info('%s') WHERE name ="
+                                       " 'run_id'", table) == 1,
+                       "no index on %s(run_id)", table);
             ENSURE_MSG(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_list('%s')"
                                      " WHERE \"from\" = 'run_id' AND \"table\" = 'runs'",
                                  table) == 1,
@@ -683,7 +695,8 @@ TEST(store_rejects_another_schema_version)
     rf_store *s = open_store(path);
     rf_store_close(s);
     sqlite3 *db = open_raw(path);
-    exec_raw(db, "PRAGMA user_version = 7");
+    /* the version is the row of rockfall_schema (user_version keeps it too) */
+    exec_raw(db, "UPDATE rockfall_schema SET version = 7; PRAGMA user_version = 7");
     sqlite3_close(db);
 
     rf_error err = {0};
@@ -691,12 +704,13 @@ TEST(store_rejects_another_schema_version)
     ENSURE(rf_store_open(path, &s, &err) != 0);
     ENSURE(s == NULL);
     ENSURE(strcmp(err.file, path) == 0);
-    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "version 1"), "%s",
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 2"), "%s",
                err.message);
 
     /* Still version 7: nothing was written. */
     db = open_raw(path);
     ENSURE(dbt_int(db, "PRAGMA user_version") == 7);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 7);
     sqlite3_close(db);
 
     /* Another application's SQLite database (no schema version, some tables). */
@@ -899,4 +913,156 @@ TEST(store_writers_opening_a_new_file_at_once_all_succeed)
     }
     ENSURE_MSG(failed == 0, "%d of %d writers could not open a new file", failed,
                FILES * WRITERS);
+}
+
+/* ---- schema versions ------------------------------------------------------------------ */
+
+/* A database written by rockfall before schema version 2 (`rockfall run
+ * projects/noto/noto-3.3.yaml --count 5` at schema version 1, checked): five releases of
+ * five trajectories, the measures B1 (a barrier without sel), E1 and road. */
+#define V1_FIXTURE "tests/data/results-v1.db"
+
+/* The rows of a version-1 file in the columns of version 1. */
+static char *v1_dump(sqlite3 *db)
+{
+    char *a = dump(db, "SELECT id, project, project_path, seed, status, started_at,"
+                       " finished_at, n_trajectories, version, project_yaml FROM runs"
+                       " ORDER BY id");
+    char *b = dump(db, "SELECT id, run_id, idx, name, kind, importance, height_m, behaviour,"
+                       " mel_kj, sel_kj, cap_serviceability_kj, cap_restorability_kj,"
+                       " cap_ultimate_kj, cap_near_collapse_kj, line FROM measures ORDER BY id");
+    char *c = dump(db, "SELECT (SELECT group_concat(x) FROM (SELECT quote(t.id) || quote(stop_x)"
+                       " || quote(max_energy_kj) AS x FROM trajectories t ORDER BY id)),"
+                       " (SELECT group_concat(quote(energy_kj) || outcome) FROM interceptions),"
+                       " (SELECT group_concat(quote(x) || quote(z)) FROM path_points),"
+                       " (SELECT group_concat(quote(energy_p95_kj)) FROM hazard_cells),"
+                       " (SELECT group_concat(limit_state || ok) FROM classifications),"
+                       " (SELECT group_concat(rule || quote(value)) FROM checks),"
+                       " (SELECT group_concat(name || quote(z)) FROM releases)");
+    size_t n = strlen(a) + strlen(b) + strlen(c) + 1;
+    char *all = malloc(n);
+    ENSURE(all);
+    snprintf(all, n, "%s%s%s", a, b, c);
+    free(a);
+    free(b);
+    free(c);
+    return all;
+}
+
+/* A copy of the version-1 fixture in the case's directory. */
+static const char *copy_v1(const char *name)
+{
+    size_t len = 0;
+    FILE *f = fopen(V1_FIXTURE, "rb");
+    ENSURE_MSG(f, "cannot open %s", V1_FIXTURE);
+    char *buf = malloc(1 << 20);
+    ENSURE(buf);
+    len = fread(buf, 1, 1 << 20, f);
+    fclose(f);
+    ENSURE(len > 0 && len < (1 << 20));
+    const char *path = rf_test_path(name);
+    FILE *o = fopen(path, "wb");
+    ENSURE(o && fwrite(buf, 1, len, o) == len);
+    fclose(o);
+    free(buf);
+    return path;
+}
+
+TEST(store_measure_kinds_are_rows_that_measures_reference)
+{
+    test_project t;
+    const char *path;
+    rf_store *s = open_project_store(&t, "kinds.db", &path);
+    write_run(s, &t.p, 2, "complete");
+    sqlite3 *db = rf_store_db(s);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measure_kinds") == RF_N_MEASURE_KINDS);
+    for (int k = 0; k < RF_N_MEASURE_KINDS; k++)
+        ENSURE(dbt_int(db, "SELECT count(*) FROM measure_kinds WHERE name = '%s' AND label = '%s'"
+                           " AND classified = %d", rf_measure_kinds[k].name,
+                       rf_measure_kinds[k].label, rf_measure_kinds[k].classified) == 1);
+    /* every measure's kind is a row; the foreign key is declared and enforced */
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measures m JOIN measure_kinds k ON k.name = m.kind") ==
+           dbt_int(db, "SELECT count(*) FROM measures"));
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_list('measures')"
+                       " WHERE \"table\" = 'measure_kinds' AND \"from\" = 'kind'") == 1);
+    ENSURE(rejected(db, "UPDATE measures SET kind = 'wall'"));
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
+    rf_store_close(s);
+}
+
+TEST(store_upgrades_a_version_1_file_in_place)
+{
+    const char *path = copy_v1("v1.db");
+    sqlite3 *db = open_raw(path);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 1);
+    char *before = v1_dump(db);
+    long long checks = dbt_int(db, "SELECT count(*) FROM checks");
+    sqlite3_close(db);
+
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 2);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measure_kinds") == RF_N_MEASURE_KINDS);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measures m JOIN measure_kinds k ON k.name = m.kind") ==
+           3);
+    /* what version 1 kept only in the project text */
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measures WHERE name = 'B1'"
+                       " AND sel_source = 'default: MEL/3'") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measures WHERE kind <> 'barrier'"
+                       " AND sel_source IS NULL") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE rules_path LIKE '%%rules/table3.yaml'") ==
+           1);
+    /* the run's rows as they were, and the views */
+    char *after = v1_dump(db);
+    ENSURE(strcmp(before, after) == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks") == checks);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measure_summary") == 3);
+    sqlite3_close(db);
+    free(before);
+    free(after);
+
+    /* a second opening finds version 2 and changes nothing */
+    db = open_raw(path);
+    int cookie = (int)dbt_int(db, "PRAGMA schema_version");
+    sqlite3_close(db);
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "PRAGMA schema_version") == cookie);
+    sqlite3_close(db);
+}
+
+TEST(store_check_and_read_modes_leave_the_schema_alone)
+{
+    const char *path = copy_v1("v1-read.db");
+    sqlite3 *db = NULL;
+    rf_error err = {0};
+    int version = 0;
+    ENSURE_MSG(rf_db_open(path, RF_DB_CHECK, &db, &version, &err) == 0, "%s", err.message);
+    ENSURE(version == 1);
+    ENSURE(!rf_db_has_table(db, "measure_kinds"));
+    sqlite3_close(db);
+    ENSURE_MSG(rf_db_open(path, RF_DB_READ, &db, &version, &err) == 0, "%s", err.message);
+    ENSURE(version == 1);
+    ENSURE(sqlite3_db_readonly(db, "main") == 1);
+    ENSURE(sqlite3_exec(db, "DELETE FROM checks", NULL, NULL, NULL) != SQLITE_OK);
+    sqlite3_close(db);
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks") > 0);
+    sqlite3_close(db);
+
+    /* neither mode creates a file or takes another program's */
+    ENSURE(rf_db_open(rf_test_path("none.db"), RF_DB_READ, &db, NULL, &err) != 0 && !db);
+    ENSURE(access(rf_test_path("none.db"), F_OK) != 0);
+    const char *other = rf_test_path("photos.db");
+    sqlite3_open_v2(other, &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, NULL);
+    exec_raw(db, "CREATE TABLE photos (id INTEGER PRIMARY KEY, file TEXT)");
+    sqlite3_close(db);
+    for (int mode = RF_DB_READ; mode <= RF_DB_CHECK; mode++) {
+        ENSURE(rf_db_open(other, (rf_db_mode)mode, &db, NULL, &err) != 0 && !db);
+        ENSURE_MSG(strstr(err.message, "not a rockfall results database"), "%s", err.message);
+    }
 }

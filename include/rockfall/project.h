@@ -52,7 +52,15 @@ typedef struct rf_release {
     double jitter;    /* radius of the random horizontal offset (m, >= 0); default 0 */
 } rf_release;
 
-typedef enum rf_measure_kind { RF_BARRIER, RF_EMBANKMENT, RF_CONTROL } rf_measure_kind;
+/* The row of a measure's kind in rf_measure_kinds (src/input/measure_kinds.c), the
+ * one table of what each kind is and does; RF_N_MEASURE_KINDS counts them. */
+typedef enum rf_measure_kind {
+    RF_BARRIER, RF_EMBANKMENT, RF_CONTROL, RF_N_MEASURE_KINDS
+} rf_measure_kind;
+/* What a measure does to a rock that crosses it (interceptions.outcome). */
+typedef enum rf_outcome {
+    RF_OUT_STOPPED, RF_OUT_OVERTOPPED, RF_OUT_BROKE_THROUGH, RF_OUT_PASSED
+} rf_outcome;
 typedef enum rf_importance { RF_MOST_IMPORTANT, RF_IMPORTANT, RF_USUAL } rf_importance;
 #define RF_N_IMPORTANCES 3
 typedef enum rf_behaviour { RF_STOP, RF_COLLECT } rf_behaviour;
@@ -70,6 +78,8 @@ typedef struct rf_measure {
     rf_importance importance;   /* default RF_IMPORTANT */
     rf_behaviour behaviour;     /* default RF_STOP; control lines are always RF_COLLECT */
     double mel, sel;            /* barrier: MEL (kJ, required), SEL default MEL/3 */
+    int sel_given;              /* barrier: 1 when the project gives sel, 0 when sel is
+                                   the default MEL/3 (measures.sel_source) */
     double capacity[RF_N_LIMIT_STATES]; /* kJ per limit state; < 0 when not given.
                                            Barrier: serviceability = SEL, ultimate = MEL */
 } rf_measure;

@@ -2,6 +2,7 @@
 #ifndef ROCKFALL_RECORDS_H
 #define ROCKFALL_RECORDS_H
 
+#include "rockfall/project.h" /* rf_outcome */
 #include "rockfall/vec3.h"
 
 typedef enum rf_stop_reason {
@@ -20,10 +21,6 @@ typedef struct rf_trajectory_record {
     long n_impacts;
     long n_tree_hits;
 } rf_trajectory_record;
-
-typedef enum rf_outcome {
-    RF_OUT_STOPPED, RF_OUT_OVERTOPPED, RF_OUT_BROKE_THROUGH, RF_OUT_PASSED
-} rf_outcome;
 
 typedef struct rf_interception_record {
     int measure;             /* index into the project's measures */

@@ -19,6 +19,7 @@
 #include <sqlite3.h>
 
 #include "rockfall/error.h"
+#include "input/measure_kinds.h" /* RF_N_MEASURE_KINDS */
 #include "rockfall/project.h"
 #include "rockfall/records.h"
 
@@ -48,9 +49,6 @@ typedef struct rf_rule_check {
     double threshold;         /* 0..1 */
 } rf_rule_check;
 
-/* Structure kinds with capacity rules: barrier and embankment (control lines are
- * never classified). */
-#define RF_N_RULE_KINDS 2
 
 /* Reached limit states that are not an index into rf_rules.states. */
 #define RF_REACHED_OVERTOPPED (-1) /* passed over the structure: fails its function */
@@ -58,12 +56,15 @@ typedef struct rf_rule_check {
 
 typedef struct rf_rules {
     char *path;                  /* the rule file as given */
+    char *text;                  /* its text, stored with the checks (check_rules) */
     char *name;                  /* its `name` */
     rf_limit_state states[RF_N_LIMIT_STATES]; /* in order, first = serviceability */
     int nstates;                 /* index nstates = beyond the last (`beyond_last`) */
     char *beyond_last;           /* "collapse" */
     int required[3][3];          /* [action level - 1][rf_importance] -> state index */
-    rf_capacity_source capacity[RF_N_RULE_KINDS][RF_N_LIMIT_STATES]; /* by rf_limit_state */
+    /* by measure kind (rf_measure_kinds; only the classified kinds' rows are set) and
+     * rf_limit_state */
+    rf_capacity_source capacity[RF_N_MEASURE_KINDS][RF_N_LIMIT_STATES];
     double sel_divisor;          /* barrier SEL = MEL / sel_divisor; 0 when not given */
     rf_rule_check *checks;       /* of every barrier and embankment */
     size_t nchecks;
@@ -106,14 +107,15 @@ int rf_rules_check_passes(const rf_rule_check *c, double value);
 
 /* ---- against the database ----------------------------------------------------- */
 
-/* The rule file named by a run's project (`rules:` in runs.project_yaml, resolved
- * from the directory of runs.project_path).  *path is malloc'd; an error says to
- * pass --rules when the run names none. */
+/* The rule file named by a run's project (runs.rules_path, resolved when the run was
+ * written).  *path is malloc'd; an error says to pass --rules when the run names
+ * none. */
 int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err);
 
-/* Classifies every interception of the run's barriers and embankments and writes the
- * checks of each and the layout's (measure_id NULL), replacing what an earlier
- * evaluation of the run wrote, in one transaction.  When out is not NULL it then prints the evaluated run there: per
+/* Classifies every interception of the run's measures of the kinds Table 3 classifies
+ * and writes the checks of each, the layout's (measure_id NULL) and the rule file
+ * (check_rules), replacing what an earlier evaluation of the run wrote, in one
+ * transaction; nothing else in the file is written.  When out is not NULL it then prints the evaluated run there: per
  * measure the statistics, capacities, share per limit state and each check's verdict,
  * then the overall verdict.  *n_failed (may be NULL) gets the number of failed checks. */
 int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,

@@ -13,9 +13,10 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/version.h"
-#include "results/query.h"
+#include "results/run_view.h"
 #include "report/report.h"
 #include "check/rules.h"
+#include "results/schema.h"
 #include "results/store.h"
 
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_BAD_INPUT = 2 };
@@ -138,11 +139,11 @@ static int wants_help(int argc, char **argv)
 
 /* Classifies the run's interceptions, writes and prints its checks: EXIT_OK when all
  * pass, EXIT_CHECK_FAILED when one fails, EXIT_BAD_INPUT on an error. */
-static int check_run(rf_store *s, int64_t run, const rf_rules *rules, int print)
+static int check_run(sqlite3 *db, int64_t run, const rf_rules *rules, int print)
 {
     rf_error err;
     long failed = 0;
-    if (rf_rules_evaluate(rf_store_db(s), run, rules, print ? stdout : NULL, &failed, &err)) {
+    if (rf_rules_evaluate(db, run, rules, print ? stdout : NULL, &failed, &err)) {
         rf_error_print(&err, stderr);
         return EXIT_BAD_INPUT;
     }
@@ -227,7 +228,7 @@ static int cmd_run(int argc, char **argv)
     if (rc == 0 && p.rules_path) {
         if (!quiet)
             printf("\n");
-        status = check_run(s, sum.run_id, &rules, !quiet);
+        status = check_run(rf_store_db(s), sum.run_id, &rules, !quiet);
     } else if (rc == 0 && p.nmeasures > 0 && !quiet) {
         rf_query_print_measures(rf_store_db(s), sum.run_id, stdout);
     }
@@ -246,17 +247,19 @@ typedef struct db_args {
     const char *out, *rules;
 } db_args;
 
-/* Opens the database and resolves the run (the newest complete one by default). */
-static int open_run(const db_args *a, rf_store **s, int64_t *run)
+/* Opens an existing database as the command may (docs/database.md, "Schema policy":
+ * check read-write without touching the schema, report read-only) and resolves the run
+ * (the newest complete one by default). */
+static int open_run(const db_args *a, rf_db_mode mode, sqlite3 **db, int64_t *run)
 {
     rf_error err;
-    if (rf_store_open(a->db, s, &err)) {
+    if (rf_db_open(a->db, mode, db, NULL, &err)) {
         rf_error_print(&err, stderr);
         return EXIT_BAD_INPUT;
     }
-    if (rf_query_resolve_run(rf_store_db(*s), a->run, run, &err)) {
+    if (rf_query_resolve_run(*db, a->run, run, &err)) {
         rf_error_print(&err, stderr);
-        rf_store_close(*s);
+        sqlite3_close(*db);
         return EXIT_BAD_INPUT;
     }
     return EXIT_OK;
@@ -308,33 +311,33 @@ static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int
 /* Runs check or report: their arguments, the database and run opened, then the
  * command's body on the open database, which is closed whatever the body returns. */
 static int db_command(const char *cmd, int argc, char **argv, int want_out,
-                      int (*body)(const db_args *a, rf_store *s, int64_t run))
+                      int (*body)(const db_args *a, sqlite3 *db, int64_t run))
 {
     db_args a;
-    rf_store *s;
+    sqlite3 *db;
     int64_t run;
     int rc = parse_db_args(cmd, argc, argv, &a, want_out);
     if (!rc)
-        rc = open_run(&a, &s, &run);
+        rc = open_run(&a, want_out ? RF_DB_READ : RF_DB_CHECK, &db, &run);
     if (rc)
         return rc;
-    rc = body(&a, s, run);
-    rf_store_close(s);
+    rc = body(&a, db, run);
+    sqlite3_close(db);
     return rc;
 }
 
-static int check_body(const db_args *a, rf_store *s, int64_t run)
+static int check_body(const db_args *a, sqlite3 *db, int64_t run)
 {
     rf_error err;
     char *path = NULL;
     rf_rules rules;
-    if ((!a->rules && rf_rules_path_of_run(rf_store_db(s), run, &path, &err)) ||
+    if ((!a->rules && rf_rules_path_of_run(db, run, &path, &err)) ||
         rf_rules_load(a->rules ? a->rules : path, &rules, &err)) {
         rf_error_print(&err, stderr);
         free(path);
         return EXIT_BAD_INPUT;
     }
-    int rc = check_run(s, run, &rules, 1);
+    int rc = check_run(db, run, &rules, 1);
     rf_rules_free(&rules);
     free(path);
     return rc;
@@ -345,10 +348,10 @@ static int cmd_check(int argc, char **argv)
     return db_command("check", argc, argv, 0, check_body);
 }
 
-static int report_body(const db_args *a, rf_store *s, int64_t run)
+static int report_body(const db_args *a, sqlite3 *db, int64_t run)
 {
     rf_error err;
-    if (rf_report_write(rf_store_db(s), run, a->out, &err)) {
+    if (rf_report_write(db, run, a->out, &err)) {
         rf_error_print(&err, stderr);
         return EXIT_BAD_INPUT;
     }

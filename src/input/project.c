@@ -14,6 +14,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "input/measure_kinds.h"
 #include "input/yamldoc.h"
 
 #ifndef M_PI
@@ -55,8 +56,6 @@ static const char *const forest_keys[] = {"name", "polygon", "density", "height"
 static const char *const rock_keys[] = {"name", "mass", "density", "action_level", NULL};
 static const char *const release_keys[] = {"name", "point", "rock", "count", "height",
                                            "velocity", "jitter", NULL};
-static const char *const measure_keys[] = {"name", "kind", "line", "height", "importance",
-                                           "behaviour", "mel", "sel", "capacity", NULL};
 static const char *const simulation_keys[] = {"model", "engine", "dt", "contact",
                                               "stop_speed", "max_time", "paths", NULL};
 static const char *const hazard_keys[] = {"cell", NULL};
@@ -78,7 +77,7 @@ static const item_list rock_list = {"rocks", "rock", "entries", rock_keys, sizeo
                                     offsetof(rf_rock, name)};
 static const item_list release_list = {"releases", "release", "entries", release_keys,
                                        sizeof(rf_release), offsetof(rf_release, name)};
-static const item_list measure_list = {"measures", "measure", "entries", measure_keys,
+static const item_list measure_list = {"measures", "measure", "entries", rf_measure_item_keys,
                                        sizeof(rf_measure), offsetof(rf_measure, name)};
 
 const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1] = {
@@ -86,18 +85,12 @@ const char *const rf_limit_state_names[RF_N_LIMIT_STATES + 1] = {
 const char *const rf_importance_names[RF_N_IMPORTANCES + 1] = {"most_important", "important",
                                                                "usual", NULL};
 
-static const char *const kind_names[] = {"barrier", "embankment", "control", NULL};
 static const char *const behaviour_names[] = {"stop", "collect", NULL};
 static const char *const model_names[] = {"sphere", "point", NULL};
 static const char *const engine_names[] = {"exact", "fixed_step", NULL};
 static const char *const contact_names[] = {"full", "centre", NULL};
 static const char *const up_names[] = {"z", "y", NULL};
 static const char *const class_names[] = {"A", "B", "C", "D", NULL};
-
-const char *rf_measure_kind_name(rf_measure_kind k)
-{
-    return (unsigned)k < 3 ? kind_names[k] : "?";
-}
 
 const char *rf_importance_name(rf_importance i)
 {
@@ -588,69 +581,42 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
 
 /* ---- measures ---------------------------------------------------------------- */
 
-static int not_for(loader *L, const rf_ynode *map, const char *key, const char *kind)
+/* The key of a measure item that its kind does not read, or NULL. */
+static rf_ynode *foreign_key(loader *L, const rf_ynode *map, const rf_measure_kind_class *c)
 {
-    rf_ynode *k = NULL;
+    static const char *const common[] = {"name", "kind", "line", "importance", "behaviour",
+                                         NULL};
     size_t n = rf_ydoc_map_size(map);
-    for (size_t i = 0; i < n && !k; i++) {
-        rf_ynode *key_node = rf_ydoc_map_key(&L->d, map, i);
-        if (!strcmp((const char *)key_node->data.scalar.value, key))
-            k = key_node;
+    for (size_t i = 0; i < n; i++) {
+        rf_ynode *k = rf_ydoc_map_key(&L->d, map, i);
+        const char *key = (const char *)k->data.scalar.value;
+        int known = 0;
+        for (const char *const *a = common; *a && !known; a++)
+            known = !strcmp(*a, key);
+        for (const char *const *a = c->keys; *a && !known; a++)
+            known = !strcmp(*a, key);
+        if (!known)
+            return k;
     }
-    if (!k)
-        return 0;
-    return rf_ydoc_error(&L->d, k, L->err, "'%s' is not allowed on %s", key, kind);
+    return NULL;
 }
 
-static int read_capacity(loader *L, const rf_ynode *map, rf_measure *m, rf_ynode **nodes)
-{
-    rf_ynode *cap = rf_ydoc_get(&L->d, map, "capacity");
-    if (!cap) {
-        if (m->kind == RF_EMBANKMENT)
-            return rf_ydoc_error(&L->d, map, L->err,
-                                 "missing required key 'capacity' in measure '%s' (an "
-                                 "embankment needs its capacity in kJ per limit state)",
-                                 m->name);
-        return 0;
-    }
-    if (rf_ydoc_mapping_of(&L->d, cap, rf_limit_state_names, "'capacity'", L->err))
-        return -1;
-    if (rf_ydoc_map_size(cap) == 0)
-        return rf_ydoc_error(&L->d, cap, L->err,
-                             "'capacity' must give at least one of serviceability, "
-                             "restorability, ultimate, near_collapse (kJ)");
-    for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
-        rf_ynode *v = rf_ydoc_get(&L->d, cap, rf_limit_state_names[s]);
-        if (!v)
-            continue;
-        if (m->kind == RF_BARRIER && (s == RF_SERVICEABILITY || s == RF_ULTIMATE))
-            return rf_ydoc_error(&L->d, v, L->err,
-                                 "a barrier's %s capacity comes from '%s'; remove it from "
-                                 "'capacity'",
-                                 rf_limit_state_names[s], s == RF_ULTIMATE ? "mel" : "sel");
-        if (m->kind == RF_BARRIER && s == RF_NEAR_COLLAPSE)
-            return rf_ydoc_error(&L->d, v, L->err,
-                                 "a barrier's last limit state is its MEL (ultimate); "
-                                 "'near_collapse' is for embankments");
-        if (rf_ydoc_number(&L->d, v, rf_limit_state_names[s], RF_YR_POSITIVE, &m->capacity[s],
-                           L->err))
-            return -1;
-        nodes[s] = v;
-    }
-    return 0;
-}
-
+/* The keys every measure has, then its kind's own (rf_measure_kinds). */
 static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what)
 {
     rf_measure *m = &L->p->measures[i];
     for (int s = 0; s < RF_N_LIMIT_STATES; s++)
         m->capacity[s] = -1.0;
     m->mel = m->sel = -1.0;
-    rf_ynode *kind, *line;
+    const char *kind_names[RF_N_MEASURE_KINDS + 1] = {NULL};
+    for (int j = 0; j < RF_N_MEASURE_KINDS; j++)
+        kind_names[j] = rf_measure_kinds[j].name;
+    rf_ynode *kind_node, *line;
     int k;
-    if (rf_ydoc_require(&L->d, n, "kind", what, &kind, L->err) ||
-        rf_ydoc_enum(&L->d, kind, "kind", kind_names, &k, L->err) ||
-        rf_ydoc_require(&L->d, n, "line", what, &line, L->err) ||
+    if (rf_ydoc_require(&L->d, n, "kind", what, &kind_node, L->err) ||
+        rf_ydoc_enum(&L->d, kind_node, "kind", kind_names, &k, L->err))
+        return -1;
+    if (rf_ydoc_require(&L->d, n, "line", what, &line, L->err) ||
         read_polyline(L, line, "line", 2, &m->line))
         return -1;
     L->line_nodes[i] = line;
@@ -664,71 +630,13 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
         return -1;
     m->importance = (rf_importance)importance;
     m->behaviour = (rf_behaviour)behaviour;
-
-    if (m->kind == RF_CONTROL) {
-        if (behaviour == RF_STOP && behaviour_node)
-            return rf_ydoc_error(&L->d, behaviour_node, L->err,
-                                 "a control line never stops a rock: 'behaviour' must be "
-                                 "collect (or left out), got stop");
-        m->behaviour = RF_COLLECT;
-        m->height = 0.0;
-        static const char *const not_on_control[] = {"height", "mel", "sel", "capacity"};
-        for (size_t j = 0; j < sizeof not_on_control / sizeof *not_on_control; j++)
-            if (not_for(L, n, not_on_control[j], "a control line"))
-                return -1;
-        return 0;
-    }
-
-    rf_ynode *height;
-    if (rf_ydoc_require(&L->d, n, "height", what, &height, L->err) ||
-        rf_ydoc_number(&L->d, height, "height", RF_YR_POSITIVE, &m->height, L->err))
-        return -1;
-
-    /* the node of each capacity given; a barrier's SEL of MEL / 3 for want of 'sel' has
-     * none */
-    rf_ynode *nodes[RF_N_LIMIT_STATES] = {NULL};
-    if (m->kind == RF_BARRIER) {
-        rf_ynode *mel;
-        if (rf_ydoc_require(&L->d, n, "mel", what, &mel, L->err) ||
-            rf_ydoc_number(&L->d, mel, "mel", RF_YR_POSITIVE, &m->mel, L->err))
-            return -1;
-        m->sel = m->mel / 3.0;
-        rf_ynode *sel = rf_ydoc_get(&L->d, n, "sel");
-        if (sel) {
-            if (rf_ydoc_number(&L->d, sel, "sel", RF_YR_POSITIVE, &m->sel, L->err))
-                return -1;
-            if (m->sel > m->mel)
-                return rf_ydoc_error(&L->d, sel, L->err,
-                                     "'sel' (%g kJ) must not exceed 'mel' (%g kJ)", m->sel,
-                                     m->mel);
-        }
-        m->capacity[RF_SERVICEABILITY] = m->sel;
-        m->capacity[RF_ULTIMATE] = m->mel;
-        nodes[RF_SERVICEABILITY] = sel;
-        nodes[RF_ULTIMATE] = mel;
-    } else {
-        if (not_for(L, n, "mel", "an embankment") || not_for(L, n, "sel", "an embankment"))
-            return -1;
-    }
-    if (read_capacity(L, n, m, nodes))
-        return -1;
-    int prev = -1;
-    for (int s = 0; s < RF_N_LIMIT_STATES; s++) {
-        /* capacities not given; a barrier's SEL of MEL / 3 without 'sel' is a default,
-         * which the rule file may set otherwise (docs/rules.md): no bound on the
-         * capacities above it */
-        if (!nodes[s])
-            continue;
-        if (prev >= 0 && m->capacity[s] < m->capacity[prev])
-            return rf_ydoc_error(&L->d, nodes[s], L->err,
-                                 "%s capacity (%g kJ) must not be below the %s capacity "
-                                 "(%g kJ): capacities must not decrease from serviceability "
-                                 "to near_collapse",
-                                 rf_limit_state_names[s], m->capacity[s],
-                                 rf_limit_state_names[prev], m->capacity[prev]);
-        prev = s;
-    }
-    return 0;
+    const rf_measure_kind_class *c = &rf_measure_kinds[k];
+    rf_ynode *foreign = foreign_key(L, n, c);
+    if (foreign)
+        return rf_ydoc_error(&L->d, foreign, L->err, "'%s' is not allowed on %s",
+                             (const char *)foreign->data.scalar.value, c->label);
+    rf_measure_item item = {&L->d, n, what, L->err};
+    return c->read(&item, m);
 }
 
 /* ---- simulation, hazard ------------------------------------------------------ */

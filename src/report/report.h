@@ -10,6 +10,7 @@
 
 #include <sqlite3.h>
 
+#include "base/polyline.h" /* rf_polyline_station, rf_polyline_length */
 #include "rockfall/error.h"
 
 /* Class limits of the hazard map (kJ), as in the paper's Fig. 12 (3 000 and 6 000 kJ)
@@ -22,14 +23,5 @@ extern const double rf_report_energy_limits[RF_REPORT_N_ENERGY_LIMITS];
  * is reloaded for the terrain contours; when it cannot be, the figures are drawn
  * without contours and the report says so.  Returns 0, or fills err. */
 int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
-
-/* The station of (x, y) along a polyline of n points (xy: x0, y0, x1, y1, ...): the
- * distance along the line from its first point to the line's point nearest (x, y).
- * *dist (may be NULL) gets the horizontal distance to that nearest point, *nx, *ny
- * (may be NULL) the point itself. */
-double rf_polyline_station(const double *xy, size_t n, double x, double y, double *dist,
-                           double *nx, double *ny);
-/* Length of a polyline. */
-double rf_polyline_length(const double *xy, size_t n);
 
 #endif

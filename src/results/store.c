@@ -8,203 +8,27 @@
 
 #include <assert.h>
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-#include "rockfall/version.h"
+#include "base/polyline.h"
 #include "base/util.h"
-
-#define RF_STR_(x) #x
-#define RF_STR(x) RF_STR_(x)
+#include "input/measure_kinds.h"
+#include "results/schema.h"
+#include "results/terrain_grid.h"
+#include "rockfall/version.h"
 
 /* How long a writer waits for another connection's lock before giving up. */
 #define RF_STORE_BUSY_TIMEOUT_MS 10000
-
-/* The schema of version RF_STORE_SCHEMA_VERSION.  Ids of the rows of a run follow
- * the order of the project's arrays; every row of a run carries its run_id, except
- * path points and classifications, which belong to a trajectory and an
- * interception.  Real columns are nullable: SQLite stores a NaN as NULL. */
-static const char schema_sql[] =
-    "CREATE TABLE runs (\n"
-    "  id INTEGER PRIMARY KEY AUTOINCREMENT,\n"
-    "  project TEXT NOT NULL,\n"
-    "  project_path TEXT,\n"
-    "  seed NOT NULL,  -- integer; a seed above 2^63-1 as its decimal text\n"
-    "  status TEXT NOT NULL CHECK (status IN ('running', 'complete', 'failed')),\n"
-    "  started_at TEXT NOT NULL,\n"
-    "  finished_at TEXT,\n"
-    "  n_trajectories INTEGER NOT NULL CHECK (n_trajectories >= 0),\n"
-    "  version TEXT NOT NULL,\n"
-    "  project_yaml TEXT\n"
-    ");\n"
-    "CREATE TABLE releases (\n"
-    "  id INTEGER PRIMARY KEY,\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  idx INTEGER NOT NULL,\n"
-    "  name TEXT NOT NULL,\n"
-    "  x REAL, y REAL, z REAL,\n"
-    "  rock TEXT NOT NULL,\n"
-    "  mass_kg REAL, radius_m REAL, density_kgm3 REAL,\n"
-    "  action_level INTEGER NOT NULL CHECK (action_level BETWEEN 1 AND 3),\n"
-    "  count INTEGER NOT NULL CHECK (count >= 0),\n"
-    "  velocity_x REAL, velocity_y REAL, velocity_z REAL,\n"
-    "  height_m REAL, jitter_m REAL,\n"
-    "  UNIQUE (run_id, idx)\n"
-    ");\n"
-    "CREATE TABLE measures (\n"
-    "  id INTEGER PRIMARY KEY,\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  idx INTEGER NOT NULL,\n"
-    "  name TEXT NOT NULL,\n"
-    "  kind TEXT NOT NULL CHECK (kind IN ('barrier', 'embankment', 'control')),\n"
-    "  importance TEXT NOT NULL,\n"
-    "  height_m REAL,\n"
-    "  behaviour TEXT NOT NULL CHECK (behaviour IN ('stop', 'collect')),\n"
-    "  mel_kj REAL, sel_kj REAL,\n"
-    "  cap_serviceability_kj REAL, cap_restorability_kj REAL,\n"
-    "  cap_ultimate_kj REAL, cap_near_collapse_kj REAL,\n"
-    "  line TEXT NOT NULL,\n"
-    "  UNIQUE (run_id, idx)\n"
-    ");\n"
-    "CREATE TABLE trajectories (\n"
-    "  id INTEGER PRIMARY KEY,\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  release_id INTEGER NOT NULL REFERENCES releases(id),\n"
-    "  idx INTEGER NOT NULL,\n"
-    "  stop_x REAL, stop_y REAL, stop_z REAL,\n"
-    "  stop_reason TEXT NOT NULL\n"
-    "    CHECK (stop_reason IN ('rest', 'exited', 'stopped', 'max_time')),\n"
-    "  duration_s REAL, path_length_m REAL, max_energy_kj REAL,\n"
-    "  n_impacts INTEGER, n_tree_hits INTEGER\n"
-    ");\n"
-    "CREATE UNIQUE INDEX trajectories_run ON trajectories(run_id, release_id, idx);\n"
-    "CREATE INDEX trajectories_release ON trajectories(release_id);\n"
-    "CREATE TABLE interceptions (\n"
-    "  id INTEGER PRIMARY KEY,\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  trajectory_id INTEGER NOT NULL REFERENCES trajectories(id),\n"
-    "  measure_id INTEGER NOT NULL REFERENCES measures(id),\n"
-    "  t_s REAL, x REAL, y REAL, z REAL,\n"
-    "  speed_ms REAL, energy_kj REAL, energy_trans_kj REAL, energy_rot_kj REAL,\n"
-    "  passing_height_m REAL,\n"
-    "  outcome TEXT NOT NULL\n"
-    "    CHECK (outcome IN ('stopped', 'overtopped', 'broke_through', 'passed'))\n"
-    ");\n"
-    "CREATE INDEX interceptions_run ON interceptions(run_id);\n"
-    "CREATE INDEX interceptions_measure ON interceptions(measure_id);\n"
-    "CREATE INDEX interceptions_trajectory ON interceptions(trajectory_id);\n"
-    "CREATE TABLE classifications (\n"
-    "  interception_id INTEGER NOT NULL REFERENCES interceptions(id),\n"
-    "  action_level INTEGER,\n"
-    "  importance TEXT,\n"
-    "  limit_state TEXT,\n"
-    "  required_state TEXT,\n"
-    "  ok INTEGER CHECK (ok IN (0, 1))\n"
-    ");\n"
-    "CREATE INDEX classifications_interception ON classifications(interception_id);\n"
-    "CREATE TABLE checks (\n"
-    "  id INTEGER PRIMARY KEY,\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  measure_id INTEGER REFERENCES measures(id),\n"
-    "  rule TEXT NOT NULL,\n"
-    "  value REAL,\n"
-    "  threshold REAL,\n"
-    "  passed INTEGER CHECK (passed IN (0, 1))\n"
-    ");\n"
-    "CREATE INDEX checks_run ON checks(run_id);\n"
-    "CREATE TABLE hazard_cells (\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  ix INTEGER NOT NULL, iy INTEGER NOT NULL,\n"
-    "  x REAL, y REAL,\n"
-    "  passes INTEGER,\n"
-    "  reach_probability REAL,\n"
-    "  energy_max_kj REAL, energy_p95_kj REAL, height_p95_m REAL,\n"
-    "  PRIMARY KEY (run_id, ix, iy)\n"
-    ");\n"
-    "CREATE TABLE path_points (\n"
-    "  trajectory_id INTEGER NOT NULL REFERENCES trajectories(id),\n"
-    "  seq INTEGER NOT NULL,\n"
-    "  t_s REAL, x REAL, y REAL, z REAL,\n"
-    "  speed_ms REAL, energy_kj REAL,\n"
-    "  PRIMARY KEY (trajectory_id, seq)\n"
-    ") WITHOUT ROWID;\n"
-    "CREATE TABLE tree_hits (\n"
-    "  id INTEGER PRIMARY KEY,\n"
-    "  run_id INTEGER NOT NULL REFERENCES runs(id),\n"
-    "  trajectory_id INTEGER NOT NULL REFERENCES trajectories(id),\n"
-    "  t_s REAL, x REAL, y REAL, z REAL,\n"
-    "  speed_before_ms REAL, speed_after_ms REAL,\n"
-    "  energy_lost_kj REAL\n"
-    ");\n"
-    "CREATE INDEX tree_hits_run ON tree_hits(run_id);\n"
-    "CREATE INDEX tree_hits_trajectory ON tree_hits(trajectory_id);\n"
-    "PRAGMA user_version = " RF_STR(RF_STORE_SCHEMA_VERSION) ";\n";
-
-/* Views for the questions planners ask (docs/database.md, README).  Part of every
- * database: created with the schema, and on opening a file made before they existed.
- * IF NOT EXISTS makes this a no-op on a file that has them. */
-static const char views_sql[] =
-    "CREATE VIEW IF NOT EXISTS classified_interceptions AS\n"
-    "SELECT i.run_id, i.id AS interception_id, m.id AS measure_id, m.name AS measure,\n"
-    "  m.kind, r.name AS release, r.action_level, m.importance, i.energy_kj,\n"
-    "  i.passing_height_m, i.outcome, c.limit_state, c.required_state, c.ok\n"
-    "FROM interceptions i\n"
-    "JOIN measures m ON m.id = i.measure_id\n"
-    "JOIN trajectories t ON t.id = i.trajectory_id\n"
-    "JOIN releases r ON r.id = t.release_id\n"
-    "LEFT JOIN classifications c ON c.interception_id = i.id;\n"
-    "CREATE VIEW IF NOT EXISTS measure_summary AS\n"
-    "SELECT m.run_id, m.id AS measure_id, m.idx, m.name AS measure, m.kind, m.importance,\n"
-    "  m.height_m, m.mel_kj, m.sel_kj,\n"
-    "  count(i.id) AS interceptions,\n"
-    "  max(i.energy_kj) AS energy_max_kj, avg(i.energy_kj) AS energy_mean_kj,\n"
-    "  max(i.passing_height_m) AS height_max_m,\n"
-    "  coalesce(sum(i.outcome = 'stopped'), 0) AS stopped,\n"
-    "  coalesce(sum(i.outcome = 'overtopped'), 0) AS overtopped,\n"
-    "  coalesce(sum(i.outcome = 'broke_through'), 0) AS broke_through,\n"
-    "  coalesce(sum(i.outcome = 'passed'), 0) AS passed,\n"
-    "  count(c.interception_id) AS classified,\n"
-    "  avg(CASE WHEN c.interception_id IS NOT NULL\n"
-    "      THEN coalesce(c.limit_state = 'serviceability', 0) END) AS share_serviceability,\n"
-    "  avg(c.ok) AS share_meeting_required,\n"
-    "  (SELECT count(*) FROM checks k WHERE k.measure_id = m.id) AS checks,\n"
-    "  (SELECT count(*) FROM checks k WHERE k.measure_id = m.id AND k.passed = 0)\n"
-    "    AS checks_failed\n"
-    "FROM measures m\n"
-    "LEFT JOIN interceptions i ON i.measure_id = m.id\n"
-    "LEFT JOIN classifications c ON c.interception_id = i.id\n"
-    "GROUP BY m.id;\n"
-    "CREATE VIEW IF NOT EXISTS limit_state_shares AS\n"
-    "SELECT i.run_id, m.id AS measure_id, m.name AS measure, c.limit_state,\n"
-    "  count(*) AS interceptions,\n"
-    "  count(*) * 1.0 / (SELECT count(*) FROM interceptions j WHERE j.measure_id = m.id)\n"
-    "    AS share\n"
-    "FROM classifications c\n"
-    "JOIN interceptions i ON i.id = c.interception_id\n"
-    "JOIN measures m ON m.id = i.measure_id\n"
-    "GROUP BY m.id, c.limit_state;\n"
-    "CREATE VIEW IF NOT EXISTS check_results AS\n"
-    "SELECT k.run_id, k.id AS check_id, k.measure_id, m.name AS measure, m.kind, k.rule,\n"
-    "  k.value, k.threshold, k.passed,\n"
-    "  CASE k.passed WHEN 1 THEN 'pass' ELSE 'fail' END AS verdict\n"
-    "FROM checks k LEFT JOIN measures m ON m.id = k.measure_id;\n"
-    "CREATE VIEW IF NOT EXISTS run_verdicts AS\n"
-    "SELECT run_id, project, status, started_at, checks, checks_failed,\n"
-    "  CASE WHEN checks = 0 THEN 'unchecked' WHEN checks_failed > 0 THEN 'fail'\n"
-    "       ELSE 'pass' END AS verdict\n"
-    "FROM (SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
-    "        coalesce(k.n, 0) AS checks, coalesce(k.failed, 0) AS checks_failed\n"
-    "      FROM runs r\n"
-    "      LEFT JOIN (SELECT run_id, count(*) AS n, sum(passed = 0) AS failed\n"
-    "                 FROM checks GROUP BY run_id) k ON k.run_id = r.id);\n";
 
 #define RF_NOW_SQL "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
 
 enum {
     ST_BEGIN, ST_COMMIT, ST_ROLLBACK,
-    ST_RUN, ST_RELEASE, ST_MEASURE, ST_FINISH,
+    ST_RUN, ST_RELEASE, ST_MEASURE, ST_GRID, ST_GROUND, ST_FINISH,
     ST_TRAJECTORY, ST_PATH_POINT, ST_INTERCEPTION, ST_TREE_HIT, ST_HAZARD_CELL,
     ST_COUNT
 };
@@ -214,8 +38,9 @@ static const char *const statement_sql[ST_COUNT] = {
     [ST_COMMIT] = "COMMIT",
     [ST_ROLLBACK] = "ROLLBACK",
     [ST_RUN] = "INSERT INTO runs (project, project_path, seed, status, started_at,"
-               " n_trajectories, version, project_yaml)"
-               " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6)",
+               " n_trajectories, version, project_yaml, rules_path, surface_friction,"
+               " hazard_cell_m)"
+               " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9)",
     [ST_RELEASE] = "INSERT INTO releases (run_id, idx, name, x, y, z, rock, mass_kg,"
                    " radius_m, density_kgm3, action_level, count, velocity_x,"
                    " velocity_y, velocity_z, height_m, jitter_m)"
@@ -223,8 +48,15 @@ static const char *const statement_sql[ST_COUNT] = {
                    " ?14, ?15, ?16, ?17)",
     [ST_MEASURE] = "INSERT INTO measures (run_id, idx, name, kind, importance, height_m,"
                    " behaviour, mel_kj, sel_kj, cap_serviceability_kj,"
-                   " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj, line)"
-                   " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14)",
+                   " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj, line,"
+                   " sel_source)"
+                   " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14,"
+                   " ?15)",
+    [ST_GRID] = "INSERT INTO terrain_grids (run_id, xmin, xmax, ymin, ymax, x0, y0, x1, y1,"
+                " step, nx, ny, z)"
+                " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
+    [ST_GROUND] = "INSERT INTO ground_points (run_id, release_id, measure_id, x, y, z)"
+                  " VALUES (?1, ?2, ?3, ?4, ?5, ?6)",
     [ST_FINISH] = "UPDATE runs SET status = ?1, finished_at = " RF_NOW_SQL ","
                   " n_trajectories = coalesce(?2, n_trajectories) WHERE id = ?3",
     [ST_TRAJECTORY] = "INSERT INTO trajectories (run_id, release_id, idx, stop_x, stop_y,"
@@ -256,15 +88,9 @@ struct rf_store {
     size_t nmeasures;
 };
 
-/* The one place SQLite's return codes become the rf_error convention: 0 for success
- * (SQLITE_OK, SQLITE_ROW, SQLITE_DONE), otherwise -1 with "doing: sqlite's message"
- * and the database file named in err. */
 static int sql_status(sqlite3 *db, const char *path, int rc, const char *doing, rf_error *err)
 {
-    if (rc == SQLITE_OK || rc == SQLITE_ROW || rc == SQLITE_DONE)
-        return 0;
-    const char *why = db ? sqlite3_errmsg(db) : sqlite3_errstr(rc);
-    return rf_error_set(err, path, 0, 0, "%s: %s", doing, why);
+    return rf_sql_status(db, path, rc, doing, err);
 }
 
 static int exec_sql(rf_store *s, const char *sql, const char *doing, rf_error *err)
@@ -330,164 +156,6 @@ static void bind_text(sqlite3_stmt *st, int col, const char *v)
 
 /* ---- opening ----------------------------------------------------------------- */
 
-/* user_version and the number of objects in the schema; fails on a non-database. */
-static int read_schema_state(rf_store *s, int *version, int *nobjects, rf_error *err)
-{
-    static const char sql[] = "SELECT (SELECT user_version FROM pragma_user_version),"
-                              " (SELECT count(*) FROM sqlite_master)";
-    const char *doing = "reading the results database";
-    sqlite3_stmt *st = NULL;
-    int rc = sqlite3_prepare_v2(s->db, sql, -1, &st, NULL);
-    if (rc == SQLITE_OK) {
-        rc = sqlite3_step(st);
-        if (rc == SQLITE_ROW) {
-            *version = sqlite3_column_int(st, 0);
-            *nobjects = sqlite3_column_int(st, 1);
-        }
-    }
-    int status = sql_status(s->db, s->path, rc, doing, err);
-    sqlite3_finalize(st);
-    return status;
-}
-
-/* Switches the file to the WAL journal.  The switch needs the file to itself, and
- * SQLite returns "locked" at once, without waiting, when another connection opening
- * the file at the same moment holds it too: tried again until the busy timeout has
- * passed (each try may itself wait in the busy handler). */
-static int set_wal(rf_store *s, rf_error *err)
-{
-    struct timespec pause = {0, 5 * 1000 * 1000};
-    double deadline = rf_now_s() + RF_STORE_BUSY_TIMEOUT_MS / 1000.0;
-    int rc;
-    while ((rc = sqlite3_exec(s->db, "PRAGMA journal_mode = WAL", NULL, NULL, NULL)) ==
-               SQLITE_BUSY ||
-           rc == SQLITE_LOCKED) {
-        if (rf_now_s() > deadline)
-            break;
-        nanosleep(&pause, NULL);
-    }
-    return sql_status(s->db, s->path, rc, "setting the WAL journal", err);
-}
-
-static int version_error(rf_store *s, int version, rf_error *err)
-{
-    return rf_error_set(err, s->path, 0, 0,
-                        "results database schema version %d; rockfall %s reads schema "
-                        "version %d",
-                        version, ROCKFALL_VERSION, RF_STORE_SCHEMA_VERSION);
-}
-
-/* Ends the transaction begun by BEGIN IMMEDIATE: committed after status 0, else
- * rolled back; returns the status. */
-static int end_transaction(rf_store *s, int status, const char *doing, rf_error *err)
-{
-    if (status == 0)
-        status = exec_sql(s, "COMMIT", doing, err);
-    if (status != 0 && !sqlite3_get_autocommit(s->db))
-        sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
-    return status;
-}
-
-/* Brings the views of a database of this schema version up to date: each view whose
- * stored definition differs from this version's (both as SQLite stores them: the
- * current ones are made in a scratch database in memory) is dropped, and the missing
- * ones are created.  Views hold no data: a file written by an earlier rockfall kept
- * its old measure_summary, without the columns the report and docs name.  A file
- * whose views are current is not written to. */
-static int refresh_views(rf_store *s, rf_error *err)
-{
-    static const char list[] = "SELECT name, sql FROM sqlite_master WHERE type = 'view'";
-    const char *doing = "updating the views";
-    sqlite3 *mem = NULL;
-    sqlite3_stmt *cur = NULL, *old = NULL;
-    char *drops = NULL; /* the DROP statements of the views that differ */
-    int stale = 0, rc = sqlite3_open(":memory:", &mem);
-    if (rc == SQLITE_OK) /* a view is stored as written: it needs none of the tables */
-        rc = sqlite3_exec(mem, views_sql, NULL, NULL, NULL);
-    if (rc != SQLITE_OK) {
-        /* a fault of this build, not of the file */
-        rc = rf_error_set(err, s->path, 0, 0, "%s: %s", doing,
-                          mem ? sqlite3_errmsg(mem) : "out of memory");
-        sqlite3_close(mem);
-        return rc;
-    }
-    rc = sqlite3_prepare_v2(mem, list, -1, &cur, NULL);
-    if (rc == SQLITE_OK)
-        rc = sqlite3_prepare_v2(s->db, "SELECT sql FROM sqlite_master WHERE type = 'view' AND name = ?",
-                                -1, &old, NULL);
-    while (rc == SQLITE_OK && (rc = sqlite3_step(cur)) == SQLITE_ROW) {
-        const char *name = (const char *)sqlite3_column_text(cur, 0);
-        const char *sql = (const char *)sqlite3_column_text(cur, 1);
-        sqlite3_bind_text(old, 1, name, -1, SQLITE_TRANSIENT);
-        rc = sqlite3_step(old);
-        if (rc == SQLITE_DONE) { /* missing */
-            stale = 1;
-            rc = SQLITE_OK;
-        } else if (rc == SQLITE_ROW) {
-            const char *have = (const char *)sqlite3_column_text(old, 0);
-            rc = SQLITE_OK;
-            if (!have || strcmp(have, sql) != 0) {
-                char *more = sqlite3_mprintf("%sDROP VIEW IF EXISTS \"%w\";\n", drops ? drops : "", name);
-                sqlite3_free(drops);
-                drops = more;
-                rc = more ? SQLITE_OK : SQLITE_NOMEM;
-                stale = 1;
-            }
-        }
-        sqlite3_reset(old);
-    }
-    if (rc == SQLITE_DONE)
-        rc = SQLITE_OK;
-    sqlite3_finalize(old);
-    sqlite3_finalize(cur);
-    sqlite3_close(mem);
-    int status = sql_status(s->db, s->path, rc, doing, err);
-    if (status == 0 && stale) {
-        /* another process may have done it meanwhile: the drops are IF EXISTS and the
-         * creations IF NOT EXISTS */
-        status = exec_sql(s, "BEGIN IMMEDIATE", doing, err);
-        if (status == 0 && drops)
-            status = exec_sql(s, drops, doing, err);
-        if (status == 0)
-            status = exec_sql(s, views_sql, doing, err);
-        status = end_transaction(s, status, doing, err);
-    }
-    sqlite3_free(drops);
-    return status;
-}
-
-/* Checks the version of an existing database or creates the schema of a new (empty)
- * one.  Nothing is written to a file that is rejected. */
-static int prepare_schema(rf_store *s, rf_error *err)
-{
-    int version = 0, nobjects = 0;
-    if (read_schema_state(s, &version, &nobjects, err))
-        return -1;
-    if (version == RF_STORE_SCHEMA_VERSION)
-        return set_wal(s, err) || refresh_views(s, err) ? -1 : 0;
-    if (version != 0)
-        return version_error(s, version, err);
-    if (nobjects != 0)
-        return rf_error_set(err, s->path, 0, 0,
-                            "not a rockfall results database (an SQLite database with "
-                            "%d schema objects and no rockfall schema version)",
-                            nobjects);
-
-    /* An empty database: create the schema, unless another process just did. */
-    if (set_wal(s, err) ||
-        exec_sql(s, "BEGIN IMMEDIATE", "creating the schema", err))
-        return -1;
-    int status = read_schema_state(s, &version, &nobjects, err);
-    if (status == 0 && version == 0 && nobjects == 0)
-        status = exec_sql(s, schema_sql, "creating the schema", err) ||
-                         exec_sql(s, views_sql, "creating the views", err)
-                     ? -1
-                     : 0;
-    else if (status == 0 && version != RF_STORE_SCHEMA_VERSION)
-        status = version_error(s, version, err);
-    return end_transaction(s, status, "creating the schema", err);
-}
-
 int rf_store_open(const char *path, rf_store **out, rf_error *err)
 {
     *out = NULL;
@@ -500,7 +168,7 @@ int rf_store_open(const char *path, rf_store **out, rf_error *err)
     if (sql_status(s->db, s->path, rc, "opening the results database", err))
         goto fail;
     sqlite3_busy_timeout(s->db, RF_STORE_BUSY_TIMEOUT_MS);
-    if (prepare_schema(s, err) ||
+    if (rf_schema_prepare(s->db, s->path, err) ||
         exec_sql(s, "PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON",
                  "configuring the results database", err))
         goto fail;
@@ -584,7 +252,15 @@ static int insert_run_row(rf_store *s, const rf_project *p, long n_trajectories,
     bind_int(st, 4, n_trajectories);
     bind_text(st, 5, ROCKFALL_VERSION);
     bind_text(st, 6, p->yaml_text);
+    /* the rule file absolute, for a check run from any folder */
+    char *rules = p->rules_path ? realpath(p->rules_path, NULL) : NULL;
+    bind_text(st, 7, rules ? rules : p->rules_path);
+    /* what the report needs of the project besides its rows; NULL without a terrain */
+    int terrain = p->terrain.ntri > 0;
+    bind_real(st, 8, terrain ? p->terrain_spec.surface.friction.mean : NAN);
+    bind_real(st, 9, p->hazard_cell > 0 ? p->hazard_cell : NAN);
     int failed = step_statement(s, ST_RUN, "writing the run", err);
+    free(rules);
     free(abs_path);
     if (failed)
         return -1;
@@ -626,7 +302,8 @@ static int insert_measure_row(rf_store *s, const rf_project *p, size_t i, rf_err
     if (!line)
         return rf_error_set(err, s->path, 0, 0, "out of memory writing measure '%s'", m->name);
     sqlite3_stmt *st = s->stmt[ST_MEASURE];
-    int barrier = m->kind == RF_BARRIER;
+    assert((unsigned)m->kind < RF_N_MEASURE_KINDS);
+    int has_mel = rf_measure_kinds[m->kind].has_mel;
     bind_int(st, 1, s->run_id);
     bind_int(st, 2, (int64_t)i);
     bind_text(st, 3, m->name);
@@ -634,16 +311,67 @@ static int insert_measure_row(rf_store *s, const rf_project *p, size_t i, rf_err
     bind_text(st, 5, rf_importance_name(m->importance));
     bind_real(st, 6, m->height);
     bind_text(st, 7, rf_behaviour_name(m->behaviour));
-    bind_given(st, 8, barrier ? m->mel : -1.0);
-    bind_given(st, 9, barrier ? m->sel : -1.0);
+    bind_given(st, 8, has_mel ? m->mel : -1.0);
+    bind_given(st, 9, has_mel ? m->sel : -1.0);
     for (int k = 0; k < RF_N_LIMIT_STATES; k++)
         bind_given(st, 10 + k, m->capacity[k]);
     bind_text(st, 14, line);
+    bind_text(st, 15, !has_mel ? NULL : m->sel_given ? "given" : "default: MEL/3");
     int status = step_statement(s, ST_MEASURE, "writing a measure", err);
     free(line);
     if (status)
         return -1;
     s->measure_ids[i] = sqlite3_last_insert_rowid(s->db);
+    return 0;
+}
+
+/* The terrain as the report draws it (terrain_grids). */
+static int insert_terrain_grid(rf_store *s, const rf_terrain *t, rf_error *err)
+{
+    rf_terrain_grid g;
+    unsigned char *blob = NULL;
+    if (rf_terrain_grid_sample(t, &g) || !(blob = malloc(8 * g.nx * g.ny))) {
+        rf_terrain_grid_free(&g);
+        return rf_error_set(err, s->path, 0, 0, "out of memory sampling the terrain");
+    }
+    rf_terrain_grid_encode(&g, blob);
+    sqlite3_stmt *st = s->stmt[ST_GRID];
+    bind_int(st, 1, s->run_id);
+    const double v[9] = {g.xmin, g.xmax, g.ymin, g.ymax, g.x0, g.y0, g.x1, g.y1, g.step};
+    for (int k = 0; k < 9; k++)
+        bind_real(st, 2 + k, v[k]);
+    bind_int(st, 11, (int64_t)g.nx);
+    bind_int(st, 12, (int64_t)g.ny);
+    int rc = sqlite3_bind_blob64(st, 13, blob, 8 * g.nx * g.ny, SQLITE_STATIC);
+    int status = rc == SQLITE_OK ? step_statement(s, ST_GRID, "writing the terrain", err)
+                                 : sql_status(s->db, s->path, rc, "writing the terrain", err);
+    free(blob);
+    rf_terrain_grid_free(&g);
+    return status;
+}
+
+/* For each release and measure, the point of the measure's line nearest the release
+ * and the ground's height there (NULL off the terrain): the report's empirical
+ * crosscheck measures the drop to the line from it. */
+static int insert_ground_points(rf_store *s, const rf_project *p, rf_error *err)
+{
+    sqlite3_stmt *st = s->stmt[ST_GROUND];
+    for (size_t k = 0; k < p->nreleases; k++)
+        for (size_t i = 0; i < p->nmeasures; i++) {
+            const rf_polyline *l = &p->measures[i].line;
+            double x = NAN, y = NAN, z = NAN;
+            rf_polyline_station(l->xy, l->n, p->releases[k].x, p->releases[k].y, NULL, &x, &y);
+            if (rf_terrain_height(&p->terrain, x, y, &z) < 0)
+                z = NAN;
+            bind_int(st, 1, s->run_id);
+            bind_int(st, 2, s->release_ids[k]);
+            bind_int(st, 3, s->measure_ids[i]);
+            bind_real(st, 4, x);
+            bind_real(st, 5, y);
+            bind_real(st, 6, z);
+            if (step_statement(s, ST_GROUND, "writing a ground point", err))
+                return -1;
+        }
     return 0;
 }
 
@@ -663,11 +391,18 @@ int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
 
     if (step_statement(s, ST_BEGIN, "starting a run", err))
         return -1;
-    int status = insert_run_row(s, p, n_trajectories, err);
+    int status = rf_schema_add_kinds(s->db, s->path, err) ||
+                         insert_run_row(s, p, n_trajectories, err)
+                     ? -1
+                     : 0;
     for (size_t i = 0; status == 0 && i < p->nreleases; i++)
         status = insert_release_row(s, p, i, err);
     for (size_t i = 0; status == 0 && i < p->nmeasures; i++)
         status = insert_measure_row(s, p, i, err);
+    if (status == 0 && p->terrain.ntri > 0)
+        status = insert_terrain_grid(s, &p->terrain, err) || insert_ground_points(s, p, err)
+                     ? -1
+                     : 0;
     if (status == 0)
         status = step_statement(s, ST_COMMIT, "starting a run", err);
     if (status != 0) {

@@ -16,12 +16,16 @@
 #include "rockfall/project.h"
 #include "rockfall/records.h"
 
-#define RF_STORE_SCHEMA_VERSION 1
+#include "results/schema.h"
+
+#define RF_STORE_SCHEMA_VERSION RF_SCHEMA_VERSION
 
 typedef struct rf_store rf_store;
 
-/* Opens (creating the schema when new) a results database.  A file of another schema
- * version or not a database is an error. */
+/* Opens a results database for writing runs: creates the schema in a new file or
+ * upgrades a file of an older version (rf_schema_prepare).  A file of a newer schema
+ * version, another program's database or no database is an error, and left as it
+ * was. */
 int rf_store_open(const char *path, rf_store **out, rf_error *err);
 void rf_store_close(rf_store *s);
 sqlite3 *rf_store_db(rf_store *s);

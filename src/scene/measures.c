@@ -160,26 +160,7 @@ int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec
     return rf_measures_first_crossings(ms, n, p, v, a, t_after, T, c, 1) > 0;
 }
 
-double rf_measure_breaking_energy(const rf_measure *m)
-{
-    if (m->kind == RF_CONTROL || m->behaviour == RF_COLLECT)
-        return INFINITY;
-    double cap = -1.0;
-    for (int s = 0; s < RF_N_LIMIT_STATES; s++)
-        cap = fmax(cap, m->capacity[s]);
-    return cap >= 0.0 ? cap : INFINITY;
-}
-
 rf_outcome rf_measure_outcome(const rf_measure *m, double passing_height_m, double energy_kj)
 {
-    if (m->kind == RF_CONTROL)
-        return RF_OUT_PASSED;
-    /* above the screen it overtops, whether the measure acts or only collects; with no
-     * ground under the crossing (NaN: a hole, a crack between terrain files) it is not
-     * known to pass below the screen, and is not stopped there */
-    if (!(passing_height_m < m->height))
-        return RF_OUT_OVERTOPPED;
-    if (m->behaviour == RF_COLLECT)
-        return RF_OUT_PASSED;
-    return energy_kj <= rf_measure_breaking_energy(m) ? RF_OUT_STOPPED : RF_OUT_BROKE_THROUGH;
+    return rf_measure_kinds[m->kind].outcome(m, passing_height_m, energy_kj);
 }

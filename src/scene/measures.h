@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 
+#include "input/measure_kinds.h" /* rf_measure_breaking_energy */
 #include "rockfall/project.h"
 #include "rockfall/records.h"
 #include "rockfall/vec3.h"
@@ -38,11 +39,6 @@ int rf_measures_first_crossing(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec
 int rf_measures_first_crossings(const rf_measure *ms, size_t n, rf_vec3 p, rf_vec3 v,
                                 rf_vec3 a, double t_after, double T, rf_crossing *out,
                                 int cap);
-
-/* The energy (kJ) above which a barrier or embankment breaks through: its last
- * limit state's capacity (a barrier's MEL; an embankment's largest capacity given).
- * Infinite for control lines and `collect` measures. */
-double rf_measure_breaking_energy(const rf_measure *m);
 
 /* What measure m does to a rock whose centre passes at `passing_height_m` above the
  * ground with total kinetic energy `energy_kj`: a control line lets it pass; above a
