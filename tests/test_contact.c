@@ -4,7 +4,12 @@
  * before the time the search returns, and touches at that time; with no contact
  * returned, it penetrates nothing until it leaves the terrain.  A cull that drops a
  * triangle it should have kept shows as a rock passing through a face. */
-#include "engine/motion_private.h"
+#include "engine/contact.h"
+#include "engine/exit.h"
+#include "engine/geometry.h"
+#include "engine/progress.h"
+#include "engine/state.h"
+#include "engine/surface_law.h"
 #include "motion_test_util.h"
 #include "test.h"
 

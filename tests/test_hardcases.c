@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "engine/motion_private.h" /* RF_STALL_EVENTS */
+#include "base/tolerances.h" /* RF_STALL_EVENTS */
 #include "motion_test_util.h"
 
 #define PI 3.14159265358979323846

@@ -10,8 +10,11 @@
 #define RF_APPROACH_EPS 1e-7       /* approach speeds below this (m/s) are grazing */
 #define RF_TOUCH_BAND 1000.0       /* a start within this many length tolerances behind a
                                       surface still touches it */
+#define RF_START_TOUCH 1e-6        /* (m) a start this close to the ground touches it */
 #define RF_STAY_HEIGHT 1e-3        /* a rebound lower than this (m) stays on the surface */
 #define RF_COPLANAR_EPS 1e-9       /* faces whose normals differ less are one plane */
+#define RF_CONCAVE_MIN_ANGLE 1e-6  /* (rad) an edge whose faces bend by less is not strictly
+                                      concave: the contact search tests it */
 #define RF_SLIP_EPS 1e-6           /* slip speed (m/s) below which a sphere rolls */
 #define RF_PATH_DEV 1e-6           /* (m) a surface step's path departs from its parabola
                                       by about this much at most: a contact the parabola

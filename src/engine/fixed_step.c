@@ -21,9 +21,20 @@
  * Rest, rolling against slipping, coefficient draws and the stay threshold are those
  * of the exact engine, so the trajectories converge to it as dt -> 0 (first order);
  * the cost grows as 1/dt.  It is the reference for the speed-against-error report. */
-#include "engine/motion_private.h"
+#include "engine/fixed_step.h"
 
 #include <math.h>
+
+#include "engine/contact.h"
+#include "engine/exit.h"
+#include "engine/face_entry.h"
+#include "engine/face_exit.h"
+#include "engine/geometry.h"
+#include "engine/progress.h"
+#include "engine/rock.h"
+#include "engine/scene_events.h"
+#include "engine/surface.h"
+#include "engine/surface_law.h"
 
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
@@ -144,7 +155,7 @@ static int flight_step(rf_motion *m, double h)
     if (!hit && pe.z < t->zmin - m->rho - 1.0)
         out = 1; /* below every face */
     if (advance_piece(m, ve, te, h, NULL))
-        return rf_scene_event(m);
+        return rf_surface_scene_event(m);
     if (hit) {
         /* the velocity at the contact is v + g t; when that leaves the face but the
          * step's velocity meets it, the rock made a hop shorter than the step and is
@@ -246,7 +257,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
     rf_spin_law law = rf_spin_law_over(m, n, u, u1, hs);
     int scene = advance_piece(m, ve, te, hs, &law);
     if (scene)
-        return rf_scene_event(m);
+        return rf_surface_scene_event(m);
     if (tx == 0.0 && m->centre) {
         /* the step would leave over an edge the centre lies on at once: when a wall
          * lies beyond, the rock meets it (a reflection off it, turned back out by the
@@ -326,7 +337,7 @@ static int crease_step(rf_motion *m, double h)
         roll = rf_crease_roll(m);
     int scene = advance_piece(m, ve, te, h, cr.rolling ? &roll : NULL);
     if (scene)
-        return rf_scene_event(m);
+        return rf_surface_scene_event(m);
     if (tx <= h) {
         /* the centre leaves one face's column: the crease goes on with the next face
          * on the same plane, or ends on the other face */

@@ -10,9 +10,11 @@
  * taken as instantaneous: the centre moves along the arc of radius r about the edge
  * from q + r u to q + r n_to, and the total energy (kinetic plus potential) is
  * conserved. */
-#include "engine/motion_private.h"
+#include "engine/impact.h"
 
 #include <math.h>
+
+#include "engine/rock.h"
 
 static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
 {
@@ -37,6 +39,15 @@ double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n)
     double e = rf_draw_truncated(m->rng, s->restitution, 0.0, 1.0);
     double mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
     return rf_impact_apply(m, n, e, mu);
+}
+
+void rf_impact_count(rf_motion *m, double e0, double vin)
+{
+    if (!(vin > RF_APPROACH_EPS))
+        return;
+    m->rec->n_impacts++;
+    if (m->sink && m->sink->impact)
+        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
 }
 
 double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu)

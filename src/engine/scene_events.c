@@ -13,12 +13,15 @@
  * candidate's position over the bound (vegetation.c).  Gaps are measured in distance,
  * not time, so no time step enters: the exact and the fixed-step engines sample the
  * same process. */
-#include "engine/motion_private.h"
+#include "engine/scene_events.h"
 
 #include <gsl/gsl_randist.h>
 #include <math.h>
 #include <string.h>
 
+#include "engine/impact.h"
+#include "engine/rock.h"
+#include "engine/travel.h"
 #include "scene/vegetation.h"
 
 static double draw_gap(rf_motion *m) { return gsl_ran_exponential(m->rng, 1.0 / m->tree_bound); }
@@ -39,70 +42,6 @@ void rf_scene_begin(rf_motion *m)
     }
 }
 
-/* ---- one passage of a line -----------------------------------------------------------
- *
- * A rock that crosses a measure's line and comes back across it before its centre has
- * been further than its radius from the crossed segment's line passes the line once:
- * the crossings back and forth of that passage are not recorded again (a point mass
- * running along a valley line that a control line follows wandered across it by a
- * fraction of a millimetre and was recorded at each).  Once further than its radius
- * from it, the passage is over and the next crossing is a new one.  The same rule
- * passes over a crossing seen again: by the next piece of motion, which starts on the
- * line (rounded to either side of it), and as the neighbouring segment's root of a
- * crossing through a polyline vertex. */
-
-/* The largest horizontal distance from the passage's line over [0, T] of the arc. */
-static double passage_reach(const rf_passage *ps, const rf_arc *arc, double T)
-{
-    double f[3] = {ps->nx * (arc->p.x - ps->ax) + ps->ny * (arc->p.y - ps->ay),
-                   ps->nx * arc->v.x + ps->ny * arc->v.y,
-                   0.5 * (ps->nx * arc->a.x + ps->ny * arc->a.y)};
-    double lo, hi;
-    rf_quadratic_range(f, 0.0, fmax(T, 0.0), &lo, &hi);
-    return fmax(-lo, hi);
-}
-
-/* The passage of measure `which`, or NULL. */
-static rf_passage *passage_of(rf_motion *m, int which)
-{
-    for (int i = 0; i < m->npassing; i++)
-        if (m->passing[i].measure == which)
-            return &m->passing[i];
-    return NULL;
-}
-
-/* A crossing of segment c->segment of its measure recorded: that measure's passage
- * starts (the oldest passage makes room when all are taken). */
-static void passage_start(rf_motion *m, const rf_crossing *c)
-{
-    const double *A = &m->scene->measures[c->measure].line.xy[2 * c->segment], *B = A + 2;
-    double dx = B[0] - A[0], dy = B[1] - A[1], len = hypot(dx, dy);
-    rf_passage *ps = passage_of(m, c->measure);
-    if (!ps) {
-        if (m->npassing == RF_MAX_COINCIDENT_CROSSINGS) {
-            memmove(m->passing, m->passing + 1, (size_t)(m->npassing - 1) * sizeof *m->passing);
-            m->npassing--;
-        }
-        ps = &m->passing[m->npassing++];
-    }
-    /* a crossed segment has a length (measures.c passes over a zero one) */
-    *ps = (rf_passage){c->measure, A[0], A[1], -dy / len, dx / len};
-}
-
-void rf_scene_travel(rf_motion *m, const rf_arc *arc, double T)
-{
-    for (int i = 0; i < m->npassing;) {
-        if (passage_reach(&m->passing[i], arc, T) > m->body->radius) {
-            memmove(m->passing + i, m->passing + i + 1,
-                    (size_t)(m->npassing - i - 1) * sizeof *m->passing);
-            m->npassing--;
-        } else {
-            i++;
-        }
-    }
-    if (m->tree_bound > 0.0)
-        m->odo += rf_horizontal_length(arc->v, arc->a, T);
-}
 
 /* The earliest tree collision over [0, T] of the arc, or T.  Rejected candidates on
  * the way are used up. */
@@ -149,8 +88,8 @@ static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
         int kept = 0;
         for (int i = 0; i < k; i++) {
             rf_crossing c = m->crossings[i];
-            const rf_passage *ps = passage_of(m, c.measure);
-            if (!ps || passage_reach(ps, arc, c.t) > m->body->radius)
+            const rf_passage *ps = rf_passage_of(m, c.measure);
+            if (!ps || rf_passage_reach(ps, arc, c.t) > m->body->radius)
                 m->crossings[kept++] = c;
         }
         m->ncrossings = kept;
@@ -221,7 +160,7 @@ static int cross_measure(rf_motion *m, int which)
 static int measure_event(rf_motion *m)
 {
     for (int i = 0; i < m->ncrossings; i++) {
-        passage_start(m, &m->crossings[i]);
+        rf_passage_start(m, &m->crossings[i]);
         if (cross_measure(m, m->crossings[i].measure) >= 0)
             return RF_END_STOPPED;
     }
@@ -232,7 +171,7 @@ static int measure_event(rf_motion *m)
 /* Fig. 6b: a collision with a vertical rigid stem at a uniformly random lateral offset
  * across the swept band; horizontal contact normal; the forest's restitution and
  * friction applied by the impact law, rotation included. */
-static int tree_event(rf_motion *m)
+static int tree_event(rf_motion *m, int32_t *onto)
 {
     const rf_forest *f = &m->scene->forests[m->tree_forest];
     m->tree_next = m->odo + draw_gap(m);
@@ -257,12 +196,14 @@ static int tree_event(rf_motion *m)
     }
     if (m->sup.n > 0) {
         /* on the surface: off into flight when the stem throws it up, else back onto
-         * the face it was on, its velocity made tangent */
+         * the face it was on (*onto), its velocity made tangent there */
         int32_t tri = m->sup.tri[0];
         double vn = rf_v3_dot(m->s.v, m->terrain->tri[tri].n);
         m->sup.n = 0;
-        if (vn <= m->v_stay)
-            rf_surface_enter(m, tri);
+        if (vn <= m->v_stay) {
+            *onto = tri;
+            return -1;
+        }
     }
     rf_motion_event(m);
     return -1;
@@ -281,14 +222,15 @@ int rf_scene_at_once(rf_motion *m)
     return m->ncrossings > 0 ? measure_event(m) : -1;
 }
 
-int rf_scene_event(rf_motion *m)
+int rf_scene_event(rf_motion *m, int32_t *onto)
 {
     int kind = m->scene_pending;
+    *onto = -1;
     m->scene_pending = RF_SCENE_NONE;
     if (kind == RF_SCENE_MEASURE)
         return measure_event(m);
     if (kind == RF_SCENE_TREE)
-        return tree_event(m);
+        return tree_event(m, onto);
     rf_motion_event(m);
     return -1;
 }

@@ -1,0 +1,302 @@
+/* face_entry.c - landing, creases, the lifts and walls of the centre mode. */
+#include "engine/face_entry.h"
+
+#include <math.h>
+
+#include "engine/feature.h"
+#include "engine/contact.h"
+#include "engine/geometry.h"
+#include "engine/impact.h"
+#include "engine/rock.h"
+#include "engine/scene_events.h"
+#include "engine/surface_law.h"
+
+void rf_support_single(rf_motion *m, int32_t tri, int fresh)
+{
+    const rf_triangle *T = &m->terrain->tri[tri];
+    if (fresh || m->sup.n == 0 || m->sup.zone != T->zone)
+        rf_support_draw(m, tri);
+    m->sup.n = 1;
+    m->sup.tri[0] = tri;
+    m->sup.tri[1] = -1;
+    m->sup.left = -1;
+    /* on the offset plane, velocity tangent */
+    m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
+    m->s.v = rf_in_plane(m->s.v, T->n);
+    m->sup.rolling = 0;
+    if (!m->point)
+        rf_face_slip(m, T->n);
+}
+
+void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1); }
+
+/* The rock on face A meets face B gently: a crease when both faces press on it. */
+int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
+{
+    const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
+    if (a == b || rf_coplanar(A, B, m->tol_len))
+        return -1;
+    if (rf_v3_dot(m->s.v, A->n) > m->v_stay)
+        return -1; /* leaving A */
+    double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
+    rf_vec3 l;
+    if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
+        return -1;
+    /* both faces touched: the centre lies on both offset planes */
+    double s = rf_v3_dot(m->s.v, l);
+    m->s.v = rf_v3_scale(l, s);
+    rf_vec3 p = rf_crease_centre(A, B, m->rho, m->s.p);
+    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * rf_fmax(m->rho, 0.01))
+        return -1;
+    m->s.p = p;
+    if (m->sup.n == 0 || m->sup.zone != B->zone)
+        rf_support_draw(m, b);
+    int rolling = !m->point && m->sup.n >= 1 && m->sup.rolling;
+    m->sup.n = 2;
+    m->sup.tri[0] = a;
+    m->sup.tri[1] = b;
+    m->sup.left = -1;
+    m->sup.rolling = rolling;
+    if (rolling) {
+        rf_spin_law roll = rf_crease_roll(m);
+        m->s.w = rf_spin_at(&roll, m->rho, m->s.v, 0.0);
+    }
+    return 0;
+}
+
+/* Landing gently on face tri (rebound below the stay threshold). */
+static void land(rf_motion *m, int32_t tri)
+{
+    if (m->sup.n == 1 && rf_try_crease(m, m->sup.tri[0], tri) == 0)
+        return;
+    if (m->sup.n == 2) {
+        int32_t a = m->sup.tri[0], b = m->sup.tri[1];
+        if (rf_try_crease(m, a, tri) == 0 || rf_try_crease(m, b, tri) == 0)
+            return;
+    }
+    rf_support_single(m, tri, m->sup.n == 0);
+}
+
+/* 1 when a sphere rolled over q onto face `to` would touch no other feature: the
+ * roll is only taken where the two faces are all there is. */
+int rf_pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
+{
+    rf_vec3 c = rf_v3_madd(q, m->rho, m->terrain->tri[to].n);
+    rf_contact near;
+    double d = rf_closest_feature(m, c, m->rho + 1e-3, &near);
+    return d >= m->rho - 1e-6 * m->rho - m->tol_len;
+}
+
+/* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
+ * contact search. */
+void rf_go_flight(rf_motion *m, int32_t exclude)
+{
+    m->sup.n = 0;
+    m->flight_ex.n = exclude >= 0 ? 1 : 0;
+    m->flight_ex.tri[0] = exclude;
+}
+
+/* A slow sphere on a convex edge or vertex (unit normal u) that cannot roll over it
+ * cleanly hops off: its velocity is turned, at the same speed, to leave the feature
+ * at the stay speed, so that it is never dragged through the feature. */
+void rf_hop(rf_motion *m, rf_vec3 u)
+{
+    double speed = rf_v3_norm(m->s.v);
+    double vn = rf_fmin(speed, m->v_stay);
+    rf_vec3 vt = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, u), u);
+    double vtl = rf_v3_norm(vt);
+    double st = sqrt(rf_fmax(0.0, speed * speed - vn * vn));
+    m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
+    rf_go_flight(m, -1);
+}
+
+rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap)
+{
+    *gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
+    if (!(*gap > 0))
+        return rf_v3(0, 0, 0);
+    double along = 0.0;
+    if (T->n.z < 0.2) {
+        rf_face_edges fe;
+        rf_column_edges(T, &fe);
+        along = *gap;
+        for (int k = 0; k < 3; k++) {
+            double mn = rf_v3_dot(fe.m[k], T->n);
+            if (mn < 0)
+                along = rf_fmin(along, rf_fmax(0.0, (rf_v3_dot(fe.m[k], m->s.p) - fe.o[k]) / -mn));
+        }
+    }
+    return rf_v3_madd(rf_v3(0, 0, (*gap - along) / T->n.z), along, T->n);
+}
+
+/* The potential energy (J) a lift by `move` costs. */
+double rf_lift_cost(const rf_motion *m, rf_vec3 move)
+{
+    return m->body->mass * RF_GRAVITY * move.z;
+}
+
+int rf_pay_lift(rf_motion *m, rf_vec3 move)
+{
+    double cost = rf_lift_cost(m, move);
+    double ke = rf_motion_energy(m);
+    if (!(ke > cost) || !(ke > 0.0))
+        return 0;
+    double s = sqrt((ke - cost) / ke);
+    m->s.v = rf_v3_scale(m->s.v, s);
+    m->s.w = rf_v3_scale(m->s.w, s);
+    m->s.p = rf_v3_add(m->s.p, move);
+    return 1;
+}
+
+/* Centre mode: 1 when face `to`'s offset plane is above the centre's reach and a rock
+ * of kinetic energy ke (J) cannot pay the lift onto it: a wall. */
+int rf_wall_for(const rf_motion *m, int32_t to, double ke)
+{
+    double gap;
+    rf_vec3 move = rf_centre_lift_move(m, &m->terrain->tri[to], &gap);
+    return gap > m->tol_len && rf_lift_cost(m, move) >= ke;
+}
+
+/* 1 when the centre, moving horizontally along v (with its spin) from where it is, goes
+ * on into the column of a face other than `skip` that is a wall to it: another wall,
+ * meeting the one it was reflected off where the centre is. */
+static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
+{
+    double h = rf_v3_hnorm(v), tol = m->tol_len;
+    if (!(h > 0))
+        return 0;
+    rf_vec3 q = m->s.p;
+    q.x += 4.0 * tol * v.x / h;
+    q.y += 4.0 * tol * v.y / h;
+    double ke = rf_kinetic_energy(m->body, v, m->s.w);
+    size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
+    for (size_t i = 0; i < n; i++) {
+        int32_t k = m->ws->cand[i];
+        if (k != skip && m->terrain->tri[k].n.z > 0 && rf_in_column(&m->terrain->tri[k], q, 0.5 * tol) &&
+            rf_wall_for(m, k, ke))
+            return 1;
+    }
+    return 0;
+}
+
+/* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
+ * over a face whose plane it is already closer to than r.  It is lifted onto that
+ * face's offset plane, and the lift is paid from the kinetic energy; when the rock
+ * cannot pay, the face acts as a wall at the border of its column and the horizontal
+ * velocity into it is reflected with restitution e.  Returns 1 after a reflection. */
+static int centre_lift(rf_motion *m, const rf_contact *c)
+{
+    const rf_triangle *T = &m->terrain->tri[c->tri];
+    double gap;
+    rf_vec3 move = rf_centre_lift_move(m, T, &gap);
+    if (!(gap > 0) || rf_pay_lift(m, move))
+        return 0;
+    /* the border of the face's column the centre is crossing: nearest to it among
+     * those it moves in through */
+    rf_face_edges fe;
+    rf_column_edges(T, &fe);
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    double best = INFINITY, side[3];
+    rf_vec3 in = rf_v3(0, 0, 0);
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 mk = fe.m[k];
+        side[k] = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
+        if (rf_v3_dot(m->s.v, mk) > 0 && side[k] < best)
+            best = side[k], in = mk;
+    }
+    double vin = rf_v3_dot(m->s.v, in);
+    const rf_surface *sf = &m->terrain->zones[T->zone].surface;
+    double e = rf_draw_truncated(m->rng, sf->restitution, 0.0, 1.0);
+    double e0 = rf_motion_energy(m);
+    if (vin > 0) {
+        rf_vec3 v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
+        /* at a corner of the column, a reflection off one edge that leaves the rock
+         * moving in over the other (along the first: it ran on between two walls,
+         * under both), or into the column of another wall that meets this one there,
+         * takes the whole horizontal velocity instead, which leaves the corner */
+        int corner = 0;
+        for (int k = 0; k < 3 && !corner; k++)
+            corner = fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS;
+        if (corner || wall_ahead(m, c->tri, v)) {
+            v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
+            vin = rf_v3_hnorm(m->s.v);
+        }
+        m->s.v = v;
+    }
+    rf_impact_count(m, e0, vin);
+    return 1;
+}
+
+void rf_contact_resolve(rf_motion *m, const rf_contact *c)
+{
+    const rf_terrain *t = m->terrain;
+    if (m->centre && centre_lift(m, c))
+        return; /* reflected: the support is unchanged */
+    rf_vec3 n = c->n;
+    if (c->kind != RF_FEAT_FACE) {
+        rf_vec3 d = rf_v3_sub(m->s.p, c->point);
+        double dl = rf_v3_norm(d);
+        if (dl > 0)
+            n = rf_v3_scale(d, 1.0 / dl);
+    }
+    /* exactly at the contact distance */
+    if (!m->centre) {
+        double dist = rf_feature_distance(t, c, m->s.p);
+        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, n);
+    }
+    double e0 = rf_motion_energy(m);
+    double vn = rf_v3_dot(m->s.v, n);
+    double rebound = rf_impact(m, c->tri, n);
+    rf_impact_count(m, e0, -vn);
+    if (rebound >= m->v_stay) {
+        rf_go_flight(m, -1);
+        return;
+    }
+    m->s.v = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, n), n);
+    if (c->kind == RF_FEAT_FACE || m->point || m->centre) {
+        land(m, c->tri);
+        return;
+    }
+    /* a slow sphere on a convex edge or vertex rolls over it onto a face */
+    rf_vec3 w = m->s.v;
+    if (rf_v3_hnorm(w) < 1e-9)
+        w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
+    int32_t to = rf_face_beyond(t, -2, c->point, w);
+    /* not back onto the face just flown off, met at its own edge as the rock leaves
+     * it along that edge: it would leave it again at once */
+    if (m->flight_ex.n > 0 && to == m->flight_ex.tri[0])
+        to = -1;
+    if (to >= 0 && rf_pivot_clear(m, c->point, to) && rf_pivot(m, c->point, to) == 0) {
+        rf_support_single(m, to, m->sup.n == 0);
+        m->sup.rolling = 1;
+        return;
+    }
+    rf_hop(m, n);
+}
+
+void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
+{
+    m->sup.n = 1;
+    m->sup.tri[0] = on;
+    m->sup.tri[1] = -1;
+    m->sup.left = left;
+    if (!m->point && m->sup.rolling) {
+        /* it rolled on the plane of the bisector n_m of the two normals (w = n_m x v /
+         * r), which slips on the face by v (1 - n . n_m): it slides until the slip
+         * vanishes.  Rolled on, the face's law (w . n kept, the rest from v) made
+         * energy: 1.64 kJ on 11.3 kJ in no time (30/9/1). */
+        m->sup.rolling = 0;
+        rf_face_slip(m, m->terrain->tri[on].n);
+    }
+}
+
+int rf_surface_scene_event(rf_motion *m)
+{
+    int32_t onto;
+    int end = rf_scene_event(m, &onto);
+    if (onto >= 0) {
+        rf_surface_enter(m, onto);
+        rf_motion_event(m);
+    }
+    return end;
+}
