@@ -184,6 +184,27 @@ static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
  * face's offset plane, and the lift is paid from the kinetic energy; when the rock
  * cannot pay, the face acts as a wall at the border of its column and the horizontal
  * velocity into it is reflected with restitution e.  Returns 1 after a reflection. */
+/* The column a wall reflection happens at: its edge functions, and how far inside
+ * each edge the centre is. */
+typedef struct wall_column {
+    rf_face_edges fe;
+    double side[3];
+    int32_t tri;
+} wall_column;
+
+/* At a corner of the column, a reflection off one edge that leaves the rock moving in
+ * over the other (along the first: it ran on between two walls, under both), or into
+ * the column of another wall that meets this one there, takes the whole horizontal
+ * velocity instead, which leaves the corner (rf_impact_site.corner). */
+static int wall_corner_ahead(rf_motion *m, rf_vec3 v, const void *ctx)
+{
+    const wall_column *wc = ctx;
+    int corner = 0;
+    for (int k = 0; k < 3 && !corner; k++)
+        corner = fabs(wc->side[k]) <= m->tol_len && rf_v3_dot(v, wc->fe.m[k]) > RF_APPROACH_EPS;
+    return corner || wall_ahead(m, wc->tri, v);
+}
+
 static int centre_lift(rf_motion *m, const rf_contact *c)
 {
     const rf_triangle *T = &m->terrain->tri[c->tri];
@@ -193,37 +214,20 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
         return 0;
     /* the border of the face's column the centre is crossing: nearest to it among
      * those it moves in through */
-    rf_face_edges fe;
-    rf_column_edges(T, &fe);
+    wall_column wc;
+    wc.tri = c->tri;
+    rf_column_edges(T, &wc.fe);
     rf_vec3 P[3] = {T->a, T->b, T->c};
-    double best = INFINITY, side[3];
+    double best = INFINITY;
     rf_vec3 in = rf_v3(0, 0, 0);
     for (int k = 0; k < 3; k++) {
-        rf_vec3 mk = fe.m[k];
-        side[k] = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
-        if (rf_v3_dot(m->s.v, mk) > 0 && side[k] < best)
-            best = side[k], in = mk;
+        rf_vec3 mk = wc.fe.m[k];
+        wc.side[k] = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
+        if (rf_v3_dot(m->s.v, mk) > 0 && wc.side[k] < best)
+            best = wc.side[k], in = mk;
     }
-    double vin = rf_v3_dot(m->s.v, in);
-    const rf_surface *sf = &m->terrain->zones[T->zone].surface;
-    double e = rf_draw_truncated(m->rng, sf->restitution, 0.0, 1.0);
-    double e0 = rf_motion_energy(m);
-    if (vin > 0) {
-        rf_vec3 v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, in);
-        /* at a corner of the column, a reflection off one edge that leaves the rock
-         * moving in over the other (along the first: it ran on between two walls,
-         * under both), or into the column of another wall that meets this one there,
-         * takes the whole horizontal velocity instead, which leaves the corner */
-        int corner = 0;
-        for (int k = 0; k < 3 && !corner; k++)
-            corner = fabs(side[k]) <= m->tol_len && rf_v3_dot(v, fe.m[k]) > RF_APPROACH_EPS;
-        if (corner || wall_ahead(m, c->tri, v)) {
-            v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
-            vin = rf_v3_hnorm(m->s.v);
-        }
-        m->s.v = v;
-    }
-    rf_impact_count(m, e0, vin);
+    rf_impact_site site = {RF_IMPACT_WALL, c->tri, in, rf_v3_dot(m->s.v, in), wall_corner_ahead, &wc};
+    rf_impact(m, &site, NULL);
     return 1;
 }
 
@@ -244,10 +248,8 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
         double dist = rf_feature_distance(t, c, m->s.p);
         m->s.p = rf_v3_madd(m->s.p, m->rho - dist, n);
     }
-    double e0 = rf_motion_energy(m);
-    double vn = rf_v3_dot(m->s.v, n);
-    double rebound = rf_impact(m, c->tri, n);
-    rf_impact_count(m, e0, -vn);
+    rf_impact_site site = {RF_IMPACT_SLOPE, c->tri, n};
+    double rebound = rf_impact(m, &site, NULL);
     if (rebound >= m->v_stay) {
         rf_go_flight(m, -1);
         return;

@@ -1,9 +1,12 @@
-/* impact.c - the impact law (Eq. 8) and the transfers of a slow rock between faces.
+/* impact.c - every impact of the rock (Eq. 8 on the slope and on stems; the walls of
+ * the centre mode) and the transfers of a slow rock between faces.
  *
- * Impact: contact normal n, e_n and mu drawn per impact from the zone's surface.  The
- * normal impulse reverses the normal velocity with restitution e_n; the tangential
- * Coulomb impulse reduces the slip of the contact point and stops at rolling.  Both
- * only remove kinetic energy.
+ * Impact: one function, rf_impact, for every kind (rf_impact_kind), with one place
+ * that draws the coefficients (draw_coefficients): e_n, and mu where the law takes
+ * it, from the zone's surface or the forest, in that order.  Eq. 8: the normal
+ * impulse reverses the normal velocity with restitution e_n; the tangential Coulomb
+ * impulse reduces the slip of the contact point and stops at rolling.  Both only
+ * remove kinetic energy.
  *
  * Pivot: a slow sphere that reaches a convex edge or vertex rolls over it onto the
  * next face.  The roll about the edge is short (the angle between the faces) and is
@@ -14,8 +17,10 @@
 
 #include <math.h>
 
+#include "engine/geometry.h"
 #include "engine/rock.h"
 
+/* The surface of triangle tri's zone (zone 0 for a triangle without one). */
 static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
 {
     const rf_terrain *t = m->terrain;
@@ -33,15 +38,44 @@ void rf_support_draw(rf_motion *m, int32_t tri)
     m->sup.mu_r = rf_draw_truncated(m->rng, s->rolling, 0.0, INFINITY);
 }
 
-double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n)
+/* The coefficients of one impact. */
+typedef struct impact_coeffs {
+    double e, mu;
+} impact_coeffs;
+
+/* The one place an impact's coefficients are drawn: e_n in [0, 1], then mu >= 0 where
+ * the kind's law takes it (slope and tree: Eq. 8; a wall's reflection takes e_n alone,
+ * its meeting along it nothing). */
+static impact_coeffs draw_coefficients(rf_motion *m, const rf_impact_site *site)
 {
-    const rf_surface *s = surface_of(m, tri);
-    double e = rf_draw_truncated(m->rng, s->restitution, 0.0, 1.0);
-    double mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
-    return rf_impact_apply(m, n, e, mu);
+    impact_coeffs k = {0.0, 0.0};
+    rf_dist e, mu;
+    switch (site->kind) {
+    case RF_IMPACT_SLOPE:
+    case RF_IMPACT_WALL: {
+        const rf_surface *s = surface_of(m, site->id);
+        e = s->restitution, mu = s->friction;
+        break;
+    }
+    case RF_IMPACT_TREE: {
+        const rf_forest *f = &m->scene->forests[site->id];
+        e = f->restitution, mu = f->friction;
+        break;
+    }
+    default:
+        return k; /* RF_IMPACT_WALL_MEET: no coefficient */
+    }
+    k.e = rf_draw_truncated(m->rng, e, 0.0, 1.0);
+    if (site->kind != RF_IMPACT_WALL)
+        k.mu = rf_draw_truncated(m->rng, mu, 0.0, INFINITY);
+    return k;
 }
 
-void rf_impact_count(rf_motion *m, double e0, double vin)
+/* An impact with approach speed vin (m/s; kinetic energy e0 J before it) counts and is
+ * reported when the rock approached the surface; a touch at a grazing speed (the path
+ * tangent to the face, as when a centre runs exactly along an edge line) changes
+ * nothing and is not an impact. */
+static void count_impact(rf_motion *m, double e0, double vin)
 {
     if (!(vin > RF_APPROACH_EPS))
         return;
@@ -50,7 +84,9 @@ void rf_impact_count(rf_motion *m, double e0, double vin)
         m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
 }
 
-double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu)
+/* The impact law (Eq. 8) with unit normal n (towards the centre), restitution e and
+ * friction mu, on the current state.  Returns the rebound normal speed. */
+static double impact_law(rf_motion *m, rf_vec3 n, double e, double mu)
 {
     const rf_body *b = m->body;
     rf_vec3 v = m->s.v, w = m->s.w;
@@ -84,6 +120,93 @@ double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu)
     }
     m->s.v = rf_v3_add(v, rf_v3_scale(rf_v3_add(rf_v3_scale(n, jn), jt), 1.0 / b->mass));
     return e * (-vn);
+}
+
+
+/* Centre mode, a column's wall (Eq. 6-7: the face under the centre alone counts, and
+ * the rock cannot pay the lift onto the next one): the velocity into the wall (along
+ * site->n, approach speed site->vin) is reversed with restitution e_n.  Where the
+ * reflected velocity leaves the rock against another wall (site->corner), the whole
+ * horizontal velocity is reversed instead, which leaves the corner.  Returns the
+ * approach speed. */
+static double wall_law(rf_motion *m, const rf_impact_site *site, double e)
+{
+    double vin = site->vin;
+    if (vin > 0) {
+        rf_vec3 v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, site->n);
+        if (site->corner(m, v, site->ctx)) {
+            v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
+            vin = rf_v3_hnorm(m->s.v);
+        }
+        m->s.v = v;
+    }
+    return vin;
+}
+
+/* Centre mode, the rock on its face meets a wall along direction site->l: the part of
+ * its velocity across the wall is taken (perfectly plastic); in a corner of two walls
+ * (site->corner_stop) it stops.  A slipping sphere's slip across the wall is taken by
+ * friction at its contact (its spin set, on the face of normal site->n): *u.  Returns
+ * the approach speed. */
+static double wall_meet_law(rf_motion *m, const rf_impact_site *site, rf_vec3 *u)
+{
+    rf_vec3 L = site->l;
+    double s = rf_v3_dot(m->s.v, L);
+    double vin = rf_v3_norm(rf_in_plane(m->s.v, L));
+    m->s.v = rf_v3_scale(L, s);
+    *u = rf_v3(0, 0, 0);
+    if (site->corner_stop) {
+        m->s.v = rf_v3(0, 0, 0);
+        m->s.w = rf_v3(0, 0, 0);
+        m->sup.rolling = 1;
+        return vin + fabs(s);
+    }
+    if (site->slide) {
+        *u = rf_in_plane(rf_slip_of(m, site->n), rf_v3_cross(site->n, L));
+        rf_set_spin(m, site->n, *u);
+    }
+    return vin;
+}
+
+/* A tree's stem (Fig. 6b): Eq. 8 with the forest's coefficients, recorded as a tree
+ * hit. */
+static double tree_law(rf_motion *m, const rf_impact_site *site, impact_coeffs k)
+{
+    double e0 = rf_motion_energy(m), v0 = rf_v3_norm(m->s.v);
+    double vin = -rf_v3_dot(m->s.v, site->n);
+    double rebound = impact_law(m, site->n, k.e, k.mu);
+    double e1 = rf_motion_energy(m);
+    m->rec->n_tree_hits++;
+    if (m->sink && m->sink->impact)
+        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, e1 / 1000.0, vin);
+    if (m->sink && m->sink->tree_hit) {
+        rf_tree_hit_record r = {m->s.t, m->s.p, v0, rf_v3_norm(m->s.v), (e0 - e1) / 1000.0};
+        m->sink->tree_hit(m->sink->ctx, &r);
+    }
+    return rebound;
+}
+
+double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out)
+{
+    impact_coeffs k = draw_coefficients(m, site);
+    if (site->kind == RF_IMPACT_TREE)
+        return tree_law(m, site, k);
+    double e0 = rf_motion_energy(m);
+    double vin, rebound = 0.0;
+    switch (site->kind) {
+    case RF_IMPACT_SLOPE:
+        vin = -rf_v3_dot(m->s.v, site->n);
+        rebound = impact_law(m, site->n, k.e, k.mu);
+        break;
+    case RF_IMPACT_WALL:
+        vin = wall_law(m, site, k.e);
+        break;
+    default:
+        vin = wall_meet_law(m, site, &out->u);
+        break;
+    }
+    count_impact(m, e0, vin);
+    return rebound;
 }
 
 /* The centre's arc of a roll about q onto a face of normal n: u(th) = u0 cos th +

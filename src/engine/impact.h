@@ -1,20 +1,48 @@
-/* impact.h - the impact law (Eq. 8) and the transfers of a slow rock between faces
- * (impact.c). */
+/* impact.h - every impact of the rock, through one function (Eq. 8 on the slope and
+ * on stems; the walls of the centre mode), and the transfers of a slow rock between
+ * faces (impact.c). */
 #ifndef ROCKFALL_ENGINE_IMPACT_H
 #define ROCKFALL_ENGINE_IMPACT_H
 
 #include "engine/state.h"
 
-/* Draws e_n, mu for the zone of triangle tri and applies the impact (Eq. 8) with unit
- * normal n at the current state.  Returns the rebound normal speed. */
-double rf_impact(rf_motion *m, int32_t tri, rf_vec3 n);
-/* The impact law itself (Eq. 8) with given e_n and mu, for slope and tree impacts. */
-double rf_impact_apply(rf_motion *m, rf_vec3 n, double e, double mu);
-/* An impact with approach speed vin (m/s; kinetic energy e0 J before it) counts and is
- * reported when the rock approached the surface; a touch at a grazing speed (the path
- * tangent to the face, as when a centre runs exactly along an edge line) changes
- * nothing and is not an impact. */
-void rf_impact_count(rf_motion *m, double e0, double vin);
+/* The kinds of impact: each is a row of draw_coefficients (where e_n and mu come
+ * from) and of rf_impact (its law). */
+typedef enum rf_impact_kind {
+    RF_IMPACT_SLOPE,     /* a face, edge or vertex of the terrain: Eq. 8, e_n and mu of
+                            triangle id's zone */
+    RF_IMPACT_WALL,      /* centre mode, the border of a column the rock cannot pay the
+                            lift onto, met in flight: reflection with e_n of id's zone */
+    RF_IMPACT_WALL_MEET, /* centre mode, such a wall met by a rock on its face: the
+                            velocity across it is taken; no coefficient */
+    RF_IMPACT_TREE       /* a stem of forest id (Fig. 6b): Eq. 8 with its e_n and mu */
+} rf_impact_kind;
+
+/* Where and how the rock meets what it hits. */
+typedef struct rf_impact_site {
+    rf_impact_kind kind;
+    int32_t id;       /* the triangle met (slope, wall), or the forest (tree) */
+    rf_vec3 n;        /* slope, tree: unit normal towards the centre; wall: horizontal,
+                         into the wall; wall meet: the face's normal */
+    double vin;       /* wall: the approach speed along n */
+    /* wall: 1 when the reflected velocity v leaves the rock against another wall */
+    int (*corner)(rf_motion *m, rf_vec3 v, const void *ctx);
+    const void *ctx;
+    rf_vec3 l;        /* wall meet: unit direction along the wall */
+    int corner_stop;  /* wall meet: in a corner of two walls (the rock stops) */
+    int slide;        /* wall meet: a slipping sphere */
+} rf_impact_site;
+
+/* What an impact leaves besides the state. */
+typedef struct rf_impact_out {
+    rf_vec3 u;        /* wall meet: the slip left along the wall */
+} rf_impact_out;
+
+/* The impact of the rock on `site` at the current state: its coefficients drawn, its
+ * law applied, and the impact counted and reported (a tree hit as such).  Returns the
+ * rebound normal speed (slope and tree; 0 for walls).  out: NULL but for a wall
+ * meet. */
+double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out);
 /* Draws the surface phase's mu and mu_r of triangle tri's zone into m->sup. */
 void rf_support_draw(rf_motion *m, int32_t tri);
 /* A slow sphere rolls over a convex edge or vertex at q onto face `to`: its centre

@@ -173,7 +173,6 @@ static int measure_event(rf_motion *m)
  * friction applied by the impact law, rotation included. */
 static int tree_event(rf_motion *m, int32_t *onto)
 {
-    const rf_forest *f = &m->scene->forests[m->tree_forest];
     m->tree_next = m->odo + draw_gap(m);
     m->tree_u = gsl_rng_uniform(m->rng);
     rf_vec3 vh = rf_v3(m->s.v.x, m->s.v.y, 0.0);
@@ -181,19 +180,8 @@ static int tree_event(rf_motion *m, int32_t *onto)
         return -1;
     double q = 2.0 * gsl_rng_uniform(m->rng) - 1.0;
     rf_vec3 n = rf_tree_contact_normal(vh, q);
-    double e = rf_draw_truncated(m->rng, f->restitution, 0.0, 1.0);
-    double mu = rf_draw_truncated(m->rng, f->friction, 0.0, INFINITY);
-    double e0 = rf_motion_energy(m), v0 = rf_v3_norm(m->s.v);
-    double vin = -rf_v3_dot(m->s.v, n);
-    rf_impact_apply(m, n, e, mu);
-    double e1 = rf_motion_energy(m);
-    m->rec->n_tree_hits++;
-    if (m->sink && m->sink->impact)
-        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, e1 / 1000.0, vin);
-    if (m->sink && m->sink->tree_hit) {
-        rf_tree_hit_record r = {m->s.t, m->s.p, v0, rf_v3_norm(m->s.v), (e0 - e1) / 1000.0};
-        m->sink->tree_hit(m->sink->ctx, &r);
-    }
+    rf_impact_site site = {RF_IMPACT_TREE, m->tree_forest, n};
+    rf_impact(m, &site, NULL);
     if (m->sup.n > 0) {
         /* on the surface: off into flight when the stem throws it up, else back onto
          * the face it was on (*onto), its velocity made tangent there */

@@ -60,14 +60,18 @@ static int wall_edge(rf_motion *m, const rf_face_dyn *f, const rf_face_edges *fe
 }
 
 /* Centre mode: 1 when the wall slide along dir has the centre at the end of its wall,
- * where it would enter a face that is a wall too: a corner. */
-static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf_vec3 dir)
+ * where it would enter a face that is a wall too to a rock of kinetic energy ke (J):
+ * a corner. */
+static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf_vec3 dir, double ke)
 {
     int at_end = 0; /* on another edge of the column, moving out over it */
     for (int k = 0; k < 3; k++)
         at_end |= k != wall && rf_on_edge(m, fe, k, m->s.p) &&
                   rf_v3_dot(fe->m[k], dir) < 0;
-    return at_end && is_wall(m, rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir));
+    if (!at_end)
+        return 0;
+    int32_t to = rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir);
+    return to >= 0 && rf_wall_for(m, to, ke);
 }
 
 /* Centre mode: the rock on its face meets the wall at column edge `wall` (direction
@@ -82,34 +86,29 @@ static int wall_meet(rf_motion *m, rf_face_dyn *f, const rf_face_edges *fe, int 
                      rf_vec3 *dir, rf_vec3 *u, int *stays)
 {
     double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f->gt, L);
-    double e0 = rf_motion_energy(m);
-    double vin = rf_v3_norm(rf_in_plane(m->s.v, L));
-    m->s.v = rf_v3_scale(L, s);
     *dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
-    *u = rf_v3(0, 0, 0);
     *stays = 0;
-    if (wall_corner(m, fe, wall, *dir)) {
-        /* wedged in the corner, it stops; it rests when gravity presses it in, else it
-         * goes on from rest */
-        m->s.v = rf_v3(0, 0, 0);
-        m->s.w = rf_v3(0, 0, 0);
-        m->sup.rolling = 1;
-        rf_impact_count(m, e0, vin + fabs(s));
+    /* the kinetic energy left along the wall decides whether a face is a wall too */
+    double ke = rf_kinetic_energy(m->body, rf_v3_scale(L, s), m->s.w);
+    int slide = f->mode == RF_LAW_SLIDE;
+    rf_impact_site site = {RF_IMPACT_WALL_MEET, m->sup.tri[0], f->n};
+    site.l = L;
+    site.corner_stop = wall_corner(m, fe, wall, *dir, ke);
+    site.slide = slide;
+    rf_impact_out out;
+    rf_impact(m, &site, &out);
+    *u = out.u;
+    if (site.corner_stop) {
+        /* wedged in the corner, it stopped; it rests when gravity presses it in, else
+         * it goes on from rest */
         return rf_v3_dot(f->gt, *dir) >= 0 ? RF_SURF_REST : RF_SURF_CONTINUE;
     }
-    int slide = f->mode == RF_LAW_SLIDE;
-    if (slide) {
-        *u = rf_in_plane(rf_slip_of(m, f->n), rf_v3_cross(f->n, L));
-        rf_set_spin(m, f->n, *u);
-    }
-    rf_impact_count(m, e0, vin);
     if (slide) {
         /* it slides along the wall the way it slips; with no slip along it, one grows
          * from zero when gravity along it exceeds what friction holds (|g_l| > K mu
-         * g_n, as rf_roll_holds on a face), else it rolls along the wall.  Returning to
-         * roll from here (the face's own test, with the part of gravity across the
-         * wall, slides it again) went back and forth between the two laws at every
-         * event, in no time. */
+         * g_n, as rf_roll_holds on a face), else it rolls along the wall.  The face's
+         * own test would count the part of gravity across the wall, which the wall
+         * takes: the wall's law decides here. */
         double ul = rf_v3_dot(*u, L);
         double way = fabs(ul) > RF_SLIP_EPS ? ul : (fabs(gl) > f->K * f->mu * f->gn ? gl : 0.0);
         if (way != 0.0) {
