@@ -27,7 +27,7 @@ static inline double dmax(double a, double b) { return a > b ? a : b; }
 static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
 {
     rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     size_t r[4];
     if (!rf_cell_range(xmin, xmax, t->x0, t->cell, t->nx - 1, &r[0], &r[1]) ||
         !rf_cell_range(ymin, ymax, t->y0, t->cell, t->ny - 1, &r[2], &r[3]))
@@ -51,7 +51,7 @@ static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, d
 size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double ymax)
 {
     rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     if (t->is_grid)
         return gather_grid(m, xmin, ymin, xmax, ymax);
     for (;;) {
@@ -191,7 +191,7 @@ static void test_features(rf_search *s, size_t npend, double tb, rf_vec3 blo, rf
 {
     rf_motion *m = s->m;
     rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     for (size_t p = 0; p < npend; p++) {
         double w0 = ws->pend_w0[p];
         if (!(w0 < s->best))
@@ -226,13 +226,13 @@ static void test_features(rf_search *s, size_t npend, double tb, rf_vec3 blo, rf
 
 /* How far from the centre a feature can be met: the contact radius and four length
  * tolerances. */
-static double sphere_reach(const rf_motion *m) { return m->rho + 4 * m->tol_len; }
+static double sphere_reach(const rf_motion *m) { return m->cfg.rho + 4 * m->cfg.tol_len; }
 
 /* How far from a flight's horizontal line a triangle can be met: the reach of the
  * sphere, or in centre mode (the face under the centre) the length tolerance. */
 static double line_reach(const rf_motion *m)
 {
-    return m->centre ? 4 * m->tol_len : sphere_reach(m);
+    return m->cfg.centre ? 4 * m->cfg.tol_len : sphere_reach(m);
 }
 
 /* Room for the pending triangles of n candidates. */
@@ -268,7 +268,7 @@ static void pend_push(rf_search *s, int32_t idx, double w0, double t1, size_t *n
 static void test_left(rf_search *s, int32_t idx, double t0, double t1, double tend, size_t *npend)
 {
     const rf_motion *m = s->m;
-    if (m->centre || m->point)
+    if (m->cfg.centre || m->cfg.point)
         rf_test_centre(s, idx, t0, t1, 1);
     else
         pend_push(s, idx, t0, tend, npend);
@@ -306,7 +306,7 @@ static void line_candidate(rf_search *s, int32_t idx, double T, size_t *npend)
     if (ws->tested[idx] == ws->test_epoch)
         return;
     ws->tested[idx] = ws->test_epoch;
-    const rf_triangle *Tr = &m->terrain->tri[idx];
+    const rf_triangle *Tr = &m->cfg.terrain->tri[idx];
     double reach = s->reach, hr = s->hr;
     /* a point of the triangle within reach of the centre: within reach of the
      * horizontal line, the centre horizontally within reach of it meanwhile, and
@@ -332,7 +332,7 @@ static void line_candidate(rf_search *s, int32_t idx, double T, size_t *npend)
     double zlo, zhi; /* the centre's height over [tl, th] */
     rf_quadratic_range(s->zq, tl, th, &zlo, &zhi);
     double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
-    if (m->centre) {
+    if (m->cfg.centre) {
         /* as test_candidates: the centre meets a face r / n.z above its plane */
         if (zt < zlo - reach / dmax(Tr->n.z, 1e-12) ||
             dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zhi + reach)
@@ -373,7 +373,7 @@ static void test_line_candidates(rf_search *s, const int32_t *cand, size_t n, do
  * within reach of it, until a cell left after the earliest contact found. */
 static void walk_grid(rf_search *s, double T)
 {
-    const rf_terrain *t = s->m->terrain;
+    const rf_terrain *t = s->m->cfg.terrain;
     double hr = s->hr;
     double px = s->arc->p.x, py = s->arc->p.y, vx = s->arc->v.x, vy = s->arc->v.y;
     double c = t->cell;
@@ -438,7 +438,7 @@ static void test_candidates(rf_search *s, const int32_t *cand, size_t n, double 
 {
     rf_motion *m = s->m;
     rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     const rf_support *ex = s->ex;
     double reach = sphere_reach(m);
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
@@ -457,7 +457,7 @@ static void test_candidates(rf_search *s, const int32_t *cand, size_t n, double 
             continue;
         /* below: in centre mode the centre meets a face r / n.z above its plane,
          * more than r above its vertices on a steep face */
-        double zlow = m->centre ? lo.z - reach / dmax(Tr->n.z, 1e-12) : zl;
+        double zlow = m->cfg.centre ? lo.z - reach / dmax(Tr->n.z, 1e-12) : zl;
         if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
         if (rf_excluded_tri(ex, idx)) {
@@ -476,11 +476,11 @@ static void finish(const rf_motion *m, const rf_arc *arc, rf_contact *c)
 {
     rf_vec3 p = rf_arc_pos(arc, c->t);
     if (c->kind == RF_FEAT_FACE) {
-        c->n = m->terrain->tri[c->tri].n;
+        c->n = m->cfg.terrain->tri[c->tri].n;
     } else {
         rf_vec3 d = rf_v3_sub(p, c->point);
         double dl = rf_v3_norm(d);
-        c->n = dl > 0 ? rf_v3_scale(d, 1.0 / dl) : m->terrain->tri[c->tri].n;
+        c->n = dl > 0 ? rf_v3_scale(d, 1.0 / dl) : m->cfg.terrain->tri[c->tri].n;
     }
 }
 
@@ -490,14 +490,14 @@ static void finish(const rf_motion *m, const rf_arc *arc, rf_contact *c)
 static void search_pieces(rf_search *s, double T)
 {
     rf_motion *m = s->m;
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     const rf_arc *arc = s->arc;
     double reach = sphere_reach(m);
     /* higher than this above the terrain's top, nothing is met: the reach (in centre
      * mode the centre meets a face r / n.z above its plane, the furthest above the
      * steepest face; a rock lifted onto a steep face at the top and let fall again
      * fell through it) */
-    double up = m->centre ? reach / m->ws->nz_min : reach;
+    double up = m->cfg.centre ? reach / m->ws->nz_min : reach;
     double cell = t->is_grid ? t->cell : t->bsize;
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
     double hlen = vh * T;
@@ -509,7 +509,7 @@ static void search_pieces(rf_search *s, double T)
         piece = t->is_grid ? cell : 2.0 * cell;
     } else {
         /* pieces of about a few cells of horizontal travel */
-        piece = dmax(4.0 * cell, 2.0 * m->rho);
+        piece = dmax(4.0 * cell, 2.0 * m->cfg.rho);
     }
     long npieces = (long)ceil(hlen / piece);
     if (npieces < 1)
@@ -539,12 +539,12 @@ static void search_pieces(rf_search *s, double T)
 int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                       rf_contact *c)
 {
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     rf_search s = {m, arc, ex, INFINITY, 0, c, rf_start_hspeed(arc)};
     if (!(T >= 0))
         return 0;
     double vh0 = s.vh;
-    if (arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->rho) {
+    if (arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->cfg.rho) {
         s.line = 1;
         s.ux = arc->v.x / vh0;
         s.uy = arc->v.y / vh0;
@@ -559,7 +559,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
             ws->test_epoch = 1;
         }
     }
-    if (s.line && t->is_grid && (m->centre || m->point))
+    if (s.line && t->is_grid && (m->cfg.centre || m->cfg.point))
         walk_grid(&s, T);
     else
         search_pieces(&s, T);
@@ -601,8 +601,8 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     double zl = lo.z - reach, zh = hi.z + reach;
     size_t nhit = 0;
     const float *box = ws->tri_box;
-    const rf_terrain *t = m->terrain;
-    int filter = !m->centre && !m->point;
+    const rf_terrain *t = m->cfg.terrain;
+    int filter = !m->cfg.centre && !m->cfg.point;
     rf_support_planes_set(m, &s.sp);
     size_t n = rf_gather(m, xl, yl, xh, yh);
     if (rf_grow((void **)&ws->near_hit, &ws->near_cap, n, sizeof *ws->near_hit))
@@ -612,13 +612,13 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
         const float *b = box + 6 * (size_t)idx;
         if (b[1] < xl || b[0] > xh || b[3] < yl || b[2] > yh || b[5] < zl || b[4] > zh)
             continue;
-        if (rf_excluded_tri(&m->sup, idx))
+        if (rf_excluded_tri(&m->rock.sup, idx))
             continue;
         if (filter) {
             /* faces in a support's plane or wholly on or below a support plane are out
              * of reach for the whole segment */
             const rf_triangle *Tr = &t->tri[idx];
-            if (rf_coplanar_with_support(t, &m->sup, Tr, m->tol_len) || vertices_below(&s.sp, Tr))
+            if (rf_coplanar_with_support(t, &m->rock.sup, Tr, m->cfg.tol_len) || vertices_below(&s.sp, Tr))
                 continue;
         }
         ws->near_hit[nhit++] = idx;
@@ -635,6 +635,6 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
 
 int rf_flight_contact(rf_motion *m, const rf_arc *arc, double T, rf_contact *c)
 {
-    const rf_support *ex = m->flight_ex.n ? &m->flight_ex : NULL;
+    const rf_support *ex = m->rock.flight_ex.n ? &m->rock.flight_ex : NULL;
     return rf_contact_search(m, arc, T, ex, c) && c->t <= T;
 }

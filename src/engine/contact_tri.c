@@ -83,13 +83,13 @@ static double box_box_dist2(rf_vec3 alo, rf_vec3 ahi, rf_vec3 blo, rf_vec3 bhi)
 void rf_support_planes_set(const rf_motion *m, rf_support_planes *sp)
 {
     sp->n = 0;
-    for (int k = 0; k < m->sup.n && k < 2; k++) {
-        const rf_triangle *S = &m->terrain->tri[m->sup.tri[k]];
+    for (int k = 0; k < m->rock.sup.n && k < 2; k++) {
+        const rf_triangle *S = &m->cfg.terrain->tri[m->rock.sup.tri[k]];
         sp->nrm[sp->n] = S->n;
         sp->d[sp->n] = S->d;
         sp->n++;
     }
-    sp->tol = m->tol_len;
+    sp->tol = m->cfg.tol_len;
 }
 
 
@@ -118,7 +118,7 @@ unsigned rf_vertex_out(const rf_support_planes *sp, rf_vec3 v)
  * one may be asked for by another holder). */
 static int skipped(const rf_search *s, int32_t idx, rf_feature kind, int index)
 {
-    const rf_triangle *tri = s->m->terrain->tri;
+    const rf_triangle *tri = s->m->cfg.terrain->tri;
     int e = kind == RF_FEAT_EDGE ? 4 : 0;
     for (int k = 0; k < s->nskip; k++) {
         const rf_contact *c = &s->skip[k];
@@ -159,12 +159,12 @@ static int stays_beyond(rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1, d
 static int entries(const rf_search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w0, double w1,
                    double roots[3])
 {
-    double rho = s->m->rho;
-    if (stays_beyond(W, V, H, w0, w1, rho + s->m->tol_len))
+    double rho = s->m->cfg.rho;
+    if (stays_beyond(W, V, H, w0, w1, rho + s->m->cfg.tol_len))
         return 0;
     double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
                    rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
-    double tol = 2 * rho * s->m->tol_len, slope = 2 * rho * RF_APPROACH_EPS;
+    double tol = 2 * rho * s->m->cfg.tol_len, slope = 2 * rho * RF_APPROACH_EPS;
     return rf_poly_contact_entries(c, w0, w1, tol, slope, 4 * rho * 1e-9, roots);
 }
 
@@ -172,7 +172,7 @@ static int entries(const rf_search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w
 void rf_test_edge(rf_search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, double w0,
                       double w1, rf_vec3 blo, rf_vec3 bhi)
 {
-    double reach = s->m->rho + s->m->tol_len;
+    double reach = s->m->cfg.rho + s->m->cfg.tol_len;
     rf_vec3 elo = rf_v3(dmin(va.x, vb.x), dmin(va.y, vb.y), dmin(va.z, vb.z));
     rf_vec3 ehi = rf_v3(dmax(va.x, vb.x), dmax(va.y, vb.y), dmax(va.z, vb.z));
     if (box_box_dist2(blo, bhi, elo, ehi) > reach * reach ||
@@ -192,7 +192,7 @@ void rf_test_edge(rf_search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, dou
         if (t >= s->best)
             return;
         rf_vec3 w = rf_v3_sub(rf_arc_pos(arc, t), va);
-        double sp = rf_v3_dot(w, e), tol = s->m->tol_len;
+        double sp = rf_v3_dot(w, e), tol = s->m->cfg.tol_len;
         if (sp >= -tol && sp <= len + tol) {
             take(s, t, idx, RF_FEAT_EDGE, ei, rf_v3_madd(va, dmin(dmax(sp, 0.0), len), e));
             return;
@@ -203,7 +203,7 @@ void rf_test_edge(rf_search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, dou
 void rf_test_vertex(rf_search *s, int32_t idx, int vi, rf_vec3 q, double w0, double w1,
                         rf_vec3 blo, rf_vec3 bhi)
 {
-    double reach = s->m->rho + s->m->tol_len;
+    double reach = s->m->cfg.rho + s->m->cfg.tol_len;
     if (box_point_dist2(blo, bhi, q) > reach * reach ||
         (s->nskip > 0 && skipped(s, idx, RF_FEAT_VERTEX, vi)))
         return;
@@ -278,10 +278,10 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
  * flown off, met only once the centre moves over its column again. */
 void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
 {
-    const rf_triangle *T = &s->m->terrain->tri[idx];
+    const rf_triangle *T = &s->m->cfg.terrain->tri[idx];
     const rf_arc *arc = s->arc;
-    double tol = s->m->tol_len;
-    double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->rho, rf_v3_dot(T->n, arc->v),
+    double tol = s->m->cfg.tol_len;
+    double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->cfg.rho, rf_v3_dot(T->n, arc->v),
                    0.5 * rf_v3_dot(T->n, arc->a)};
     /* beyond reach of the plane over all of [t0, t1]: never met */
     double fmin, fmax;
@@ -346,11 +346,11 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
             if (be[k] > 0 && crosses[k])
                 in = dmax(in, (-0.5 * tol - al[k]) / be[k]);
         t = dmin(in, hi);
-    } else if (!face_entry(f, lo, hi, s->m->tol_len, &t)) {
+    } else if (!face_entry(f, lo, hi, s->m->cfg.tol_len, &t)) {
         return;
     }
     if (t < s->best) {
-        rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t), -(f[0] + t * (f[1] + t * f[2])) - s->m->rho, T->n);
+        rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t), -(f[0] + t * (f[1] + t * f[2])) - s->m->cfg.rho, T->n);
         take(s, t, idx, RF_FEAT_FACE, 0, q);
     }
 }
@@ -360,14 +360,14 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
 int rf_test_face(rf_search *s, int32_t idx, double t0, double t1, double *w0)
 {
     rf_motion *m = s->m;
-    const rf_triangle *T = &m->terrain->tri[idx];
+    const rf_triangle *T = &m->cfg.terrain->tri[idx];
     const rf_arc *arc = s->arc;
-    double rho = m->rho, tol = m->tol_len;
+    double rho = m->cfg.rho, tol = m->cfg.tol_len;
     if (t1 > s->best)
         t1 = s->best;
     if (!(t1 >= t0))
         return 0;
-    if (m->centre || m->point) {
+    if (m->cfg.centre || m->cfg.point) {
         /* the face under the centre; a point mass is its own centre.  Below, rho > 0:
          * a sphere in full contact (the only rock the surface phase searches for) */
         rf_test_centre(s, idx, t0, t1, 0);
@@ -406,7 +406,7 @@ int rf_test_face(rf_search *s, int32_t idx, double t0, double t1, double *w0)
 void rf_test_edges(rf_search *s, int32_t idx, double w0, double t1)
 {
     rf_motion *m = s->m;
-    const rf_triangle *T = &m->terrain->tri[idx];
+    const rf_triangle *T = &m->cfg.terrain->tri[idx];
     double w1 = t1 < s->best ? t1 : s->best;
     if (!(w1 >= w0))
         return;
@@ -416,7 +416,7 @@ void rf_test_edges(rf_search *s, int32_t idx, double w0, double t1)
                         dmin(T->a.z, dmin(T->b.z, T->c.z)));
     rf_vec3 thi = rf_v3(dmax(T->a.x, dmax(T->b.x, T->c.x)), dmax(T->a.y, dmax(T->b.y, T->c.y)),
                         dmax(T->a.z, dmax(T->b.z, T->c.z)));
-    double reach = m->rho + m->tol_len;
+    double reach = m->cfg.rho + m->cfg.tol_len;
     if (box_box_dist2(blo, bhi, tlo, thi) > reach * reach)
         return;
     unsigned x[3] = {rf_vertex_out(&s->sp, T->a), rf_vertex_out(&s->sp, T->b), rf_vertex_out(&s->sp, T->c)};

@@ -99,10 +99,10 @@ static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, 
 static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double ta, double tb,
                              double bridge)
 {
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
     double ya = arc->p.y + arc->v.y * ta, yb = arc->p.y + arc->v.y * tb;
-    double pad = 4 * m->tol_len;
+    double pad = 4 * m->cfg.tol_len;
     size_t n = rf_gather(m, dmin(xa, xb) - pad, dmin(ya, yb) - pad, dmax(xa, xb) + pad,
                          dmax(ya, yb) + pad);
     double best = INFINITY;
@@ -154,7 +154,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
 
 double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
 {
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     double te = T;
     double px = arc->p.x, py = arc->p.y, vx = arc->v.x, vy = arc->v.y;
     double xmin = t->xmin, xmax = t->xmax, ymin = t->ymin, ymax = t->ymax;
@@ -178,7 +178,7 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
     double vh = hypot(vx, vy);
     /* meshes: a gap under the start, still there `bridge` on (a grid's: a start inside
      * a nodata triangle, below) */
-    double bridge = m->centre || m->point ? 0.0 : m->rho;
+    double bridge = m->cfg.centre || m->cfg.point ? 0.0 : m->cfg.rho;
     if (!t->is_grid && over_gap(t, arc, 0.0) &&
         (!(vh > 0) || over_gap(t, arc, dmax(bridge, 0.01 * t->bsize) / vh)))
         return 0.0;

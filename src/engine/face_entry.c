@@ -13,18 +13,18 @@
 
 void rf_support_single(rf_motion *m, int32_t tri, int fresh)
 {
-    const rf_triangle *T = &m->terrain->tri[tri];
-    if (fresh || m->sup.n == 0 || m->sup.zone != T->zone)
+    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    if (fresh || m->rock.sup.n == 0 || m->rock.sup.zone != T->zone)
         rf_support_draw(m, tri);
-    m->sup.n = 1;
-    m->sup.tri[0] = tri;
-    m->sup.tri[1] = -1;
-    m->sup.left = -1;
+    m->rock.sup.n = 1;
+    m->rock.sup.tri[0] = tri;
+    m->rock.sup.tri[1] = -1;
+    m->rock.sup.left = -1;
     /* on the offset plane, velocity tangent */
-    m->s.p = rf_v3_madd(m->s.p, T->d + m->rho - rf_v3_dot(T->n, m->s.p), T->n);
-    m->s.v = rf_in_plane(m->s.v, T->n);
-    m->sup.rolling = 0;
-    if (!m->point)
+    m->rock.s.p = rf_v3_madd(m->rock.s.p, T->d + m->cfg.rho - rf_v3_dot(T->n, m->rock.s.p), T->n);
+    m->rock.s.v = rf_in_plane(m->rock.s.v, T->n);
+    m->rock.sup.rolling = 0;
+    if (!m->cfg.point)
         rf_face_slip(m, T->n);
 }
 
@@ -33,33 +33,33 @@ void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1);
 /* The rock on face A meets face B gently: a crease when both faces press on it. */
 int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
 {
-    const rf_triangle *A = &m->terrain->tri[a], *B = &m->terrain->tri[b];
-    if (a == b || rf_coplanar(A, B, m->tol_len))
+    const rf_triangle *A = &m->cfg.terrain->tri[a], *B = &m->cfg.terrain->tri[b];
+    if (a == b || rf_coplanar(A, B, m->cfg.tol_len))
         return -1;
-    if (rf_v3_dot(m->s.v, A->n) > m->v_stay)
+    if (rf_v3_dot(m->rock.s.v, A->n) > m->cfg.v_stay)
         return -1; /* leaving A */
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
         return -1;
     /* both faces touched: the centre lies on both offset planes */
-    double s = rf_v3_dot(m->s.v, l);
-    m->s.v = rf_v3_scale(l, s);
-    rf_vec3 p = rf_crease_centre(A, B, m->rho, m->s.p);
-    if (rf_v3_norm(rf_v3_sub(p, m->s.p)) > 0.01 * rf_fmax(m->rho, 0.01))
+    double s = rf_v3_dot(m->rock.s.v, l);
+    m->rock.s.v = rf_v3_scale(l, s);
+    rf_vec3 p = rf_crease_centre(A, B, m->cfg.rho, m->rock.s.p);
+    if (rf_v3_norm(rf_v3_sub(p, m->rock.s.p)) > 0.01 * rf_fmax(m->cfg.rho, 0.01))
         return -1;
-    m->s.p = p;
-    if (m->sup.n == 0 || m->sup.zone != B->zone)
+    m->rock.s.p = p;
+    if (m->rock.sup.n == 0 || m->rock.sup.zone != B->zone)
         rf_support_draw(m, b);
-    int rolling = !m->point && m->sup.n >= 1 && m->sup.rolling;
-    m->sup.n = 2;
-    m->sup.tri[0] = a;
-    m->sup.tri[1] = b;
-    m->sup.left = -1;
-    m->sup.rolling = rolling;
+    int rolling = !m->cfg.point && m->rock.sup.n >= 1 && m->rock.sup.rolling;
+    m->rock.sup.n = 2;
+    m->rock.sup.tri[0] = a;
+    m->rock.sup.tri[1] = b;
+    m->rock.sup.left = -1;
+    m->rock.sup.rolling = rolling;
     if (rolling) {
         rf_spin_law roll = rf_crease_roll(m);
-        m->s.w = rf_spin_at(&roll, m->rho, m->s.v, 0.0);
+        m->rock.s.w = rf_spin_at(&roll, m->cfg.rho, m->rock.s.v, 0.0);
     }
     return 0;
 }
@@ -67,33 +67,33 @@ int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
 /* Landing gently on face tri (rebound below the stay threshold). */
 static void land(rf_motion *m, int32_t tri)
 {
-    if (m->sup.n == 1 && rf_try_crease(m, m->sup.tri[0], tri) == 0)
+    if (m->rock.sup.n == 1 && rf_try_crease(m, m->rock.sup.tri[0], tri) == 0)
         return;
-    if (m->sup.n == 2) {
-        int32_t a = m->sup.tri[0], b = m->sup.tri[1];
+    if (m->rock.sup.n == 2) {
+        int32_t a = m->rock.sup.tri[0], b = m->rock.sup.tri[1];
         if (rf_try_crease(m, a, tri) == 0 || rf_try_crease(m, b, tri) == 0)
             return;
     }
-    rf_support_single(m, tri, m->sup.n == 0);
+    rf_support_single(m, tri, m->rock.sup.n == 0);
 }
 
 /* 1 when a sphere rolled over q onto face `to` would touch no other feature: the
  * roll is only taken where the two faces are all there is. */
 int rf_pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
 {
-    rf_vec3 c = rf_v3_madd(q, m->rho, m->terrain->tri[to].n);
+    rf_vec3 c = rf_v3_madd(q, m->cfg.rho, m->cfg.terrain->tri[to].n);
     rf_contact near;
-    double d = rf_closest_feature(m, c, m->rho + 1e-3, &near);
-    return d >= m->rho - 1e-6 * m->rho - m->tol_len;
+    double d = rf_closest_feature(m, c, m->cfg.rho + 1e-3, &near);
+    return d >= m->cfg.rho - 1e-6 * m->cfg.rho - m->cfg.tol_len;
 }
 
 /* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
  * contact search. */
 void rf_go_flight(rf_motion *m, int32_t exclude)
 {
-    m->sup.n = 0;
-    m->flight_ex.n = exclude >= 0 ? 1 : 0;
-    m->flight_ex.tri[0] = exclude;
+    m->rock.sup.n = 0;
+    m->rock.flight_ex.n = exclude >= 0 ? 1 : 0;
+    m->rock.flight_ex.tri[0] = exclude;
 }
 
 /* A slow sphere on a convex edge or vertex (unit normal u) that cannot roll over it
@@ -101,18 +101,18 @@ void rf_go_flight(rf_motion *m, int32_t exclude)
  * at the stay speed, so that it is never dragged through the feature. */
 void rf_hop(rf_motion *m, rf_vec3 u)
 {
-    double speed = rf_v3_norm(m->s.v);
-    double vn = rf_fmin(speed, m->v_stay);
-    rf_vec3 vt = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, u), u);
+    double speed = rf_v3_norm(m->rock.s.v);
+    double vn = rf_fmin(speed, m->cfg.v_stay);
+    rf_vec3 vt = rf_v3_madd(m->rock.s.v, -rf_v3_dot(m->rock.s.v, u), u);
     double vtl = rf_v3_norm(vt);
     double st = sqrt(rf_fmax(0.0, speed * speed - vn * vn));
-    m->s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
+    m->rock.s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
     rf_go_flight(m, -1);
 }
 
 rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap)
 {
-    *gap = m->rho - (rf_v3_dot(T->n, m->s.p) - T->d);
+    *gap = m->cfg.rho - (rf_v3_dot(T->n, m->rock.s.p) - T->d);
     if (!(*gap > 0))
         return rf_v3(0, 0, 0);
     double along = 0.0;
@@ -123,7 +123,7 @@ rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *ga
         for (int k = 0; k < 3; k++) {
             double mn = rf_v3_dot(fe.m[k], T->n);
             if (mn < 0)
-                along = rf_fmin(along, rf_fmax(0.0, (rf_v3_dot(fe.m[k], m->s.p) - fe.o[k]) / -mn));
+                along = rf_fmin(along, rf_fmax(0.0, (rf_v3_dot(fe.m[k], m->rock.s.p) - fe.o[k]) / -mn));
         }
     }
     return rf_v3_madd(rf_v3(0, 0, (*gap - along) / T->n.z), along, T->n);
@@ -132,7 +132,7 @@ rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *ga
 /* The potential energy (J) a lift by `move` costs. */
 double rf_lift_cost(const rf_motion *m, rf_vec3 move)
 {
-    return m->body->mass * RF_GRAVITY * move.z;
+    return m->cfg.body->mass * RF_GRAVITY * move.z;
 }
 
 int rf_pay_lift(rf_motion *m, rf_vec3 move)
@@ -142,9 +142,9 @@ int rf_pay_lift(rf_motion *m, rf_vec3 move)
     if (!(ke > cost) || !(ke > 0.0))
         return 0;
     double s = sqrt((ke - cost) / ke);
-    m->s.v = rf_v3_scale(m->s.v, s);
-    m->s.w = rf_v3_scale(m->s.w, s);
-    m->s.p = rf_v3_add(m->s.p, move);
+    m->rock.s.v = rf_v3_scale(m->rock.s.v, s);
+    m->rock.s.w = rf_v3_scale(m->rock.s.w, s);
+    m->rock.s.p = rf_v3_add(m->rock.s.p, move);
     return 1;
 }
 
@@ -153,8 +153,8 @@ int rf_pay_lift(rf_motion *m, rf_vec3 move)
 int rf_wall_for(const rf_motion *m, int32_t to, double ke)
 {
     double gap;
-    rf_vec3 move = rf_centre_lift_move(m, &m->terrain->tri[to], &gap);
-    return gap > m->tol_len && rf_lift_cost(m, move) >= ke;
+    rf_vec3 move = rf_centre_lift_move(m, &m->cfg.terrain->tri[to], &gap);
+    return gap > m->cfg.tol_len && rf_lift_cost(m, move) >= ke;
 }
 
 /* 1 when the centre, moving horizontally along v (with its spin) from where it is, goes
@@ -162,17 +162,18 @@ int rf_wall_for(const rf_motion *m, int32_t to, double ke)
  * meeting the one it was reflected off where the centre is. */
 static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
 {
-    double h = rf_v3_hnorm(v), tol = m->tol_len;
+    double h = rf_v3_hnorm(v), tol = m->cfg.tol_len;
     if (!(h > 0))
         return 0;
-    rf_vec3 q = m->s.p;
+    rf_vec3 q = m->rock.s.p;
     q.x += 4.0 * tol * v.x / h;
     q.y += 4.0 * tol * v.y / h;
-    double ke = rf_kinetic_energy(m->body, v, m->s.w);
+    double ke = rf_kinetic_energy(m->cfg.body, v, m->rock.s.w);
     size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
-        if (k != skip && m->terrain->tri[k].n.z > 0 && rf_in_column(&m->terrain->tri[k], q, 0.5 * tol) &&
+        const rf_triangle *T = &m->cfg.terrain->tri[k];
+        if (k != skip && T->n.z > 0 && rf_in_column(T, q, 0.5 * tol) &&
             rf_wall_for(m, k, ke))
             return 1;
     }
@@ -201,13 +202,13 @@ static int wall_corner_ahead(rf_motion *m, rf_vec3 v, const void *ctx)
     const wall_column *wc = ctx;
     int corner = 0;
     for (int k = 0; k < 3 && !corner; k++)
-        corner = fabs(wc->side[k]) <= m->tol_len && rf_v3_dot(v, wc->fe.m[k]) > RF_APPROACH_EPS;
+        corner = fabs(wc->side[k]) <= m->cfg.tol_len && rf_v3_dot(v, wc->fe.m[k]) > RF_APPROACH_EPS;
     return corner || wall_ahead(m, wc->tri, v);
 }
 
 static int centre_lift(rf_motion *m, const rf_contact *c)
 {
-    const rf_triangle *T = &m->terrain->tri[c->tri];
+    const rf_triangle *T = &m->cfg.terrain->tri[c->tri];
     double gap;
     rf_vec3 move = rf_centre_lift_move(m, T, &gap);
     if (!(gap > 0) || rf_pay_lift(m, move))
@@ -222,55 +223,55 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     rf_vec3 in = rf_v3(0, 0, 0);
     for (int k = 0; k < 3; k++) {
         rf_vec3 mk = wc.fe.m[k];
-        wc.side[k] = mk.x * (m->s.p.x - P[k].x) + mk.y * (m->s.p.y - P[k].y);
-        if (rf_v3_dot(m->s.v, mk) > 0 && wc.side[k] < best)
+        wc.side[k] = mk.x * (m->rock.s.p.x - P[k].x) + mk.y * (m->rock.s.p.y - P[k].y);
+        if (rf_v3_dot(m->rock.s.v, mk) > 0 && wc.side[k] < best)
             best = wc.side[k], in = mk;
     }
-    rf_impact_site site = {RF_IMPACT_WALL, c->tri, in, rf_v3_dot(m->s.v, in), wall_corner_ahead, &wc};
+    rf_impact_site site = {RF_IMPACT_WALL, c->tri, in, rf_v3_dot(m->rock.s.v, in), wall_corner_ahead, &wc};
     rf_impact(m, &site, NULL);
     return 1;
 }
 
 void rf_contact_resolve(rf_motion *m, const rf_contact *c)
 {
-    const rf_terrain *t = m->terrain;
-    if (m->centre && centre_lift(m, c))
+    const rf_terrain *t = m->cfg.terrain;
+    if (m->cfg.centre && centre_lift(m, c))
         return; /* reflected: the support is unchanged */
     rf_vec3 n = c->n;
     if (c->kind != RF_FEAT_FACE) {
-        rf_vec3 d = rf_v3_sub(m->s.p, c->point);
+        rf_vec3 d = rf_v3_sub(m->rock.s.p, c->point);
         double dl = rf_v3_norm(d);
         if (dl > 0)
             n = rf_v3_scale(d, 1.0 / dl);
     }
     /* exactly at the contact distance */
-    if (!m->centre) {
-        double dist = rf_feature_distance(t, c, m->s.p);
-        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, n);
+    if (!m->cfg.centre) {
+        double dist = rf_feature_distance(t, c, m->rock.s.p);
+        m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dist, n);
     }
     rf_impact_site site = {RF_IMPACT_SLOPE, c->tri, n};
     double rebound = rf_impact(m, &site, NULL);
-    if (rebound >= m->v_stay) {
+    if (rebound >= m->cfg.v_stay) {
         rf_go_flight(m, -1);
         return;
     }
-    m->s.v = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, n), n);
-    if (c->kind == RF_FEAT_FACE || m->point || m->centre) {
+    m->rock.s.v = rf_v3_madd(m->rock.s.v, -rf_v3_dot(m->rock.s.v, n), n);
+    if (c->kind == RF_FEAT_FACE || m->cfg.point || m->cfg.centre) {
         land(m, c->tri);
         return;
     }
     /* a slow sphere on a convex edge or vertex rolls over it onto a face */
-    rf_vec3 w = m->s.v;
+    rf_vec3 w = m->rock.s.v;
     if (rf_v3_hnorm(w) < 1e-9)
         w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
     int32_t to = rf_face_beyond(t, -2, c->point, w);
     /* not back onto the face just flown off, met at its own edge as the rock leaves
      * it along that edge: it would leave it again at once */
-    if (m->flight_ex.n > 0 && to == m->flight_ex.tri[0])
+    if (m->rock.flight_ex.n > 0 && to == m->rock.flight_ex.tri[0])
         to = -1;
     if (to >= 0 && rf_pivot_clear(m, c->point, to) && rf_pivot(m, c->point, to) == 0) {
-        rf_support_single(m, to, m->sup.n == 0);
-        m->sup.rolling = 1;
+        rf_support_single(m, to, m->rock.sup.n == 0);
+        m->rock.sup.rolling = 1;
         return;
     }
     rf_hop(m, n);
@@ -278,17 +279,17 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
 
 void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
 {
-    m->sup.n = 1;
-    m->sup.tri[0] = on;
-    m->sup.tri[1] = -1;
-    m->sup.left = left;
-    if (!m->point && m->sup.rolling) {
+    m->rock.sup.n = 1;
+    m->rock.sup.tri[0] = on;
+    m->rock.sup.tri[1] = -1;
+    m->rock.sup.left = left;
+    if (!m->cfg.point && m->rock.sup.rolling) {
         /* it rolled on the plane of the bisector n_m of the two normals (w = n_m x v /
          * r), which slips on the face by v (1 - n . n_m): it slides until the slip
          * vanishes.  Rolled on, the face's law (w . n kept, the rest from v) made
          * energy: 1.64 kJ on 11.3 kJ in no time (30/9/1). */
-        m->sup.rolling = 0;
-        rf_face_slip(m, m->terrain->tri[on].n);
+        m->rock.sup.rolling = 0;
+        rf_face_slip(m, m->cfg.terrain->tri[on].n);
     }
 }
 

@@ -14,14 +14,14 @@
 
 void rf_face_edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges *fe)
 {
-    if (m->centre) {
+    if (m->cfg.centre) {
         rf_column_edges(T, fe);
         return;
     }
     rf_vec3 P[3] = {T->a, T->b, T->c};
     rf_vec3 ab = rf_v3_sub(P[1], P[0]), ac = rf_v3_sub(P[2], P[0]);
     double sg = rf_v3_dot(rf_v3_cross(ab, ac), T->n) >= 0 ? 1.0 : -1.0;
-    rf_vec3 lift = rf_v3_scale(T->n, m->rho);
+    rf_vec3 lift = rf_v3_scale(T->n, m->cfg.rho);
     for (int k = 0; k < 3; k++) {
         rf_vec3 A = P[k], B = P[(k + 1) % 3];
         rf_vec3 in = rf_v3_scale(rf_v3_cross(T->n, rf_v3_sub(B, A)), sg);
@@ -33,7 +33,7 @@ void rf_face_edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges
 /* 1 when p lies on edge k's line (within the length tolerance). */
 int rf_on_edge(const rf_motion *m, const rf_face_edges *fe, int k, rf_vec3 p)
 {
-    return fabs(rf_v3_dot(fe->m[k], p) - fe->o[k]) <= m->tol_len;
+    return fabs(rf_v3_dot(fe->m[k], p) - fe->o[k]) <= m->cfg.tol_len;
 }
 
 /* Unit vector along edge k of F, from vertex k to vertex k + 1. */
@@ -54,7 +54,7 @@ double rf_exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_arc *a
         double f[3] = {rf_v3_dot(fe->m[k], arc->p) - fe->o[k], rf_v3_dot(fe->m[k], arc->v),
                        0.5 * rf_v3_dot(fe->m[k], arc->a)};
         double r[3], t = INFINITY;
-        double tol = m->tol_len;
+        double tol = m->cfg.tol_len;
         /* inside the edge by more than tol over all of [0, min(T, best)]: not left there */
         double fminv, fmaxv;
         rf_quadratic_range(f, 0.0, rf_fmin(T, best), &fminv, &fmaxv);
@@ -96,20 +96,20 @@ typedef enum next_kind { RF_NEXT_IMPACT, RF_NEXT_ON, RF_NEXT_AWAY } next_kind;
 
 static next_kind next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
 {
-    const rf_triangle *Tn = &m->terrain->tri[to];
-    double vn = rf_v3_dot(m->s.v, Tn->n);
+    const rf_triangle *Tn = &m->cfg.terrain->tri[to];
+    double vn = rf_v3_dot(m->rock.s.v, Tn->n);
     if (fabs(vn) <= RF_APPROACH_EPS) {
         /* moving along the edge: the acceleration decides */
         double an = rf_v3_dot(acc, Tn->n);
         if (fabs(an) > 1e-9)
             vn = an > 0 ? INFINITY : -INFINITY;
     }
-    if (m->centre) {
+    if (m->cfg.centre) {
         /* over the next face the centre is above, on or below its offset plane */
-        double gap = rf_v3_dot(Tn->n, m->s.p) - Tn->d - m->rho;
-        if (gap > m->tol_len)
+        double gap = rf_v3_dot(Tn->n, m->rock.s.p) - Tn->d - m->cfg.rho;
+        if (gap > m->cfg.tol_len)
             return RF_NEXT_AWAY;
-        if (gap < -m->tol_len)
+        if (gap < -m->cfg.tol_len)
             return RF_NEXT_IMPACT;
     }
     if (vn < -RF_APPROACH_EPS)
@@ -120,15 +120,15 @@ static next_kind next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
 /* The impact on the next face at a concave edge (the point model is put on it). */
 static void impact_on_face(rf_motion *m, int32_t to)
 {
-    const rf_triangle *Tn = &m->terrain->tri[to];
+    const rf_triangle *Tn = &m->cfg.terrain->tri[to];
     rf_contact c;
     memset(&c, 0, sizeof c);
     c.tri = to;
     c.kind = RF_FEAT_FACE;
     c.n = Tn->n;
-    c.point = rf_v3_madd(m->s.p, -(rf_v3_dot(Tn->n, m->s.p) - Tn->d), Tn->n);
-    if (m->point)
-        m->s.p = c.point;
+    c.point = rf_v3_madd(m->rock.s.p, -(rf_v3_dot(Tn->n, m->rock.s.p) - Tn->d), Tn->n);
+    if (m->cfg.point)
+        m->rock.s.p = c.point;
     rf_contact_resolve(m, &c);
 }
 
@@ -145,8 +145,8 @@ int32_t rf_face_over_edge(const rf_terrain *t, int32_t from, int edge, const rf_
 int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_edges *fe,
                       rf_vec3 q, rf_vec3 acc)
 {
-    const rf_terrain *t = m->terrain;
-    rf_vec3 dir = m->s.v;
+    const rf_terrain *t = m->cfg.terrain;
+    rf_vec3 dir = m->rock.s.v;
     if (rf_v3_norm(dir) < 1e-9)
         dir = acc;
     if (rf_v3_hnorm(dir) < 1e-12)
@@ -166,8 +166,8 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
  * time. */
 static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
 {
-    const rf_body *b = m->body;
-    double mass = b->mass + (m->sup.rolling ? b->inertia / (m->rho * m->rho) : 0.0);
+    const rf_body *b = m->cfg.body;
+    double mass = b->mass + (m->rock.sup.rolling ? b->inertia / (m->cfg.rho * m->cfg.rho) : 0.0);
     return 0.5 * mass * rf_v3_norm2(vp) >= rf_lift_cost(m, rf_v3(0, 0, rf_pivot_rise(m, q, n)));
 }
 
@@ -175,23 +175,23 @@ static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
 rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edges *fe,
                              rf_vec3 acc)
 {
-    const rf_terrain *t = m->terrain;
-    int32_t from = m->sup.tri[slot];
+    const rf_terrain *t = m->cfg.terrain;
+    int32_t from = m->rock.sup.tri[slot];
     const rf_triangle *F = &t->tri[from];
-    rf_vec3 q = m->centre ? m->s.p : rf_v3_madd(m->s.p, -m->rho, F->n);
+    rf_vec3 q = m->cfg.centre ? m->rock.s.p : rf_v3_madd(m->rock.s.p, -m->cfg.rho, F->n);
     int32_t to = rf_face_after(m, from, edge, fe, q, acc);
-    if (to < 0 && (m->point || m->centre))
+    if (to < 0 && (m->cfg.point || m->cfg.centre))
         return RF_SURF_EXITED;
-    if (m->sup.n == 2) {
-        int32_t other = m->sup.tri[1 - slot];
-        if (to >= 0 && rf_coplanar(F, &t->tri[to], m->tol_len)) {
-            m->sup.tri[slot] = to;
-            m->sup.left = from;
+    if (m->rock.sup.n == 2) {
+        int32_t other = m->rock.sup.tri[1 - slot];
+        if (to >= 0 && rf_coplanar(F, &t->tri[to], m->cfg.tol_len)) {
+            m->rock.sup.tri[slot] = to;
+            m->rock.sup.left = from;
             return RF_SURF_CONTINUE;
         }
         /* the crease goes on between the other face and the next one, or ends (also
          * over the terrain's edge): carry on on the other face */
-        if (m->point && rf_try_crease(m, other, to) == 0)
+        if (m->cfg.point && rf_try_crease(m, other, to) == 0)
             return RF_SURF_CONTINUE; /* a point moves on along the valley line */
         rf_crease_ends(m, other, from);
         return RF_SURF_CONTINUE;
@@ -201,9 +201,9 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         return RF_SURF_FLIGHT;
     }
     const rf_triangle *Tn = &t->tri[to];
-    if (rf_coplanar(F, Tn, m->tol_len)) {
+    if (rf_coplanar(F, Tn, m->cfg.tol_len)) {
         rf_support_single(m, to, 0);
-        m->sup.left = from;
+        m->rock.sup.left = from;
         return RF_SURF_CONTINUE;
     }
     switch (next_face(m, to, acc)) {
@@ -211,22 +211,22 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         if (rf_scene_at_once(m) >= 0)
             return RF_SURF_STOPPED;
         impact_on_face(m, to);
-        return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+        return m->rock.sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
     case RF_NEXT_ON:
         rf_support_single(m, to, 0); /* tangent: the path continues on the next face */
-        m->sup.left = from;
+        m->rock.sup.left = from;
         return RF_SURF_CONTINUE;
     case RF_NEXT_AWAY:
         break;
     }
     /* convex: the next face falls away */
-    if (m->point || m->centre) {
+    if (m->cfg.point || m->cfg.centre) {
         rf_go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
     rf_vec3 e = rf_edge_dir(F, edge);
-    rf_vec3 vp = rf_in_plane(m->s.v, e);
-    if (rf_v3_norm2(vp) >= m->rho * RF_GRAVITY * F->n.z) {
+    rf_vec3 vp = rf_in_plane(m->rock.s.v, e);
+    if (rf_v3_norm2(vp) >= m->cfg.rho * RF_GRAVITY * F->n.z) {
         rf_go_flight(m, from); /* fast enough to fly off the edge */
         return RF_SURF_FLIGHT;
     }
@@ -237,16 +237,16 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         }
         if (rf_pivot(m, q, to) == 0) {
             rf_support_single(m, to, 0);
-            m->sup.rolling = 1;
+            m->rock.sup.rolling = 1;
             return RF_SURF_CONTINUE;
         }
     }
     /* cannot climb over: rolls back onto the face */
     rf_vec3 mo = rf_v3_scale(fe->m[edge], -1.0);
-    double vo = rf_v3_dot(m->s.v, mo);
+    double vo = rf_v3_dot(m->rock.s.v, mo);
     if (vo > 0) {
-        m->s.v = rf_v3_madd(m->s.v, -2.0 * vo, mo);
-        if (m->sup.rolling)
+        m->rock.s.v = rf_v3_madd(m->rock.s.v, -2.0 * vo, mo);
+        if (m->rock.sup.rolling)
             rf_set_spin(m, F->n, rf_v3(0, 0, 0));
     }
     return RF_SURF_CONTINUE;
@@ -254,29 +254,29 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
 
 rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr)
 {
-    const rf_terrain *t = m->terrain;
-    const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
+    const rf_terrain *t = m->cfg.terrain;
+    const rf_triangle *A = &t->tri[m->rock.sup.tri[0]], *B = &t->tri[m->rock.sup.tri[1]];
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {
-        rf_crease_ends(m, m->sup.tri[xA < 0 ? 1 : 0], m->sup.left);
+        rf_crease_ends(m, m->rock.sup.tri[xA < 0 ? 1 : 0], m->rock.sup.left);
         return RF_CREASE_ENDED;
     }
-    double s = rf_v3_dot(m->s.v, l);
+    double s = rf_v3_dot(m->rock.s.v, l);
     if (s < 0) {
         l = rf_v3_scale(l, -1.0);
         s = -s;
     }
-    m->s.v = rf_v3_scale(l, s);
+    m->rock.s.v = rf_v3_scale(l, s);
     double gl = -RF_GRAVITY * l.z, N = xA + xB;
-    int rolling = !m->point && m->sup.rolling;
-    if (rolling && (1.0 - rf_roll_factor(m->body, m->rho)) * fabs(gl) > m->sup.mu * N)
-        m->sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
-    double k = rolling ? rf_roll_factor(m->body, m->rho) : 1.0;
-    double c = rolling ? m->sup.mu_r : m->sup.mu;
+    int rolling = !m->cfg.point && m->rock.sup.rolling;
+    if (rolling && (1.0 - rf_roll_factor(m->cfg.body, m->cfg.rho)) * fabs(gl) > m->rock.sup.mu * N)
+        m->rock.sup.rolling = rolling = 0; /* friction cannot make it roll down the crease */
+    double k = rolling ? rf_roll_factor(m->cfg.body, m->cfg.rho) : 1.0;
+    double c = rolling ? m->rock.sup.mu_r : m->rock.sup.mu;
     cr->holds = fabs(gl) <= c * N;
     cr->rolling = rolling;
-    if (s <= m->scene->sim->stop_speed && cr->holds)
+    if (s <= m->cfg.scene->sim->stop_speed && cr->holds)
         return RF_CREASE_REST;
     if (s == 0.0 && gl < 0) {
         l = rf_v3_scale(l, -1.0);

@@ -7,7 +7,7 @@
 #include "engine/state.h"
 #include "engine/geometry.h"
 
-/* The motion along a crease (m->sup.n == 2), shared by both engines. */
+/* The motion along a crease (m->rock.sup.n == 2), shared by both engines. */
 typedef enum rf_crease_kind {
     RF_CREASE_MOVES, /* uniformly accelerated along l */
     RF_CREASE_REST,  /* slower than stop_speed where friction holds it */

@@ -29,7 +29,7 @@ double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
 
 double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
 {
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
     double best = INFINITY;
     c->kind = RF_FEAT_EDGE;
@@ -40,8 +40,8 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
         double d = rf_v3_norm(rf_v3_sub(p, q));
         double dplane = fabs(rf_v3_dot(T->n, p) - T->d);
         /* prefer a face over its own edges at the same distance */
-        int face = fabs(d - dplane) <= m->tol_len;
-        if (d < best - m->tol_len || (d <= best + m->tol_len && face && c->kind != RF_FEAT_FACE)) {
+        int face = fabs(d - dplane) <= m->cfg.tol_len;
+        if (d < best - m->cfg.tol_len || (d <= best + m->cfg.tol_len && face && c->kind != RF_FEAT_FACE)) {
             best = dmin(best, d);
             c->t = 0;
             c->tri = idx;
@@ -54,7 +54,7 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
                 c->kind = RF_FEAT_EDGE;
                 c->index = 0;
                 for (int i = 0; i < 3; i++) {
-                    if (rf_v3_norm(rf_v3_sub(q, rf_tri_vertex(T, i))) <= m->tol_len) {
+                    if (rf_v3_norm(rf_v3_sub(q, rf_tri_vertex(T, i))) <= m->cfg.tol_len) {
                         c->kind = RF_FEAT_VERTEX;
                         c->index = i;
                         break;
@@ -123,8 +123,8 @@ static void vertical_overlap(const rf_triangle *T, double x, double y, double rh
 
 double rf_clear_height(rf_motion *m, rf_vec3 p)
 {
-    const rf_terrain *t = m->terrain;
-    double rho = m->rho, z = p.z;
+    const rf_terrain *t = m->cfg.terrain;
+    double rho = m->cfg.rho, z = p.z;
     size_t n = rf_gather(m, p.x - rho, p.y - rho, p.x + rho, p.y + rho);
     /* the lowest z >= p.z outside every triangle's interval: raised past each interval
      * it lies in until none is left (each pass clears at least one) */

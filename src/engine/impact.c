@@ -23,7 +23,7 @@
 /* The surface of triangle tri's zone (zone 0 for a triangle without one). */
 static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
 {
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     int32_t z = t->tri[tri].zone;
     if (z < 0 || (size_t)z >= t->nzones)
         z = 0;
@@ -33,9 +33,9 @@ static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
 void rf_support_draw(rf_motion *m, int32_t tri)
 {
     const rf_surface *s = surface_of(m, tri);
-    m->sup.zone = m->terrain->tri[tri].zone;
-    m->sup.mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
-    m->sup.mu_r = rf_draw_truncated(m->rng, s->rolling, 0.0, INFINITY);
+    m->rock.sup.zone = m->cfg.terrain->tri[tri].zone;
+    m->rock.sup.mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
+    m->rock.sup.mu_r = rf_draw_truncated(m->rng, s->rolling, 0.0, INFINITY);
 }
 
 /* The coefficients of one impact. */
@@ -58,7 +58,7 @@ static impact_coeffs draw_coefficients(rf_motion *m, const rf_impact_site *site)
         break;
     }
     case RF_IMPACT_TREE: {
-        const rf_forest *f = &m->scene->forests[site->id];
+        const rf_forest *f = &m->cfg.scene->forests[site->id];
         e = f->restitution, mu = f->friction;
         break;
     }
@@ -79,17 +79,18 @@ static void count_impact(rf_motion *m, double e0, double vin)
 {
     if (!(vin > RF_APPROACH_EPS))
         return;
-    m->rec->n_impacts++;
-    if (m->sink && m->sink->impact)
-        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, rf_motion_energy(m) / 1000.0, vin);
+    m->book.rec->n_impacts++;
+    if (m->book.sink && m->book.sink->impact)
+        m->book.sink->impact(m->book.sink->ctx, m->rock.s.t, e0 / 1000.0,
+                             rf_motion_energy(m) / 1000.0, vin);
 }
 
 /* The impact law (Eq. 8) with unit normal n (towards the centre), restitution e and
  * friction mu, on the current state.  Returns the rebound normal speed. */
 static double impact_law(rf_motion *m, rf_vec3 n, double e, double mu)
 {
-    const rf_body *b = m->body;
-    rf_vec3 v = m->s.v, w = m->s.w;
+    const rf_body *b = m->cfg.body;
+    rf_vec3 v = m->rock.s.v, w = m->rock.s.w;
     double vn = rf_v3_dot(v, n);
     if (vn >= 0.0)
         return vn;
@@ -97,7 +98,7 @@ static double impact_law(rf_motion *m, rf_vec3 n, double e, double mu)
     double jn = b->mass * (1.0 + e) * (-vn);
     rf_vec3 vt = rf_v3_madd(v, -vn, n);
     rf_vec3 jt = rf_v3(0, 0, 0);
-    if (m->point) {
+    if (m->cfg.point) {
         /* point mass: |J_t| <= mu J_n, at most stopping the tangential motion */
         double ut = rf_v3_norm(vt);
         double cap = b->mass * ut;
@@ -108,17 +109,18 @@ static double impact_law(rf_motion *m, rf_vec3 n, double e, double mu)
         /* Eq. 8a-b: slip of the contact point u = v_t + w x (-r n); Coulomb impulse
          * opposite u, capped where the slip vanishes (rolling): |J_t| <= |u| /
          * (1/m + r^2/I) = 2/7 m |u| for the solid sphere. */
-        rf_vec3 u = rf_v3_add(vt, rf_v3_cross(w, rf_v3_scale(n, -m->rho)));
+        rf_vec3 u = rf_v3_add(vt, rf_v3_cross(w, rf_v3_scale(n, -m->cfg.rho)));
         u = rf_v3_madd(u, -rf_v3_dot(u, n), n);
         double ul = rf_v3_norm(u);
-        double cap = ul / (1.0 / b->mass + m->rho * m->rho / b->inertia);
+        double cap = ul / (1.0 / b->mass + m->cfg.rho * m->cfg.rho / b->inertia);
         double mag = fmin(mu * jn, cap);
         if (ul > 0)
             jt = rf_v3_scale(u, -mag / ul);
         /* delta omega = r (-n) x J_t / I */
-        m->s.w = rf_v3_add(w, rf_v3_scale(rf_v3_cross(rf_v3_scale(n, -m->rho), jt), 1.0 / b->inertia));
+        m->rock.s.w = rf_v3_add(w, rf_v3_scale(rf_v3_cross(rf_v3_scale(n, -m->cfg.rho), jt),
+                                               1.0 / b->inertia));
     }
-    m->s.v = rf_v3_add(v, rf_v3_scale(rf_v3_add(rf_v3_scale(n, jn), jt), 1.0 / b->mass));
+    m->rock.s.v = rf_v3_add(v, rf_v3_scale(rf_v3_add(rf_v3_scale(n, jn), jt), 1.0 / b->mass));
     return e * (-vn);
 }
 
@@ -133,12 +135,12 @@ static double wall_law(rf_motion *m, const rf_impact_site *site, double e)
 {
     double vin = site->vin;
     if (vin > 0) {
-        rf_vec3 v = rf_v3_madd(m->s.v, -(1.0 + e) * vin, site->n);
+        rf_vec3 v = rf_v3_madd(m->rock.s.v, -(1.0 + e) * vin, site->n);
         if (site->corner(m, v, site->ctx)) {
-            v = rf_v3(-e * m->s.v.x, -e * m->s.v.y, m->s.v.z);
-            vin = rf_v3_hnorm(m->s.v);
+            v = rf_v3(-e * m->rock.s.v.x, -e * m->rock.s.v.y, m->rock.s.v.z);
+            vin = rf_v3_hnorm(m->rock.s.v);
         }
-        m->s.v = v;
+        m->rock.s.v = v;
     }
     return vin;
 }
@@ -151,14 +153,14 @@ static double wall_law(rf_motion *m, const rf_impact_site *site, double e)
 static double wall_meet_law(rf_motion *m, const rf_impact_site *site, rf_vec3 *u)
 {
     rf_vec3 L = site->l;
-    double s = rf_v3_dot(m->s.v, L);
-    double vin = rf_v3_norm(rf_in_plane(m->s.v, L));
-    m->s.v = rf_v3_scale(L, s);
+    double s = rf_v3_dot(m->rock.s.v, L);
+    double vin = rf_v3_norm(rf_in_plane(m->rock.s.v, L));
+    m->rock.s.v = rf_v3_scale(L, s);
     *u = rf_v3(0, 0, 0);
     if (site->corner_stop) {
-        m->s.v = rf_v3(0, 0, 0);
-        m->s.w = rf_v3(0, 0, 0);
-        m->sup.rolling = 1;
+        m->rock.s.v = rf_v3(0, 0, 0);
+        m->rock.s.w = rf_v3(0, 0, 0);
+        m->rock.sup.rolling = 1;
         return vin + fabs(s);
     }
     if (site->slide) {
@@ -172,16 +174,16 @@ static double wall_meet_law(rf_motion *m, const rf_impact_site *site, rf_vec3 *u
  * hit. */
 static double tree_law(rf_motion *m, const rf_impact_site *site, impact_coeffs k)
 {
-    double e0 = rf_motion_energy(m), v0 = rf_v3_norm(m->s.v);
-    double vin = -rf_v3_dot(m->s.v, site->n);
+    double e0 = rf_motion_energy(m), v0 = rf_v3_norm(m->rock.s.v);
+    double vin = -rf_v3_dot(m->rock.s.v, site->n);
     double rebound = impact_law(m, site->n, k.e, k.mu);
     double e1 = rf_motion_energy(m);
-    m->rec->n_tree_hits++;
-    if (m->sink && m->sink->impact)
-        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, e1 / 1000.0, vin);
-    if (m->sink && m->sink->tree_hit) {
-        rf_tree_hit_record r = {m->s.t, m->s.p, v0, rf_v3_norm(m->s.v), (e0 - e1) / 1000.0};
-        m->sink->tree_hit(m->sink->ctx, &r);
+    m->book.rec->n_tree_hits++;
+    if (m->book.sink && m->book.sink->impact)
+        m->book.sink->impact(m->book.sink->ctx, m->rock.s.t, e0 / 1000.0, e1 / 1000.0, vin);
+    if (m->book.sink && m->book.sink->tree_hit) {
+        rf_tree_hit_record r = {m->rock.s.t, m->rock.s.p, v0, rf_v3_norm(m->rock.s.v), (e0 - e1) / 1000.0};
+        m->book.sink->tree_hit(m->book.sink->ctx, &r);
     }
     return rebound;
 }
@@ -195,7 +197,7 @@ double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out)
     double vin, rebound = 0.0;
     switch (site->kind) {
     case RF_IMPACT_SLOPE:
-        vin = -rf_v3_dot(m->s.v, site->n);
+        vin = -rf_v3_dot(m->rock.s.v, site->n);
         rebound = impact_law(m, site->n, k.e, k.mu);
         break;
     case RF_IMPACT_WALL:
@@ -213,7 +215,7 @@ double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out)
  * w sin th for th in [0, ang], from over q (u0) to over the face (n); returns ang. */
 static double pivot_arc(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 *u0, rf_vec3 *w)
 {
-    *u0 = rf_v3_unit(rf_v3_sub(m->s.p, q));
+    *u0 = rf_v3_unit(rf_v3_sub(m->rock.s.p, q));
     if (w) {
         *w = rf_v3_madd(n, -rf_v3_dot(n, *u0), *u0);
         double wl = rf_v3_norm(*w);
@@ -230,46 +232,47 @@ double rf_pivot_rise(const rf_motion *m, rf_vec3 q, rf_vec3 n)
     /* z(th) = u0.z cos th + w.z sin th is highest at th = atan2(w.z, u0.z) */
     double top = atan2(w.z, u0.z);
     double zmax = top > 0 && top < ang ? hypot(u0.z, w.z) : fmax(u0.z, n.z);
-    return m->rho * fmax(0.0, zmax - u0.z);
+    return m->cfg.rho * fmax(0.0, zmax - u0.z);
 }
 
 int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
 {
-    const rf_body *b = m->body;
-    const rf_triangle *T = &m->terrain->tri[to];
+    const rf_body *b = m->cfg.body;
+    const rf_triangle *T = &m->cfg.terrain->tri[to];
     rf_vec3 n = T->n;
-    rf_vec3 c_new = rf_v3_madd(q, m->rho, n);
-    double e = rf_kinetic_energy(b, m->s.v, m->s.w) + b->mass * RF_GRAVITY * (m->s.p.z - c_new.z);
+    rf_vec3 c_new = rf_v3_madd(q, m->cfg.rho, n);
+    double e = rf_kinetic_energy(b, m->rock.s.v, m->rock.s.w) +
+               b->mass * RF_GRAVITY * (m->rock.s.p.z - c_new.z);
     if (!(e > 0.0))
         return -1;
-    rf_vec3 dir = rf_v3_madd(m->s.v, -rf_v3_dot(m->s.v, n), n);
+    rf_vec3 dir = rf_v3_madd(m->rock.s.v, -rf_v3_dot(m->rock.s.v, n), n);
     if (!(rf_v3_norm(dir) > 1e-12)) {
         dir = rf_v3(n.x * n.z, n.y * n.z, n.z * n.z - 1.0); /* fall line */
     }
     double dl = rf_v3_norm(dir);
     dir = dl > 0 ? rf_v3_scale(dir, 1.0 / dl) : dir;
     /* after the roll the sphere rolls on `to`: e = 1/2 (m + I / r^2) s^2 */
-    double s = sqrt(2.0 * e / (b->mass + b->inertia / (m->rho * m->rho)));
+    double s = sqrt(2.0 * e / (b->mass + b->inertia / (m->cfg.rho * m->cfg.rho)));
     /* the centre's arc about q: its length, and samples along it */
     rf_vec3 u0;
     double ang = pivot_arc(m, q, n, &u0, NULL);
-    m->rec->path_length_m += m->rho * ang;
-    const rf_sink *sk = m->sink;
+    m->book.rec->path_length_m += m->cfg.rho * ang;
+    const rf_sink *sk = m->book.sink;
     if (sk && sk->sample && sk->sample_spacing > 0 && ang > 0) {
-        int steps = (int)ceil(m->rho * ang / sk->sample_spacing);
+        int steps = (int)ceil(m->cfg.rho * ang / sk->sample_spacing);
         double ekj = rf_motion_energy(m) / 1000.0;
         for (int k = 0; k <= steps; k++) {
             double f = (double)k / steps;
             /* spherical interpolation between u0 and n */
             double a0 = sin((1 - f) * ang) / sin(ang), a1 = sin(f * ang) / sin(ang);
             rf_vec3 u = rf_v3_add(rf_v3_scale(u0, a0), rf_v3_scale(n, a1));
-            rf_vec3 p = rf_v3_madd(q, m->rho, u);
-            rf_motion_sample(m, p, m->s.v, ekj);
+            rf_vec3 p = rf_v3_madd(q, m->cfg.rho, u);
+            rf_motion_sample(m, p, m->rock.s.v, ekj);
         }
-        m->sample_acc = 0.0;
+        m->book.sample_acc = 0.0;
     }
-    m->s.p = c_new;
-    m->s.v = rf_v3_scale(dir, dl > 0 ? s : 0.0);
-    m->s.w = rf_v3_scale(rf_v3_cross(n, m->s.v), 1.0 / m->rho);
+    m->rock.s.p = c_new;
+    m->rock.s.v = rf_v3_scale(dir, dl > 0 ? s : 0.0);
+    m->rock.s.w = rf_v3_scale(rf_v3_cross(n, m->rock.s.v), 1.0 / m->cfg.rho);
     return 0;
 }

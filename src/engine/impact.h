@@ -43,7 +43,7 @@ typedef struct rf_impact_out {
  * rebound normal speed (slope and tree; 0 for walls).  out: NULL but for a wall
  * meet. */
 double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out);
-/* Draws the surface phase's mu and mu_r of triangle tri's zone into m->sup. */
+/* Draws the surface phase's mu and mu_r of triangle tri's zone into m->rock.sup. */
 void rf_support_draw(rf_motion *m, int32_t tri);
 /* A slow sphere rolls over a convex edge or vertex at q onto face `to`: its centre
  * goes from q + rho u to q + rho n_to, conserving total energy.  Returns 0, or -1 when

@@ -72,10 +72,10 @@ void rf_workspace_free(rf_workspace *ws)
 /* One flight until its next event; returns -1 to go on, or the end reason. */
 static int flight_step(rf_motion *m)
 {
-    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    double T = fmax(0.0, m->t_end - m->s.t);
+    rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    double T = fmax(0.0, m->cfg.t_end - m->rock.s.t);
     /* below every face: the rock has left the terrain */
-    double zfloor = m->terrain->zmin - m->rho - 1.0;
+    double zfloor = m->cfg.terrain->zmin - m->cfg.rho - 1.0;
     double t_fall = INFINITY;
     double r[2];
     int nr = rf_quadratic_roots(-0.5 * RF_GRAVITY, arc.v.z, arc.p.z - zfloor, r);
@@ -87,7 +87,7 @@ static int flight_step(rf_motion *m)
     int hit = rf_flight_contact(m, &arc, te, &c);
     double tend = hit ? c.t : te;
     double ts = rf_scene_horizon(m, &arc, tend);
-    int scene = m->scene_pending && ts < tend;
+    int scene = m->scn.pending && ts < tend;
     rf_motion_advance(m, &arc, scene ? ts : tend, NULL);
     rf_motion_note_energy(m); /* before an impact takes energy */
     if (scene)
@@ -96,7 +96,7 @@ static int flight_step(rf_motion *m)
         if (rf_scene_at_once(m) >= 0)
             return RF_END_STOPPED;
         rf_contact_resolve(m, &c); /* knows the face flown off from flight_ex */
-        m->flight_ex.n = 0;
+        m->rock.flight_ex.n = 0;
         rf_motion_event(m);
         return -1;
     }
@@ -111,14 +111,14 @@ static int run_exact(rf_motion *m)
     if (end >= 0)
         return end;
     for (;;) {
-        if (++m->events > RF_MAX_EVENTS)
+        if (++m->book.events > RF_MAX_EVENTS)
             return RF_END_MAX_TIME;
         end = rf_progress(m, 1);
         if (end >= 0)
             return end;
-        if (m->s.t >= m->t_end)
+        if (m->rock.s.t >= m->cfg.t_end)
             return RF_END_MAX_TIME;
-        if (m->sup.n == 0) {
+        if (m->rock.sup.n == 0) {
             end = flight_step(m);
             if (end >= 0)
                 return end;
@@ -147,24 +147,24 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     const rf_simulation *sim = scene->sim;
     rf_motion m;
     memset(&m, 0, sizeof m);
-    m.scene = scene;
-    m.terrain = t;
-    m.body = body;
+    m.cfg.scene = scene;
+    m.cfg.terrain = t;
+    m.cfg.body = body;
     m.rng = rng;
     m.ws = ws;
-    m.sink = sink;
-    m.rec = out;
-    m.point = body->model == RF_MODEL_POINT;
-    m.rho = rf_body_contact_radius(body);
-    m.centre = !m.point && sim->contact == RF_CONTACT_CENTRE;
+    m.book.sink = sink;
+    m.book.rec = out;
+    m.cfg.point = body->model == RF_MODEL_POINT;
+    m.cfg.rho = rf_body_contact_radius(body);
+    m.cfg.centre = !m.cfg.point && sim->contact == RF_CONTACT_CENTRE;
     double scale = fmax(fmax(fabs(t->xmin), fabs(t->xmax)),
                         fmax(fmax(fabs(t->ymin), fabs(t->ymax)), fmax(fabs(t->zmin), fabs(t->zmax))));
-    m.tol_len = fmax(RF_LEN_TOL, 1e-14 * scale);
-    m.v_stay = sqrt(2.0 * RF_GRAVITY * RF_STAY_HEIGHT);
-    m.s = *start;
-    if (m.point)
-        m.s.w = rf_v3(0, 0, 0);
-    m.t_end = start->t + sim->max_time;
+    m.cfg.tol_len = fmax(RF_LEN_TOL, 1e-14 * scale);
+    m.cfg.v_stay = sqrt(2.0 * RF_GRAVITY * RF_STAY_HEIGHT);
+    m.rock.s = *start;
+    if (m.cfg.point)
+        m.rock.s.w = rf_v3(0, 0, 0);
+    m.cfg.t_end = start->t + sim->max_time;
     memset(out, 0, sizeof *out);
     out->max_energy_kj = rf_motion_energy(&m) / 1000.0;
     rf_scene_begin(&m);
@@ -176,11 +176,11 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
 
     out->reason = (rf_stop_reason)end;
     if (end == RF_END_REST) {
-        m.s.v = rf_v3(0, 0, 0);
-        m.s.w = rf_v3(0, 0, 0);
+        m.rock.s.v = rf_v3(0, 0, 0);
+        m.rock.s.w = rf_v3(0, 0, 0);
     }
-    out->stop = m.s.p;
-    out->duration_s = m.s.t - start->t;
+    out->stop = m.rock.s.p;
+    out->duration_s = m.rock.s.t - start->t;
     rf_motion_event(&m);
     return 0;
 }

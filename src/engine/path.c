@@ -78,8 +78,8 @@ static void path_advance(rf_motion *m, const rf_face_dyn *f, const rf_arc *arc, 
         sampled = &spin;
     }
     rf_motion_advance(m, arc, h, sampled);
-    m->s.p = rf_v3_add(c0, y_c(ye));
-    m->s.v = y_v(ye);
+    m->rock.s.p = rf_v3_add(c0, y_c(ye));
+    m->rock.s.v = y_v(ye);
     rf_set_spin(m, f->n, y_u(ye));
 }
 
@@ -174,7 +174,7 @@ static double event_value(rf_motion *m, rf_ev_kind kind, const rf_seg_event *ev,
     case RF_EV_ZERO:
         return rf_v3_norm2(y_v(y)) - ev->level * ev->level;
     case RF_EV_CONTACT:
-        return rf_feature_distance(m->terrain, &ev->con, c) - m->rho;
+        return rf_feature_distance(m->cfg.terrain, &ev->con, c) - m->cfg.rho;
     case RF_EV_LINE:
         return ev->line[2] * (c.x - ev->line[0]) + ev->line[3] * (c.y - ev->line[1]);
     default:
@@ -197,7 +197,7 @@ static double event_rate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, co
     }
     case RF_EV_CONTACT: {
         const rf_contact *c = &ev->con;
-        const rf_triangle *T = &m->terrain->tri[c->tri];
+        const rf_triangle *T = &m->cfg.terrain->tri[c->tri];
         if (c->kind == RF_FEAT_FACE)
             return rf_v3_dot(T->n, v);
         rf_vec3 p = rf_v3_add(c0, y_c(y));
@@ -295,17 +295,17 @@ static double locate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, const 
     double f0 = event_value(m, kind, ev, fe, c0, y);
     int start = f0 <= 0.0, reentry = 0;
     int found_later = guess > 0.0 && guess < h;
-    if (kind == RF_EV_CONTACT && guess == 0.0 && f0 <= m->tol_len) {
+    if (kind == RF_EV_CONTACT && guess == 0.0 && f0 <= m->cfg.tol_len) {
         /* touching and approaching, as the search found it at the start */
         start = start || event_rate(m, f, kind, ev, fe, c0, y) < -RF_APPROACH_EPS;
     } else if (start && found_later &&
-               (kind == RF_EV_CONTACT || (kind == RF_EV_EXIT && f0 >= -m->tol_len))) {
+               (kind == RF_EV_CONTACT || (kind == RF_EV_EXIT && f0 >= -m->cfg.tol_len))) {
         /* found later, the rock moving out of the contact's reach or in over the edge
          * (a hair beyond it): the re-entry or the exit the parabola found, not the start */
         reentry = event_rate(m, f, kind, ev, fe, c0, y) > 0.0;
     }
     if (start && !reentry) {
-        if (kind == RF_EV_EXIT && !found_later && f0 >= -m->tol_len &&
+        if (kind == RF_EV_EXIT && !found_later && f0 >= -m->cfg.tol_len &&
             event_rate(m, f, kind, ev, fe, c0, y) > 0.0) {
             /* a hair beyond the edge (within the tolerance, as rf_exit_time takes it) but
              * moving in, and beyond it by more at the step's end, where the step's
@@ -313,8 +313,8 @@ static double locate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, const 
              * beyond the edge.  Taken at the start, the rock left a face it was moving
              * into, which the flight leaves out, and fell through it. */
             rf_seg_event beyond = *ev;
-            beyond.level = m->tol_len;
-            return locate_bracket(m, kind, &beyond, fe, c0, st, f0 + m->tol_len, guess, ye);
+            beyond.level = m->cfg.tol_len;
+            return locate_bracket(m, kind, &beyond, fe, c0, st, f0 + m->cfg.tol_len, guess, ye);
         }
         memcpy(ye, y, 9 * sizeof *ye);
         return 0.0;
@@ -377,9 +377,9 @@ static double scene_time(rf_motion *m, const rf_face_dyn *f, rf_seg_event *ev, c
                          rf_vec3 c0, seg_step *st, const rf_arc *arc, const double *y, double ts,
                          double *ye)
 {
-    if (m->scene_pending == RF_SCENE_MEASURE && ts > 0.0) {
-        const rf_crossing *cr = &m->crossings[0];
-        const double *A = &m->scene->measures[cr->measure].line.xy[2 * cr->segment], *B = A + 2;
+    if (m->scn.pending == RF_SCENE_MEASURE && ts > 0.0) {
+        const rf_crossing *cr = &m->scn.crossings[0];
+        const double *A = &m->cfg.scene->measures[cr->measure].line.xy[2 * cr->segment], *B = A + 2;
         double nx = A[1] - B[1], ny = B[0] - A[0], len = hypot(nx, ny);
         rf_vec3 v = rf_arc_vel(arc, ts);
         if (nx * v.x + ny * v.y > 0)
@@ -404,7 +404,7 @@ static double step_exit(const rf_motion *m, const rf_face_edges *fe, const rf_ar
     double tx = rf_exit_time(m, fe, arc, hs, skip_edge, &edge);
     int outside = 0;
     for (int k = 0; k < 3; k++) {
-        if (k != skip_edge && rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->tol_len) {
+        if (k != skip_edge && rf_v3_dot(fe->m[k], cabs) - fe->o[k] < -m->cfg.tol_len) {
             outside = 1;
             if (!(tx < hs))
                 edge = k, tx = hs;
@@ -422,14 +422,14 @@ rf_surface_end rf_face_path(rf_motion *m, const rf_face_dyn *f, rf_vec3 u0, cons
 {
     rf_support ex = rf_segment_exclusion(m);
     seg_path P;
-    path_init(&P, f, m->s.v, u0);
+    path_init(&P, f, m->rock.s.v, u0);
     int slide = f->mode == RF_LAW_SLIDE;
     double weps = slide ? RF_SLIP_EPS : RF_SPEED_EPS;
-    rf_vec3 c0 = m->s.p;
+    rf_vec3 c0 = m->rock.s.p;
     double y[9], yn[9];
-    y_set(y, rf_v3(0, 0, 0), m->s.v, slide ? u0 : rf_v3(0, 0, 0));
-    double lam = 0.0, t = 0.0, tcap = m->t_end - m->s.t;
-    double stop = m->scene->sim->stop_speed;
+    y_set(y, rf_v3(0, 0, 0), m->rock.s.v, slide ? u0 : rf_v3(0, 0, 0));
+    double lam = 0.0, t = 0.0, tcap = m->cfg.t_end - m->rock.s.t;
+    double stop = m->cfg.scene->sim->stop_speed;
     for (long steps = 0;; steps++) {
         if (t >= tcap)
             return RF_SURF_MAX_TIME;
@@ -437,10 +437,10 @@ rf_surface_end rf_face_path(rf_motion *m, const rf_face_dyn *f, rf_vec3 u0, cons
             return RF_SURF_CONTINUE; /* start a fresh segment */
         if (rf_v3_norm(path_w(&P, y)) <= weps) {
             if (!slide) {
-                m->s.v = rf_v3(0, 0, 0);
+                m->rock.s.v = rf_v3(0, 0, 0);
                 return RF_SURF_CONTINUE; /* from rest: a closed-form segment */
             }
-            m->sup.rolling = 1; /* the slip has vanished */
+            m->rock.sup.rolling = 1; /* the slip has vanished */
             rf_set_spin(m, f->n, rf_v3(0, 0, 0));
             rf_motion_event(m);
             return RF_SURF_CONTINUE;
@@ -485,7 +485,7 @@ rf_surface_end rf_face_path(rf_motion *m, const rf_face_dyn *f, rf_vec3 u0, cons
                 ev.kind = holds ? RF_EV_REST : RF_EV_ZERO, ev.t = hs, ev.level = level;
                 guess = -1;
             }
-            if (!m->point && !m->centre) {
+            if (!m->cfg.point && !m->cfg.centre) {
                 rf_contact con;
                 double tl = rf_fmin(hs, ev.t + 0.1 * hs);
                 if (rf_contact_search_near(m, &arc, tl, &ex, skip, nskip, &con) && con.t <= ev.t) {
@@ -495,10 +495,10 @@ rf_surface_end rf_face_path(rf_motion *m, const rf_face_dyn *f, rf_vec3 u0, cons
             }
             /* scene events on the step's parabola, before any terrain event */
             ts = rf_scene_horizon(m, &arc, ev.t);
-            if (m->scene_pending && ts < ev.t) {
+            if (m->scn.pending && ts < ev.t) {
                 ev.kind = RF_EV_SCENE, ev.t = ts;
             } else {
-                m->scene_pending = 0;
+                m->scn.pending = 0;
             }
             te = -1.0;
             if (ev.kind == RF_EV_SCENE) {

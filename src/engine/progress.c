@@ -14,27 +14,27 @@
 /* rf_motion_start without the progress watch. */
 static int place_start(rf_motion *m)
 {
-    const rf_terrain *t = m->terrain;
-    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+    const rf_terrain *t = m->cfg.terrain;
+    int32_t tri = rf_terrain_locate(t, m->rock.s.p.x, m->rock.s.p.y);
     if (tri < 0)
         return RF_END_EXITED;
-    m->sup.n = 0;
-    m->sup.left = -1;
-    m->flight_ex.n = 0;
+    m->rock.sup.n = 0;
+    m->rock.sup.left = -1;
+    m->rock.flight_ex.n = 0;
     rf_contact c;
     memset(&c, 0, sizeof c);
     double dist;
-    if (m->point || m->centre) {
+    if (m->cfg.point || m->cfg.centre) {
         const rf_triangle *T = &t->tri[tri];
-        dist = rf_v3_dot(T->n, m->s.p) - T->d;
+        dist = rf_v3_dot(T->n, m->rock.s.p) - T->d;
         c.tri = tri;
         c.kind = RF_FEAT_FACE;
         c.n = T->n;
-        c.point = rf_v3_madd(m->s.p, -dist, T->n);
-        if (m->point && T->n.z > 0) {
+        c.point = rf_v3_madd(m->rock.s.p, -dist, T->n);
+        if (m->cfg.point && T->n.z > 0) {
             /* the point's height above the face, measured vertically */
-            double zs = rf_triangle_z_at(T, m->s.p.x, m->s.p.y);
-            dist = (m->s.p.z - zs) * T->n.z;
+            double zs = rf_triangle_z_at(T, m->rock.s.p.x, m->rock.s.p.y);
+            dist = (m->rock.s.p.z - zs) * T->n.z;
         }
     } else {
         /* a sphere into the terrain (released in a hollow, or below the ground) is
@@ -42,38 +42,38 @@ static int place_start(rf_motion *m)
          * one or under the ground, it is raised on its vertical instead, until it just
          * touches the terrain */
         const rf_triangle *T = &t->tri[tri];
-        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
-        if (dp < m->rho)
-            m->s.p = rf_v3_madd(m->s.p, m->rho - dp, T->n);
-        dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
-        if (dist < m->rho - m->tol_len) {
-            rf_vec3 p0 = m->s.p;
-            m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
-            dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+        double dp = rf_v3_dot(T->n, m->rock.s.p) - T->d;
+        if (dp < m->cfg.rho)
+            m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dp, T->n);
+        dist = rf_closest_feature(m, m->rock.s.p, m->cfg.rho + 1.0, &c);
+        if (dist < m->cfg.rho - m->cfg.tol_len) {
+            rf_vec3 p0 = m->rock.s.p;
+            m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dist, c.n);
+            dist = rf_closest_feature(m, m->rock.s.p, m->cfg.rho + 1.0, &c);
             /* a push that leaves it in the terrain or puts it under the ground (clear
              * of every feature, but below them) is not taken */
-            int32_t under = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-            if (dist < m->rho - m->tol_len || under < 0 ||
-                rf_triangle_plane_distance(&t->tri[under], m->s.p) < m->rho - m->tol_len) {
-                m->s.p = p0;
-                m->s.p.z = rf_clear_height(m, p0);
-                dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
+            int32_t under = rf_terrain_locate(t, m->rock.s.p.x, m->rock.s.p.y);
+            if (dist < m->cfg.rho - m->cfg.tol_len || under < 0 ||
+                rf_triangle_plane_distance(&t->tri[under], m->rock.s.p) < m->cfg.rho - m->cfg.tol_len) {
+                m->rock.s.p = p0;
+                m->rock.s.p.z = rf_clear_height(m, p0);
+                dist = rf_closest_feature(m, m->rock.s.p, m->cfg.rho + 1.0, &c);
             }
         }
     }
-    if (!(dist <= m->rho + RF_START_TOUCH))
+    if (!(dist <= m->cfg.rho + RF_START_TOUCH))
         return -1; /* in the air */
     double gap;
-    if (m->point && t->tri[c.tri].n.z > 0)
-        m->s.p.z = rf_triangle_z_at(&t->tri[c.tri], m->s.p.x, m->s.p.y);
-    else if (m->centre && dist < m->rho)
-        m->s.p = rf_v3_add(m->s.p, rf_centre_lift_move(m, &t->tri[c.tri], &gap));
+    if (m->cfg.point && t->tri[c.tri].n.z > 0)
+        m->rock.s.p.z = rf_triangle_z_at(&t->tri[c.tri], m->rock.s.p.x, m->rock.s.p.y);
+    else if (m->cfg.centre && dist < m->cfg.rho)
+        m->rock.s.p = rf_v3_add(m->rock.s.p, rf_centre_lift_move(m, &t->tri[c.tri], &gap));
     else if (c.kind == RF_FEAT_FACE)
-        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
-    double vn = rf_v3_dot(m->s.v, c.n);
-    if (vn > m->v_stay)
+        m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dist, c.n);
+    double vn = rf_v3_dot(m->rock.s.v, c.n);
+    if (vn > m->cfg.v_stay)
         return -1; /* launched off the ground */
-    if (c.kind == RF_FEAT_FACE && vn > -m->v_stay) {
+    if (c.kind == RF_FEAT_FACE && vn > -m->cfg.v_stay) {
         rf_surface_enter(m, c.tri);
         return -1;
     }
@@ -85,8 +85,8 @@ int rf_motion_start(rf_motion *m)
 {
     int end = place_start(m);
     if (end < 0) {
-        m->stall_t = m->s.t;
-        m->creep_p = m->s.p;
+        m->book.stall_t = m->rock.s.t;
+        m->book.creep_p = m->rock.s.p;
     }
     return end;
 }
@@ -94,7 +94,7 @@ int rf_motion_start(rf_motion *m)
 /* The height of face T's offset plane (r above it) on the vertical through p. */
 static double offset_plane_z(const rf_motion *m, const rf_triangle *T, rf_vec3 p)
 {
-    return rf_triangle_z_at(T, p.x, p.y) + m->rho / T->n.z;
+    return rf_triangle_z_at(T, p.x, p.y) + m->cfg.rho / T->n.z;
 }
 
 /* Of the columns of upward faces holding p within `reach`, the one whose offset plane
@@ -102,7 +102,7 @@ static double offset_plane_z(const rf_motion *m, const rf_triangle *T, rf_vec3 p
  * -1 when none does. */
 static int32_t column_extreme(rf_motion *m, rf_vec3 p, double reach, int32_t tri, int highest)
 {
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     double sign = highest ? 1.0 : -1.0; /* the lowest is the highest of -z */
     double best = tri >= 0 ? sign * offset_plane_z(m, &t->tri[tri], p) : -INFINITY;
     int32_t skip = tri;
@@ -121,7 +121,7 @@ static int32_t column_extreme(rf_motion *m, rf_vec3 p, double reach, int32_t tri
 
 int32_t rf_highest_column(rf_motion *m, int32_t tri)
 {
-    return column_extreme(m, m->s.p, m->tol_len, tri, 1);
+    return column_extreme(m, m->rock.s.p, m->cfg.tol_len, tri, 1);
 }
 
 /* Centre mode: the rock wedged among walls, at p before the rescue's free motion, is
@@ -134,8 +134,8 @@ int32_t rf_highest_column(rf_motion *m, int32_t tri)
  * or -1 when no column will do (the rock is left where it is). */
 static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
 {
-    const rf_terrain *t = m->terrain;
-    double tol = m->tol_len;
+    const rf_terrain *t = m->cfg.terrain;
+    double tol = m->cfg.tol_len;
     int32_t best = column_extreme(m, p, RF_SETTLE_REACH * tol, -1, 0);
     if (best < 0)
         return -1;
@@ -154,9 +154,9 @@ static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
     rf_vec3 q = rf_v3(p.x + fmin(f, 0.5) * (g.x - p.x), p.y + fmin(f, 0.5) * (g.y - p.y), p.z);
     if (!rf_in_column(T, q, tol) || column_extreme(m, q, tol, best, 1) != best)
         return -1;
-    m->s.p = q;
+    m->rock.s.p = q;
     double gap;
-    m->s.p = rf_v3_add(q, rf_centre_lift_move(m, T, &gap));
+    m->rock.s.p = rf_v3_add(q, rf_centre_lift_move(m, T, &gap));
     return 0;
 }
 
@@ -167,21 +167,21 @@ static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
  * and a centre under a valley line would be pushed deeper).  Zero when it is clear. */
 static rf_vec3 sphere_out(rf_motion *m)
 {
-    const rf_terrain *t = m->terrain;
-    rf_vec3 p = m->s.p;
+    const rf_terrain *t = m->cfg.terrain;
+    rf_vec3 p = m->rock.s.p;
     rf_contact c;
-    double d = rf_closest_feature(m, p, m->rho + 1.0, &c);
+    double d = rf_closest_feature(m, p, m->cfg.rho + 1.0, &c);
     if (c.kind == RF_FEAT_FACE)
         d = rf_triangle_plane_distance(&t->tri[c.tri], p);
-    if (!(d < m->rho + m->tol_len))
+    if (!(d < m->cfg.rho + m->cfg.tol_len))
         return rf_v3(0, 0, 0);
-    rf_vec3 q = rf_v3_madd(p, m->rho + m->tol_len - d, c.n);
+    rf_vec3 q = rf_v3_madd(p, m->cfg.rho + m->cfg.tol_len - d, c.n);
     rf_contact near;
     int32_t under = rf_terrain_locate(t, q.x, q.y);
-    if (rf_closest_feature(m, q, m->rho + 1.0, &near) < m->rho - m->tol_len || under < 0 ||
+    if (rf_closest_feature(m, q, m->cfg.rho + 1.0, &near) < m->cfg.rho - m->cfg.tol_len || under < 0 ||
         rf_triangle_plane_distance(&t->tri[under], q) < 0) {
         q = p;
-        q.z = rf_clear_height(m, p) + m->tol_len;
+        q.z = rf_clear_height(m, p) + m->cfg.tol_len;
     }
     return rf_v3_sub(q, p);
 }
@@ -191,16 +191,16 @@ static rf_vec3 sphere_out(rf_motion *m)
  * sphere). */
 static int unstall(rf_motion *m)
 {
-    const rf_terrain *t = m->terrain;
-    rf_vec3 p0 = m->s.p;
-    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    const rf_terrain *t = m->cfg.terrain;
+    rf_vec3 p0 = m->rock.s.p;
+    rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
     rf_motion_advance(m, &arc, RF_UNSTALL_TIME, NULL);
     rf_motion_note_energy(m);
-    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
+    int32_t tri = rf_terrain_locate(t, m->rock.s.p.x, m->rock.s.p.y);
     if (tri >= 0) {
         const rf_triangle *T = &t->tri[tri];
         rf_vec3 n = T->n; /* the velocity into the terrain is taken along it */
-        if (m->centre) {
+        if (m->cfg.centre) {
             tri = rf_highest_column(m, tri);
             T = &t->tri[tri];
             n = T->n;
@@ -218,22 +218,22 @@ static int unstall(rf_motion *m)
              * height of the lift, until the rescues ran out. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_pay_lift(m, move)) {
-                if (m->wedged && rf_v3_norm(rf_v3_sub(m->s.p, m->wedge_p)) <= m->rho) {
-                    if (rf_triangle_plane_distance(T, m->s.p) < 0)
-                        m->s.p = rf_v3_add(m->s.p, move); /* not under the face */
+                if (m->book.wedged && rf_v3_norm(rf_v3_sub(m->rock.s.p, m->book.wedge_p)) <= m->cfg.rho) {
+                    if (rf_triangle_plane_distance(T, m->rock.s.p) < 0)
+                        m->rock.s.p = rf_v3_add(m->rock.s.p, move); /* not under the face */
                     return 1;
                 }
-                m->wedged = 1;
-                m->wedge_p = m->s.p;
+                m->book.wedged = 1;
+                m->book.wedge_p = m->rock.s.p;
                 if (settle_in_lowest_column(m, p0))
-                    m->s.p = rf_v3_add(m->s.p, move);
-                m->s.v = rf_v3(0, 0, 0);
-                m->s.w = rf_v3(0, 0, 0);
+                    m->rock.s.p = rf_v3_add(m->rock.s.p, move);
+                m->rock.s.v = rf_v3(0, 0, 0);
+                m->rock.s.w = rf_v3(0, 0, 0);
             }
-        } else if (m->point) {
-            double dp = rf_triangle_plane_distance(T, m->s.p);
-            if (dp < m->tol_len)
-                m->s.p = rf_v3_madd(m->s.p, m->tol_len - dp, T->n);
+        } else if (m->cfg.point) {
+            double dp = rf_triangle_plane_distance(T, m->rock.s.p);
+            if (dp < m->cfg.tol_len)
+                m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.tol_len - dp, T->n);
         } else {
             /* out of the terrain, paid from the kinetic energy.  Pushed onto the offset
              * plane of the face under the centre instead, a sphere wedged beside a steep
@@ -244,38 +244,39 @@ static int unstall(rf_motion *m)
                 if (!rf_pay_lift(m, move)) {
                     /* too slow to pay its way out: it rests out of the terrain (where
                      * it was, it could lie under a face) */
-                    m->s.p = rf_v3_add(m->s.p, move);
+                    m->rock.s.p = rf_v3_add(m->rock.s.p, move);
                     return 1;
                 }
                 n = rf_v3_unit(move);
             }
         }
-        double vn = rf_v3_dot(m->s.v, n);
+        double vn = rf_v3_dot(m->rock.s.v, n);
         if (vn < 0)
-            m->s.v = rf_v3_madd(m->s.v, -vn, n);
+            m->rock.s.v = rf_v3_madd(m->rock.s.v, -vn, n);
     }
-    m->sup.n = 0;
-    m->flight_ex.n = 0;
+    m->rock.sup.n = 0;
+    m->rock.flight_ex.n = 0;
     return 0;
 }
 
 int rf_progress(rf_motion *m, int events)
 {
-    double stop = m->scene->sim->stop_speed;
+    double stop = m->cfg.scene->sim->stop_speed;
     if (events) {
-        if (rf_v3_norm(m->s.v) > stop || rf_v3_norm(rf_v3_sub(m->s.p, m->creep_p)) > RF_CREEP_DIST) {
-            m->creep_p = m->s.p;
-            m->creep = 0;
-        } else if (++m->creep > RF_CREEP_EVENTS) {
+        if (rf_v3_norm(m->rock.s.v) > stop ||
+            rf_v3_norm(rf_v3_sub(m->rock.s.p, m->book.creep_p)) > RF_CREEP_DIST) {
+            m->book.creep_p = m->rock.s.p;
+            m->book.creep = 0;
+        } else if (++m->book.creep > RF_CREEP_EVENTS) {
             return RF_END_REST;
         }
     }
-    if (m->s.t > m->stall_t + RF_STALL_TIME) {
-        m->stall_t = m->s.t;
-        m->stall = 0;
-    } else if (++m->stall > RF_STALL_EVENTS) {
+    if (m->rock.s.t > m->book.stall_t + RF_STALL_TIME) {
+        m->book.stall_t = m->rock.s.t;
+        m->book.stall = 0;
+    } else if (++m->book.stall > RF_STALL_EVENTS) {
         /* no progress in time: a rock wedged between features */
-        if (rf_v3_norm(m->s.v) <= stop)
+        if (rf_v3_norm(m->rock.s.v) <= stop)
             return RF_END_REST;
         return rf_rescue(m);
     }
@@ -284,11 +285,11 @@ int rf_progress(rf_motion *m, int events)
 
 int rf_rescue(rf_motion *m)
 {
-    if (++m->rescues > RF_MAX_RESCUES)
+    if (++m->book.rescues > RF_MAX_RESCUES)
         return RF_END_MAX_TIME;
     if (unstall(m))
         return RF_END_REST;
-    m->stall = 0;
-    m->stall_t = m->s.t;
+    m->book.stall = 0;
+    m->book.stall_t = m->rock.s.t;
     return RF_RESCUED;
 }

@@ -49,7 +49,7 @@ void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_
  * rf_motion_advance makes of its spin law. */
 static inline int rf_motion_samples(const rf_motion *m)
 {
-    return m->sink && m->sink->sample && m->sink->sample_spacing > 0;
+    return m->book.sink && m->book.sink->sample && m->book.sink->sample_spacing > 0;
 }
 /* rf_motion_advance with the velocity along the way from `vel` (its v + a t) rather
  * than from the arc of the positions: a step of the fixed-step engine moves the centre

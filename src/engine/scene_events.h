@@ -11,7 +11,7 @@ void rf_scene_begin(rf_motion *m);
 /* Every piece of exact motion - a flight, a closed-form surface segment, one
  * integrator step - is offered as an arc over [0, T] before it is taken: returns the
  * earliest time in [0, T] at which a scene event cuts it (T when none) and remembers
- * the event (m->scene_pending). */
+ * the event (m->scn.pending). */
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T);
 /* Handles the event rf_scene_horizon found, once the state has been moved there.
  * Returns -1 to go on or an end reason (RF_END_STOPPED).  *onto: the face a rock on

@@ -12,10 +12,10 @@
  * just left over an edge. */
 rf_support rf_segment_exclusion(rf_motion *m)
 {
-    rf_support ex = m->sup;
+    rf_support ex = m->rock.sup;
     if (ex.left >= 0 && ex.n < 3)
         ex.tri[ex.n++] = ex.left;
-    m->sup.left = -1;
+    m->rock.sup.left = -1;
     return ex;
 }
 
@@ -36,14 +36,14 @@ rf_surface_end rf_seg_dispatch(rf_motion *m, rf_seg_event *ev, rf_vec3 acc, cons
     case RF_EV_REST:
         return RF_SURF_REST;
     case RF_EV_ZERO:
-        m->s.v = rf_v3(0, 0, 0);
-        if (!m->point && m->sup.rolling)
-            m->s.w = rf_v3(0, 0, 0);
+        m->rock.s.v = rf_v3(0, 0, 0);
+        if (!m->cfg.point && m->rock.sup.rolling)
+            m->rock.s.w = rf_v3(0, 0, 0);
         rf_motion_event(m);
         return RF_SURF_CONTINUE;
     case RF_EV_SLIP:
-        m->sup.rolling = 1;
-        rf_set_spin(m, m->terrain->tri[m->sup.tri[0]].n, rf_v3(0, 0, 0));
+        m->rock.sup.rolling = 1;
+        rf_set_spin(m, m->cfg.terrain->tri[m->rock.sup.tri[0]].n, rf_v3(0, 0, 0));
         rf_motion_event(m);
         return RF_SURF_CONTINUE;
     case RF_EV_EXIT: {
@@ -56,11 +56,11 @@ rf_surface_end rf_seg_dispatch(rf_motion *m, rf_seg_event *ev, rf_vec3 acc, cons
             return RF_SURF_STOPPED;
         rf_contact_resolve(m, &ev->con);
         rf_motion_event(m);
-        return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+        return m->rock.sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
     case RF_EV_SCENE:
         if (rf_surface_scene_event(m) >= 0)
             return RF_SURF_STOPPED;
-        return m->sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
+        return m->rock.sup.n == 0 ? RF_SURF_FLIGHT : RF_SURF_CONTINUE;
     default:
         return RF_SURF_CONTINUE;
     }
@@ -73,7 +73,7 @@ rf_surface_end rf_seg_dispatch(rf_motion *m, rf_seg_event *ev, rf_vec3 acc, cons
 void rf_seg_closed_finish(rf_motion *m, const rf_arc *arc, const rf_spin_law *spin,
                           const rf_support *ex, rf_seg_event *ev)
 {
-    if (!m->point && !m->centre && ev->t > 0) {
+    if (!m->cfg.point && !m->cfg.centre && ev->t > 0) {
         rf_contact con;
         if (rf_contact_search_near(m, arc, ev->t, ex, NULL, 0, &con) && con.t < ev->t) {
             rf_seg_consider(ev, RF_EV_CONTACT, con.t);
@@ -81,11 +81,11 @@ void rf_seg_closed_finish(rf_motion *m, const rf_arc *arc, const rf_spin_law *sp
         }
     }
     double ts = rf_scene_horizon(m, arc, ev->t);
-    if (m->scene_pending && ts < ev->t)
+    if (m->scn.pending && ts < ev->t)
         rf_seg_consider(ev, RF_EV_SCENE, ts);
     rf_motion_advance(m, arc, ev->t, spin);
-    if (spin && !m->point)
-        m->s.w = rf_spin_at(spin, m->rho, m->s.v, ev->t > 0 ? ev->t : 0.0);
+    if (spin && !m->cfg.point)
+        m->rock.s.w = rf_spin_at(spin, m->cfg.rho, m->rock.s.v, ev->t > 0 ? ev->t : 0.0);
     rf_motion_note_energy(m);
 }
 
@@ -100,8 +100,8 @@ rf_surface_end rf_face_closed(rf_motion *m, const rf_face_dyn *f, rf_vec3 dir, r
     rf_vec3 du = f->mode == RF_LAW_SLIDE ? rf_law_slip_rate(f, dir) : rf_v3(0, 0, 0);
     if (wall >= 0)
         rf_wall_law(dir, &a, &du);
-    double speed = rf_v3_norm(m->s.v);
-    rf_seg_event ev = {RF_EV_MAX_TIME, m->t_end - m->s.t, 0, 0, {0}, 0.0};
+    double speed = rf_v3_norm(m->rock.s.v);
+    rf_seg_event ev = {RF_EV_MAX_TIME, m->cfg.t_end - m->rock.s.t, 0, 0, {0}, 0.0};
     if (ev.t < 0)
         ev.t = 0;
     if (f->mode == RF_LAW_SLIDE) {
@@ -112,13 +112,13 @@ rf_surface_end rf_face_closed(rf_motion *m, const rf_face_dyn *f, rf_vec3 dir, r
         double as = rf_v3_dot(a, dir);
         if (as < 0) {
             if (holds)
-                rf_seg_consider(&ev, RF_EV_REST, speed > m->scene->sim->stop_speed
-                                            ? (speed - m->scene->sim->stop_speed) / -as : 0.0);
+                rf_seg_consider(&ev, RF_EV_REST, speed > m->cfg.scene->sim->stop_speed
+                                            ? (speed - m->cfg.scene->sim->stop_speed) / -as : 0.0);
             else
                 rf_seg_consider(&ev, RF_EV_ZERO, speed / -as);
         }
     }
-    rf_arc arc = {m->s.p, m->s.v, a};
+    rf_arc arc = {m->rock.s.p, m->rock.s.v, a};
     int edge = 0;
     double tx = rf_exit_time(m, fe, &arc, ev.t, wall, &edge);
     if (tx < ev.t) {

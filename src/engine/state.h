@@ -99,43 +99,52 @@ typedef struct rf_passage {
     double ax, ay, nx, ny;
 } rf_passage;
 
-typedef struct rf_motion {
+/* The rock's hot state: what every piece of motion reads and moves (b2BodyState's
+ * counterpart). */
+typedef struct rf_rock_state {
+    rf_state s;           /* p, v, w, t */
+    rf_support sup;       /* none (flight), a face or a crease; its coefficients */
+    rf_support flight_ex; /* faces a flight ignores (the face it rolled off) */
+} rf_rock_state;
+
+/* What stays the same over a trajectory: the scene and the body, and the tolerances
+ * scaled to the terrain. */
+typedef struct rf_motion_config {
     const rf_scene *scene;
     const rf_terrain *terrain;
     const rf_body *body;
-    gsl_rng *rng;
-    rf_workspace *ws;
-    const rf_sink *sink;
-    rf_trajectory_record *rec;
-
     double rho;        /* contact radius: r for the sphere, 0 for the point */
     int point;         /* point model: no size, no rotation */
     int centre;        /* contact `centre`: only the face under the centre (Eq. 6-7) */
     double tol_len;    /* length tolerance for this terrain */
     double v_stay;     /* rebound normal speed below which the rock stays on the surface */
     double t_end;      /* max_time */
+} rf_motion_config;
 
-    rf_state s;        /* current state */
-    rf_support sup;
-    rf_support flight_ex; /* faces a flight ignores (the face it rolled off) */
+/* The bookkeeping of a trajectory: its records and sink, and the watch on its
+ * progress (stalls, creep, rescues). */
+typedef struct rf_motion_book {
+    const rf_sink *sink;
+    rf_trajectory_record *rec;
+    double sample_acc; /* horizontal travel since the last sample */
     long events;
+    long marked;       /* events marked (rf_motion_event) */
     double stall_t;    /* time of the last event that advanced time by RF_STALL_TIME */
     int stall;         /* events since */
-    long rescues;
-    int wedged;       /* centre mode: a rescue found the rock wedged among walls at wedge_p */
-    rf_vec3 wedge_p;
     rf_vec3 creep_p;   /* where the rock was when it last moved on or was fast */
     int creep;         /* events since */
-    long marked;       /* events marked (rf_motion_event) */
-    int scene_pending; /* what rf_scene_horizon found: RF_SCENE_NONE, _MEASURE or _TREE */
+    long rescues;
+    int wedged;        /* centre mode: a rescue found the rock wedged among walls at wedge_p */
+    rf_vec3 wedge_p;
+} rf_motion_book;
 
-    /* samples */
-    double sample_acc; /* horizontal travel since the last sample */
-
-    /* scene events (scene_events.c): measure crossings and tree collisions */
+/* The scene events of a trajectory (scene_events.c, travel.c): measure crossings and
+ * tree collisions. */
+typedef struct rf_scene_state {
+    int pending;             /* what rf_scene_horizon found: RF_SCENE_NONE, _MEASURE or _TREE */
     rf_crossing crossings[RF_MAX_COINCIDENT_CROSSINGS]; /* the measures crossed, at once */
     int ncrossings;
-    rf_passage passing[RF_MAX_COINCIDENT_CROSSINGS]; /* lines being passed (scene_events.c) */
+    rf_passage passing[RF_MAX_COINCIDENT_CROSSINGS]; /* lines being passed (travel.c) */
     int npassing;
     int tree_forest;         /* the forest of the tree collision found */
     double tree_bound;       /* summed rate bound of the forests per metre; 0: none */
@@ -143,6 +152,16 @@ typedef struct rf_motion {
     double odo;              /* horizontal distance travelled */
     double tree_next;        /* odometer of the next candidate tree event (thinning) */
     double tree_u;           /* its uniform acceptance draw */
+} rf_scene_state;
+
+/* One rock's trajectory under way. */
+typedef struct rf_motion {
+    rf_rock_state rock;
+    rf_motion_config cfg;
+    gsl_rng *rng;
+    rf_workspace *ws;
+    rf_motion_book book;
+    rf_scene_state scn;
 } rf_motion;
 
 /* How a piece of surface motion ends. */

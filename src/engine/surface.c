@@ -41,17 +41,17 @@ static int is_wall(const rf_motion *m, int32_t to)
 static int wall_edge(rf_motion *m, const rf_face_dyn *f, const rf_face_edges *fe, rf_vec3 dir,
                      rf_vec3 *L)
 {
-    const rf_terrain *t = m->terrain;
-    int32_t from = m->sup.tri[0];
+    const rf_terrain *t = m->cfg.terrain;
+    int32_t from = m->rock.sup.tri[0];
     const rf_triangle *F = &t->tri[from];
     for (int k = 0; k < 3; k++) {
-        if (!rf_on_edge(m, fe, k, m->s.p) ||
-            rf_v3_dot(fe->m[k], m->s.v) > RF_APPROACH_EPS ||
+        if (!rf_on_edge(m, fe, k, m->rock.s.p) ||
+            rf_v3_dot(fe->m[k], m->rock.s.v) > RF_APPROACH_EPS ||
             !(rf_v3_dot(fe->m[k], rf_law_accel(f, dir)) < 0))
             continue;
         /* into it slower than the stay speed: the wall keeps it (as a face does) */
         *L = rf_edge_dir(F, k);
-        if (rf_v3_norm(rf_in_plane(m->s.v, *L)) > m->v_stay)
+        if (rf_v3_norm(rf_in_plane(m->rock.s.v, *L)) > m->cfg.v_stay)
             continue;
         if (is_wall(m, rf_face_over_edge(t, from, k, fe)))
             return k;
@@ -66,11 +66,11 @@ static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf
 {
     int at_end = 0; /* on another edge of the column, moving out over it */
     for (int k = 0; k < 3; k++)
-        at_end |= k != wall && rf_on_edge(m, fe, k, m->s.p) &&
+        at_end |= k != wall && rf_on_edge(m, fe, k, m->rock.s.p) &&
                   rf_v3_dot(fe->m[k], dir) < 0;
     if (!at_end)
         return 0;
-    int32_t to = rf_face_beyond(m->terrain, m->sup.tri[0], m->s.p, dir);
+    int32_t to = rf_face_beyond(m->cfg.terrain, m->rock.sup.tri[0], m->rock.s.p, dir);
     return to >= 0 && rf_wall_for(m, to, ke);
 }
 
@@ -85,13 +85,13 @@ static int wall_corner(const rf_motion *m, const rf_face_edges *fe, int wall, rf
 static int wall_meet(rf_motion *m, rf_face_dyn *f, const rf_face_edges *fe, int wall, rf_vec3 L,
                      rf_vec3 *dir, rf_vec3 *u, int *stays)
 {
-    double s = rf_v3_dot(m->s.v, L), gl = rf_v3_dot(f->gt, L);
+    double s = rf_v3_dot(m->rock.s.v, L), gl = rf_v3_dot(f->gt, L);
     *dir = rf_v3_scale(L, (s != 0 ? s : gl) < 0 ? -1.0 : 1.0);
     *stays = 0;
     /* the kinetic energy left along the wall decides whether a face is a wall too */
-    double ke = rf_kinetic_energy(m->body, rf_v3_scale(L, s), m->s.w);
+    double ke = rf_kinetic_energy(m->cfg.body, rf_v3_scale(L, s), m->rock.s.w);
     int slide = f->mode == RF_LAW_SLIDE;
-    rf_impact_site site = {RF_IMPACT_WALL_MEET, m->sup.tri[0], f->n};
+    rf_impact_site site = {RF_IMPACT_WALL_MEET, m->rock.sup.tri[0], f->n};
     site.l = L;
     site.corner_stop = wall_corner(m, fe, wall, *dir, ke);
     site.slide = slide;
@@ -115,13 +115,13 @@ static int wall_meet(rf_motion *m, rf_face_dyn *f, const rf_face_edges *fe, int 
             *dir = rf_v3_scale(L, way < 0 ? -1.0 : 1.0);
             return -1;
         }
-        m->sup.rolling = 1;
+        m->rock.sup.rolling = 1;
         *u = rf_v3(0, 0, 0);
         rf_set_spin(m, f->n, *u);
         rf_face_setup(m, f->n, f); /* rolling: no slip */
     }
     *stays = fabs(gl) <= f->c * f->gn;
-    if (fabs(s) <= m->scene->sim->stop_speed && *stays)
+    if (fabs(s) <= m->cfg.scene->sim->stop_speed && *stays)
         return RF_SURF_REST;
     return -1;
 }
@@ -142,17 +142,17 @@ static rf_surface_end wall_step(rf_motion *m, rf_face_dyn *f, const rf_face_edge
 int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf_vec3 *dir)
 {
     *wall = -1;
-    if (!rf_on_edge(m, col, edge, m->s.p))
+    if (!rf_on_edge(m, col, edge, m->rock.s.p))
         return -1;
-    int32_t from = m->sup.tri[0];
-    const rf_triangle *T = &m->terrain->tri[from];
+    int32_t from = m->rock.sup.tri[0];
+    const rf_triangle *T = &m->cfg.terrain->tri[from];
     rf_face_dyn f;
     rf_face_setup(m, T->n, &f);
-    rf_vec3 u = m->sup.rolling ? rf_v3(0, 0, 0) : rf_slip_of(m, T->n);
+    rf_vec3 u = m->rock.sup.rolling ? rf_v3(0, 0, 0) : rf_slip_of(m, T->n);
     /* the face the rock would enter there (rf_leave_face), which at a vertex need not
      * be the one over the edge's middle */
-    rf_vec3 acc = rf_law_accel(&f, rf_law_dir(&f, m->s.v, u));
-    if (!is_wall(m, rf_face_after(m, from, edge, col, m->s.p, acc)))
+    rf_vec3 acc = rf_law_accel(&f, rf_law_dir(&f, m->rock.s.v, u));
+    if (!is_wall(m, rf_face_after(m, from, edge, col, m->rock.s.p, acc)))
         return -1;
     int stays;
     int end = wall_meet(m, &f, col, edge, rf_edge_dir(T, edge), dir, &u, &stays);
@@ -163,31 +163,31 @@ int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf
 
 static rf_surface_end face_step(rf_motion *m)
 {
-    int32_t tri = m->sup.tri[0];
-    const rf_triangle *T = &m->terrain->tri[tri];
-    m->s.v = rf_in_plane(m->s.v, T->n);
+    int32_t tri = m->rock.sup.tri[0];
+    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    m->rock.s.v = rf_in_plane(m->rock.s.v, T->n);
     rf_face_dyn f;
     rf_vec3 u0 = rf_v3(0, 0, 0);
-    if (!m->point)
+    if (!m->cfg.point)
         u0 = rf_face_slip(m, T->n);
     rf_face_setup(m, T->n, &f);
     if (f.mode == RF_LAW_ROLL) {
         if (!rf_roll_holds(m, T->n)) {
-            m->sup.rolling = 0;
+            m->rock.sup.rolling = 0;
             rf_face_setup(m, T->n, &f);
             u0 = rf_v3(0, 0, 0);
         }
     }
-    double speed = rf_v3_norm(m->s.v);
+    double speed = rf_v3_norm(m->rock.s.v);
     int holds = rf_surface_holds(m);
-    if (speed <= m->scene->sim->stop_speed && f.mode != RF_LAW_SLIDE && holds)
+    if (speed <= m->cfg.scene->sim->stop_speed && f.mode != RF_LAW_SLIDE && holds)
         return RF_SURF_REST;
     rf_face_edges fe;
     rf_face_edges_setup(m, T, &fe);
-    rf_vec3 dir = rf_law_dir(&f, m->s.v, u0);
-    int closed = f.G == 0.0 || along(f.mode == RF_LAW_SLIDE ? u0 : m->s.v, f.e1);
+    rf_vec3 dir = rf_law_dir(&f, m->rock.s.v, u0);
+    int closed = f.G == 0.0 || along(f.mode == RF_LAW_SLIDE ? u0 : m->rock.s.v, f.e1);
     rf_vec3 L;
-    int wall = m->centre ? wall_edge(m, &f, &fe, dir, &L) : -1;
+    int wall = m->cfg.centre ? wall_edge(m, &f, &fe, dir, &L) : -1;
     if (wall >= 0)
         return wall_step(m, &f, &fe, wall, L);
     if (closed)
@@ -203,28 +203,28 @@ static rf_surface_end crease_step(rf_motion *m)
     case RF_CREASE_REST: return RF_SURF_REST;
     case RF_CREASE_MOVES: break;
     }
-    const rf_terrain *t = m->terrain;
+    const rf_terrain *t = m->cfg.terrain;
     rf_support ex = rf_segment_exclusion(m);
-    double stop = m->scene->sim->stop_speed;
+    double stop = m->cfg.scene->sim->stop_speed;
     rf_vec3 a = rf_v3_scale(cr.l, cr.as);
-    rf_seg_event ev = {RF_EV_MAX_TIME, rf_fmax(0.0, m->t_end - m->s.t), 0, 0, {0}, 0.0};
+    rf_seg_event ev = {RF_EV_MAX_TIME, rf_fmax(0.0, m->cfg.t_end - m->rock.s.t), 0, 0, {0}, 0.0};
     if (cr.as < 0 && cr.s > 0) {
         if (cr.holds)
             rf_seg_consider(&ev, RF_EV_REST, (cr.s - stop) / -cr.as);
         else
             rf_seg_consider(&ev, RF_EV_ZERO, cr.s / -cr.as);
     }
-    rf_arc arc = {m->s.p, m->s.v, a};
+    rf_arc arc = {m->rock.s.p, m->rock.s.v, a};
     rf_face_edges fe[2];
     for (int slot = 0; slot < 2; slot++) {
-        const rf_triangle *S = &t->tri[m->sup.tri[slot]];
+        const rf_triangle *S = &t->tri[m->rock.sup.tri[slot]];
         rf_face_edges_setup(m, S, &fe[slot]);
         int edge = 0;
         /* not over the edge the faces share: the contact points move along it (the
          * point mass on it), and the crease's direction, from two nearly parallel
          * normals, may stray from it by a hair (in centre mode the centre lies over
          * one face, beyond the other's column, and the crease ends there) */
-        int shared = m->centre ? -1 : rf_shared_edge(S, &t->tri[m->sup.tri[1 - slot]]);
+        int shared = m->cfg.centre ? -1 : rf_shared_edge(S, &t->tri[m->rock.sup.tri[1 - slot]]);
         double tx = rf_exit_time(m, &fe[slot], &arc, ev.t, shared, &edge);
         if (tx < ev.t) {
             rf_seg_consider(&ev, RF_EV_EXIT, tx);
@@ -241,5 +241,5 @@ static rf_surface_end crease_step(rf_motion *m)
 
 rf_surface_end rf_surface_step(rf_motion *m)
 {
-    return m->sup.n == 2 ? crease_step(m) : face_step(m);
+    return m->rock.sup.n == 2 ? crease_step(m) : face_step(m);
 }

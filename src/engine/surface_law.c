@@ -21,15 +21,15 @@ void rf_face_setup(const rf_motion *m, rf_vec3 n, rf_face_dyn *f)
         rf_vec3 x = fabs(n.x) < 0.9 ? rf_v3(1, 0, 0) : rf_v3(0, 1, 0);
         f->e1 = rf_v3_unit(rf_v3_madd(x, -rf_v3_dot(x, n), n));
     }
-    f->mu = m->sup.mu;
-    if (m->point) {
-        f->mode = RF_LAW_POINT, f->k = 1.0, f->c = m->sup.mu;
-    } else if (m->sup.rolling) {
-        f->mode = RF_LAW_ROLL, f->k = rf_roll_factor(m->body, m->rho), f->c = m->sup.mu_r;
+    f->mu = m->rock.sup.mu;
+    if (m->cfg.point) {
+        f->mode = RF_LAW_POINT, f->k = 1.0, f->c = m->rock.sup.mu;
+    } else if (m->rock.sup.rolling) {
+        f->mode = RF_LAW_ROLL, f->k = rf_roll_factor(m->cfg.body, m->cfg.rho), f->c = m->rock.sup.mu_r;
     } else {
-        f->mode = RF_LAW_SLIDE, f->k = 1.0, f->c = m->sup.mu;
+        f->mode = RF_LAW_SLIDE, f->k = 1.0, f->c = m->rock.sup.mu;
     }
-    f->K = m->point ? 1.0 : rf_slip_factor(m->body, m->rho);
+    f->K = m->cfg.point ? 1.0 : rf_slip_factor(m->cfg.body, m->cfg.rho);
 }
 
 /* The surface laws (module comment): acceleration of the centre and rate of the slip. */
@@ -93,29 +93,29 @@ rf_vec3 rf_crease_centre(const rf_triangle *A, const rf_triangle *B, double rho,
 
 rf_spin_law rf_crease_roll(const rf_motion *m)
 {
-    const rf_terrain *t = m->terrain;
-    rf_vec3 nm = rf_v3_unit(rf_v3_add(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n));
+    const rf_terrain *t = m->cfg.terrain;
+    rf_vec3 nm = rf_v3_unit(rf_v3_add(t->tri[m->rock.sup.tri[0]].n, t->tri[m->rock.sup.tri[1]].n));
     rf_vec3 z = rf_v3(0, 0, 0);
     return (rf_spin_law){nm, 0.0, z, z};
 }
 
 int rf_surface_holds(const rf_motion *m)
 {
-    const rf_terrain *t = m->terrain;
-    double c = m->point ? m->sup.mu : (m->sup.rolling ? m->sup.mu_r : -1.0);
-    if (m->sup.n == 1) {
+    const rf_terrain *t = m->cfg.terrain;
+    double c = m->cfg.point ? m->rock.sup.mu : (m->rock.sup.rolling ? m->rock.sup.mu_r : -1.0);
+    if (m->rock.sup.n == 1) {
         if (c < 0)
             return 0; /* a slipping sphere first rolls */
-        rf_vec3 n = t->tri[m->sup.tri[0]].n;
+        rf_vec3 n = t->tri[m->rock.sup.tri[0]].n;
         double G = RF_GRAVITY * sqrt(rf_fmax(0.0, 1.0 - n.z * n.z));
         return G <= c * RF_GRAVITY * n.z;
     }
-    if (m->sup.n == 2) {
+    if (m->rock.sup.n == 2) {
         if (c < 0)
-            c = m->sup.mu;
+            c = m->rock.sup.mu;
         double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
         rf_vec3 l;
-        if (rf_crease_forces(t->tri[m->sup.tri[0]].n, t->tri[m->sup.tri[1]].n, &xA, &xB, &l))
+        if (rf_crease_forces(t->tri[m->rock.sup.tri[0]].n, t->tri[m->rock.sup.tri[1]].n, &xA, &xB, &l))
             return 0;
         return fabs(RF_GRAVITY * l.z) <= c * (xA + xB);
     }
@@ -126,13 +126,13 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n)
 {
     rf_face_dyn f;
     rf_face_setup(m, n, &f);
-    double k = rf_roll_factor(m->body, m->rho);
-    double vl = rf_v3_norm(m->s.v);
+    double k = rf_roll_factor(m->cfg.body, m->cfg.rho);
+    double vl = rf_v3_norm(m->rock.s.v);
     if (!(vl > 0) && rf_surface_holds(m))
         return 1; /* at rest where it stays: no force is needed */
-    rf_vec3 dir = vl > 0 ? rf_v3_scale(m->s.v, 1.0 / vl) : f.e1;
-    rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - k), -k * m->sup.mu_r * f.gn, dir);
-    double cap = m->sup.mu * f.gn * (1 + 1e-12);
+    rf_vec3 dir = vl > 0 ? rf_v3_scale(m->rock.s.v, 1.0 / vl) : f.e1;
+    rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - k), -k * m->rock.sup.mu_r * f.gn, dir);
+    double cap = m->rock.sup.mu * f.gn * (1 + 1e-12);
     /* or the slip law lets no slip grow from zero (|g_t| <= K mu g_n, the demand
      * without the resistance): where the two laws disagree (uphill, see docs/engine.md)
      * the sphere rolls on instead of switching between them at every instant */

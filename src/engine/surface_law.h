@@ -41,7 +41,7 @@ rf_vec3 rf_law_dir(const rf_face_dyn *f, rf_vec3 v, rf_vec3 u);
  * slip's rate du. */
 void rf_wall_law(rf_vec3 dir, rf_vec3 *a, rf_vec3 *du);
 /* The surface law on a face with normal n for the rock's current mode (point, slipping
- * or rolling sphere; coefficients of m->sup): acceleration of the centre, and in *du
+ * or rolling sphere; coefficients of m->rock.sup): acceleration of the centre, and in *du
  * the rate of the slip u of a slipping sphere. */
 rf_vec3 rf_surface_accel(const rf_motion *m, rf_vec3 n, rf_vec3 v, rf_vec3 u, rf_vec3 *du);
 /* Normal pressures (per unit mass) of the two faces of a crease with normals nA, nB,

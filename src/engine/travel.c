@@ -28,9 +28,9 @@ double rf_passage_reach(const rf_passage *ps, const rf_arc *arc, double T)
 /* The passage of measure `which`, or NULL. */
 rf_passage *rf_passage_of(rf_motion *m, int which)
 {
-    for (int i = 0; i < m->npassing; i++)
-        if (m->passing[i].measure == which)
-            return &m->passing[i];
+    for (int i = 0; i < m->scn.npassing; i++)
+        if (m->scn.passing[i].measure == which)
+            return &m->scn.passing[i];
     return NULL;
 }
 
@@ -38,15 +38,16 @@ rf_passage *rf_passage_of(rf_motion *m, int which)
  * starts (the oldest passage makes room when all are taken). */
 void rf_passage_start(rf_motion *m, const rf_crossing *c)
 {
-    const double *A = &m->scene->measures[c->measure].line.xy[2 * c->segment], *B = A + 2;
+    const double *A = &m->cfg.scene->measures[c->measure].line.xy[2 * c->segment], *B = A + 2;
     double dx = B[0] - A[0], dy = B[1] - A[1], len = hypot(dx, dy);
     rf_passage *ps = rf_passage_of(m, c->measure);
     if (!ps) {
-        if (m->npassing == RF_MAX_COINCIDENT_CROSSINGS) {
-            memmove(m->passing, m->passing + 1, (size_t)(m->npassing - 1) * sizeof *m->passing);
-            m->npassing--;
+        if (m->scn.npassing == RF_MAX_COINCIDENT_CROSSINGS) {
+            memmove(m->scn.passing, m->scn.passing + 1,
+                    (size_t)(m->scn.npassing - 1) * sizeof *m->scn.passing);
+            m->scn.npassing--;
         }
-        ps = &m->passing[m->npassing++];
+        ps = &m->scn.passing[m->scn.npassing++];
     }
     /* a crossed segment has a length (measures.c passes over a zero one) */
     *ps = (rf_passage){c->measure, A[0], A[1], -dy / len, dx / len};
@@ -54,15 +55,15 @@ void rf_passage_start(rf_motion *m, const rf_crossing *c)
 
 void rf_scene_travel(rf_motion *m, const rf_arc *arc, double T)
 {
-    for (int i = 0; i < m->npassing;) {
-        if (rf_passage_reach(&m->passing[i], arc, T) > m->body->radius) {
-            memmove(m->passing + i, m->passing + i + 1,
-                    (size_t)(m->npassing - i - 1) * sizeof *m->passing);
-            m->npassing--;
+    for (int i = 0; i < m->scn.npassing;) {
+        if (rf_passage_reach(&m->scn.passing[i], arc, T) > m->cfg.body->radius) {
+            memmove(m->scn.passing + i, m->scn.passing + i + 1,
+                    (size_t)(m->scn.npassing - i - 1) * sizeof *m->scn.passing);
+            m->scn.npassing--;
         } else {
             i++;
         }
     }
-    if (m->tree_bound > 0.0)
-        m->odo += rf_horizontal_length(arc->v, arc->a, T);
+    if (m->scn.tree_bound > 0.0)
+        m->scn.odo += rf_horizontal_length(arc->v, arc->a, T);
 }
