@@ -109,7 +109,7 @@ static inline unsigned slot_of(uint64_t key)
  * edge k & 3 when k & 4) is met in the current generation of the table. */
 static int feat_first(rf_workspace *ws, uint64_t key, int32_t idx, int k)
 {
-    const rf_terrain *t = ws->terrain;
+    const rf_terrain *t = ws->tables->terrain;
     for (unsigned h = slot_of(key);; h = (h + 1) & (RF_FEAT_SLOTS - 1)) {
         rf_feat_slot *sl = &ws->feat[h];
         if (sl->gen != ws->feat_gen) {
@@ -497,7 +497,7 @@ static void search_pieces(rf_search *s, double T)
      * mode the centre meets a face r / n.z above its plane, the furthest above the
      * steepest face; a rock lifted onto a steep face at the top and let fall again
      * fell through it) */
-    double up = m->cfg.centre ? reach / m->ws->nz_min : reach;
+    double up = m->cfg.centre ? reach / m->ws->tables->nz_min : reach;
     double cell = t->is_grid ? t->cell : t->bsize;
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
     double hlen = vh * T;
@@ -600,7 +600,7 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
     double zl = lo.z - reach, zh = hi.z + reach;
     size_t nhit = 0;
-    const float *box = ws->tri_box;
+    const float *box = ws->tables->tri_box;
     const rf_terrain *t = m->cfg.terrain;
     int filter = !m->cfg.centre && !m->cfg.point;
     rf_support_planes_set(m, &s.sp);

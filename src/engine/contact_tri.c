@@ -291,7 +291,7 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
     double lo = t0, hi = t1;
     double al[3], be[3]; /* the centre's inward distance from edge k: al + be t */
     rf_vec3 P[3] = {T->a, T->b, T->c};
-    const double *hedge = s->m->ws->hedge + 3 * (size_t)idx;
+    const double *hedge = s->m->ws->tables->hedge + 3 * (size_t)idx;
     double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
     if (orient == 0.0)
         return;

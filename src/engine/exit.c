@@ -108,7 +108,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
     double best = INFINITY;
     for (size_t i = 0; i < n; i++) {
         int32_t idx = m->ws->cand[i];
-        unsigned border = m->ws->edge_live[idx] / RF_EDGE_BORDER;
+        unsigned border = m->ws->tables->edge_live[idx] / RF_EDGE_BORDER;
         if (!border)
             continue;
         const rf_triangle *T = &t->tri[idx];
@@ -116,7 +116,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
             if (!(border >> k & 1))
                 continue;
             rf_vec3 A = rf_tri_vertex(T, k), B = rf_tri_vertex(T, k + 1), C = rf_tri_vertex(T, k + 2);
-            double ex = B.x - A.x, ey = B.y - A.y, el = m->ws->hedge[3 * (size_t)idx + k];
+            double ex = B.x - A.x, ey = B.y - A.y, el = m->ws->tables->hedge[3 * (size_t)idx + k];
             /* the side of the edge line the centre is on: s0 + s1 t, the triangle's
              * side positive */
             double sc = ex * (C.y - A.y) - ey * (C.x - A.x);
@@ -173,7 +173,7 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
         te = dmin(te, (ymin - py) / vy);
     if (te < 0)
         te = 0;
-    if (!m->ws->has_gaps)
+    if (!m->ws->tables->has_gaps)
         return te;
     double vh = hypot(vx, vy);
     /* meshes: a gap under the start, still there `bridge` on (a grid's: a start inside

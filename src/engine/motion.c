@@ -25,31 +25,33 @@
 #include "engine/surface.h"
 #include "engine/tables.h"
 
-rf_workspace *rf_workspace_alloc(const rf_terrain *t)
+rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt)
 {
+    const rf_terrain *t = tt->terrain;
     rf_workspace *ws = calloc(1, sizeof *ws);
     if (!ws)
         return NULL;
-    ws->terrain = t;
+    ws->tables = tt;
     ws->cap = 256;
     ws->cand = malloc(ws->cap * sizeof *ws->cand);
     ws->stamp = calloc(t->ntri ? t->ntri : 1, sizeof *ws->stamp);
     ws->tested = calloc(t->ntri ? t->ntri : 1, sizeof *ws->tested);
-    ws->edge_live = malloc(t->ntri ? t->ntri : 1);
-    ws->tri_box = malloc(6 * (t->ntri ? t->ntri : 1) * sizeof *ws->tri_box);
-    ws->hedge = malloc(3 * (t->ntri ? t->ntri : 1) * sizeof *ws->hedge);
-    if (!ws->cand || !ws->stamp || !ws->tested || !ws->edge_live || !ws->tri_box || !ws->hedge ||
-        rf_edge_live_build(t, ws->edge_live)) {
+    if (!ws->cand || !ws->stamp || !ws->tested) {
         rf_workspace_free(ws);
         return NULL;
     }
-    rf_tri_box_build(t, ws->tri_box);
-    rf_hedge_build(t, ws->hedge);
-    ws->has_gaps = rf_terrain_has_gaps(t, ws->edge_live);
-    ws->nz_min = 1.0;
-    for (size_t k = 0; k < t->ntri; k++)
-        ws->nz_min = fmin(ws->nz_min, t->tri[k].n.z);
-    ws->nz_min = fmax(ws->nz_min, 1e-12);
+    return ws;
+}
+
+rf_workspace *rf_workspace_alloc(const rf_terrain *t)
+{
+    rf_terrain_tables *tt = rf_terrain_tables_build(t);
+    rf_workspace *ws = tt ? rf_workspace_alloc_shared(tt) : NULL;
+    if (!ws) {
+        rf_terrain_tables_free(tt);
+        return NULL;
+    }
+    ws->own = tt;
     return ws;
 }
 
@@ -60,12 +62,10 @@ void rf_workspace_free(rf_workspace *ws)
     free(ws->cand);
     free(ws->stamp);
     free(ws->tested);
-    free(ws->edge_live);
-    free(ws->tri_box);
-    free(ws->hedge);
     free(ws->near_hit);
     free(ws->pend_idx);
     free(ws->pend_w0);
+    rf_terrain_tables_free(ws->own);
     free(ws);
 }
 

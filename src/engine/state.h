@@ -62,28 +62,36 @@ typedef struct rf_feat_slot {
     int32_t tri, k;   /* first triangle holding it; vertex k, or edge (k & 3) | 4 */
 } rf_feat_slot;
 
-struct rf_workspace {
+/* The read-only tables of one terrain (tables.c), built once and shared by the
+ * workspaces of all threads. */
+struct rf_terrain_tables {
     const rf_terrain *terrain;
-    int32_t *cand;    /* candidate triangles */
-    size_t cap;
-    uint32_t *stamp;  /* query stamps, one per triangle */
-    uint32_t epoch;
-    int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
-                         a mesh on its border in plan off its bounding box's sides */
-    double nz_min;    /* the smallest z component of the faces' unit normals, at least
-                         1e-12 (centre contact: a centre meets a face r / n.z above) */
-    int32_t *near_hit; /* candidates of a surface segment */
     float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
                          outwards) */
     double *hedge;    /* per triangle: the horizontal lengths of edges ab, bc, ca */
-    size_t near_cap;
-    int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
-    double *pend_w0;
-    size_t pend_cap;
     uint8_t *edge_live; /* per triangle, bit k: edge k can be met first (not strictly
                            concave: convex, nearly flat, or on the border); meshes, bit
                            RF_EDGE_BORDER << k: edge k is a border in plan (one
                            holder covers ground: no other, or only vertical ones) */
+    int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
+                         a mesh on its border in plan off its bounding box's sides */
+    double nz_min;    /* the smallest z component of the faces' unit normals, at least
+                         1e-12 (centre contact: a centre meets a face r / n.z above) */
+};
+
+/* One thread's scratch for the motion of its rocks, over the shared tables. */
+struct rf_workspace {
+    const rf_terrain_tables *tables;
+    rf_terrain_tables *own; /* the tables, when the workspace built them itself */
+    int32_t *cand;    /* candidate triangles */
+    size_t cap;
+    uint32_t *stamp;  /* query stamps, one per triangle */
+    uint32_t epoch;
+    int32_t *near_hit; /* candidates of a surface segment */
+    size_t near_cap;
+    int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
+    double *pend_w0;
+    size_t pend_cap;
     uint32_t *tested; /* flights: triangles tested in the current search (== test_epoch) */
     uint32_t test_epoch;
     /* contact.c: shared edges and vertices (zeroed by calloc; no allocation) */

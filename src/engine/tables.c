@@ -93,7 +93,7 @@ static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int
 
 /* Grids: the flags of triangle idx, from its neighbours by cell arithmetic (cell (i, j)
  * holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a is SW in both). */
-void rf_grid_edge_live(const rf_terrain *t, uint8_t *live, int32_t idx)
+static void grid_edge_live(const rf_terrain *t, uint8_t *live, int32_t idx)
 {
     live[idx] = 8 | 7;
     size_t ncx = t->nx - 1, ncy = t->ny - 1;
@@ -142,7 +142,8 @@ static int covers_ground(const rf_triangle *T)
 int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
 {
     if (t->is_grid) {
-        memset(live, 0, t->ntri ? t->ntri : 1); /* found when first asked for */
+        for (size_t i = 0; i < t->ntri; i++)
+            grid_edge_live(t, live, (int32_t)i);
         return 0;
     }
     memset(live, 8 | 7, t->ntri ? t->ntri : 1);
@@ -204,4 +205,38 @@ int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live)
         }
     }
     return 0;
+}
+
+rf_terrain_tables *rf_terrain_tables_build(const rf_terrain *t)
+{
+    rf_terrain_tables *tt = calloc(1, sizeof *tt);
+    if (!tt)
+        return NULL;
+    size_t n = t->ntri ? t->ntri : 1;
+    tt->terrain = t;
+    tt->edge_live = malloc(n);
+    tt->tri_box = malloc(6 * n * sizeof *tt->tri_box);
+    tt->hedge = malloc(3 * n * sizeof *tt->hedge);
+    if (!tt->edge_live || !tt->tri_box || !tt->hedge || rf_edge_live_build(t, tt->edge_live)) {
+        rf_terrain_tables_free(tt);
+        return NULL;
+    }
+    rf_tri_box_build(t, tt->tri_box);
+    rf_hedge_build(t, tt->hedge);
+    tt->has_gaps = rf_terrain_has_gaps(t, tt->edge_live);
+    tt->nz_min = 1.0;
+    for (size_t k = 0; k < t->ntri; k++)
+        tt->nz_min = fmin(tt->nz_min, t->tri[k].n.z);
+    tt->nz_min = fmax(tt->nz_min, 1e-12);
+    return tt;
+}
+
+void rf_terrain_tables_free(rf_terrain_tables *tt)
+{
+    if (!tt)
+        return;
+    free(tt->edge_live);
+    free(tt->tri_box);
+    free(tt->hedge);
+    free(tt);
 }

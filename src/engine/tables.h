@@ -9,25 +9,25 @@
 
 #include "engine/state.h"
 
+/* The tables of terrain t (rf_terrain_tables_build of sim.h), and their release, are
+ * public; the engine reads them through its workspace. */
+
 /* Fills box (6 per triangle: xmin, xmax, ymin, ymax, zmin, zmax, rounded outwards)
  * for terrain t. */
 void rf_tri_box_build(const rf_terrain *t, float *box);
 /* Fills hedge (3 per triangle: the horizontal lengths of edges ab, bc, ca) for t. */
 void rf_hedge_build(const rf_terrain *t, double *hedge);
-/* Prepares the live-edge flags of terrain t (meshes: all flags; grids: each triangle's
- * when first asked for, rf_edge_live); 0, or -1 out of memory. */
+/* Fills the live-edge flags of terrain t (live: one per triangle); 0, or -1 out of
+ * memory. */
 int rf_edge_live_build(const rf_terrain *t, uint8_t *live);
-/* Grids: the flags of triangle idx, from its neighbours by cell arithmetic. */
-void rf_grid_edge_live(const rf_terrain *t, uint8_t *live, int32_t idx);
-/* 1 when terrain t has holes (see rf_workspace.has_gaps); live: from rf_edge_live_build. */
+/* 1 when terrain t has holes (see rf_terrain_tables.has_gaps); live: from
+ * rf_edge_live_build. */
 int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live);
 
 /* Bit k: edge k of triangle idx can be met first. */
-static inline unsigned rf_edge_live(rf_workspace *ws, int32_t idx)
+static inline unsigned rf_edge_live(const rf_workspace *ws, int32_t idx)
 {
-    if (!(ws->edge_live[idx] & 8))
-        rf_grid_edge_live(ws->terrain, ws->edge_live, idx);
-    return ws->edge_live[idx];
+    return ws->tables->edge_live[idx];
 }
 
 /* Hashes of coordinates, for the keys of a mesh's vertices and edges. */
