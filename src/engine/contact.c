@@ -226,13 +226,16 @@ static void test_features(rf_search *s, size_t npend, double tb, rf_vec3 blo, rf
 
 /* How far from the centre a feature can be met: the contact radius and four length
  * tolerances. */
-static double sphere_reach(const rf_motion *m) { return m->cfg.rho + 4 * m->cfg.tol_len; }
+static double sphere_reach(const rf_motion *m)
+{
+    return m->cfg.rho + RF_REACH_TOLS * m->cfg.tol_len;
+}
 
 /* How far from a flight's horizontal line a triangle can be met: the reach of the
  * sphere, or in centre mode (the face under the centre) the length tolerance. */
 static double line_reach(const rf_motion *m)
 {
-    return m->cfg.centre ? 4 * m->cfg.tol_len : sphere_reach(m);
+    return m->cfg.centre ? RF_REACH_TOLS * m->cfg.tol_len : sphere_reach(m);
 }
 
 /* Room for the pending triangles of n candidates. */
@@ -334,7 +337,7 @@ static void line_candidate(rf_search *s, int32_t idx, double T, size_t *npend)
     double zt = dmax(Tr->a.z, dmax(Tr->b.z, Tr->c.z));
     if (m->cfg.centre) {
         /* as test_candidates: the centre meets a face r / n.z above its plane */
-        if (zt < zlo - reach / dmax(Tr->n.z, 1e-12) ||
+        if (zt < zlo - reach / dmax(Tr->n.z, RF_NZ_MIN) ||
             dmin(Tr->a.z, dmin(Tr->b.z, Tr->c.z)) > zhi + reach)
             return;
     } else if (zt < zlo - reach) {
@@ -457,7 +460,7 @@ static void test_candidates(rf_search *s, const int32_t *cand, size_t n, double 
             continue;
         /* below: in centre mode the centre meets a face r / n.z above its plane,
          * more than r above its vertices on a steep face */
-        double zlow = m->cfg.centre ? lo.z - reach / dmax(Tr->n.z, 1e-12) : zl;
+        double zlow = m->cfg.centre ? lo.z - reach / dmax(Tr->n.z, RF_NZ_MIN) : zl;
         if (Tr->a.z < zlow && Tr->b.z < zlow && Tr->c.z < zlow)
             continue;
         if (rf_excluded_tri(ex, idx)) {
@@ -544,7 +547,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     if (!(T >= 0))
         return 0;
     double vh0 = s.vh;
-    if (arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > 1e-3 * m->cfg.rho) {
+    if (arc->a.x == 0.0 && arc->a.y == 0.0 && vh0 * T > RF_LINE_MIN_TRAVEL * m->cfg.rho) {
         s.line = 1;
         s.ux = arc->v.x / vh0;
         s.uy = arc->v.y / vh0;

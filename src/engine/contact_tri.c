@@ -165,7 +165,7 @@ static int entries(const rf_search *s, rf_vec3 W, rf_vec3 V, rf_vec3 H, double w
     double c[5] = {rf_v3_norm2(W) - rho * rho, 2 * rf_v3_dot(W, V),
                    rf_v3_norm2(V) + 2 * rf_v3_dot(W, H), 2 * rf_v3_dot(V, H), rf_v3_norm2(H)};
     double tol = 2 * rho * s->m->cfg.tol_len, slope = 2 * rho * RF_APPROACH_EPS;
-    return rf_poly_contact_entries(c, w0, w1, tol, slope, 4 * rho * 1e-9, roots);
+    return rf_poly_contact_entries(c, w0, w1, tol, slope, 4 * rho * RF_CURVE_EPS, roots);
 }
 
 /* Edge from va to vb against the centre over [w0, w1]. */
@@ -231,7 +231,7 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
     double d0 = f[1] + 2.0 * f[2] * t0;
     double band = RF_TOUCH_BAND * tol;
     if (f0 <= tol && f0 >= -band) {
-        if (d0 < -RF_APPROACH_EPS || (fabs(f0) <= tol && d0 <= RF_APPROACH_EPS && f[2] < -1e-9)) {
+        if (d0 < -RF_APPROACH_EPS || (fabs(f0) <= tol && d0 <= RF_APPROACH_EPS && f[2] < -RF_CURVE_EPS)) {
             *t = t0;
             return 1;
         }
@@ -385,7 +385,7 @@ int rf_test_face(rf_search *s, int32_t idx, double t0, double t1, double *w0)
         rf_vec3 q = rf_v3_madd(rf_arc_pos(arc, t_face), -rho, T->n);
         /* a sphere's contact point may lie a hair outside, across an edge on the
          * support's plane, which is not tested (a sphere in a concave corner) */
-        if (rf_inside_closed(T, q) || inside_margin(T, q) >= -1e-6 * rho) {
+        if (rf_inside_closed(T, q) || inside_margin(T, q) >= -RF_RADIUS_REL_TOL * rho) {
             int skip = s->nskip > 0 && skipped(s, idx, RF_FEAT_FACE, 0);
             if (t_face < s->best && !skip)
                 take(s, t_face, idx, RF_FEAT_FACE, 0, q);

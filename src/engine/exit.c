@@ -102,7 +102,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
     const rf_terrain *t = m->cfg.terrain;
     double xa = arc->p.x + arc->v.x * ta, xb = arc->p.x + arc->v.x * tb;
     double ya = arc->p.y + arc->v.y * ta, yb = arc->p.y + arc->v.y * tb;
-    double pad = 4 * m->cfg.tol_len;
+    double pad = RF_REACH_TOLS * m->cfg.tol_len;
     size_t n = rf_gather(m, dmin(xa, xb) - pad, dmin(ya, yb) - pad, dmax(xa, xb) + pad,
                          dmax(ya, yb) + pad);
     double best = INFINITY;
@@ -143,8 +143,8 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
              * at least a hundredth of the holder's height over it, far beyond the
              * locator's tolerance), along the path, but no more than 100 times that
              * for a path nearly along the edge */
-            double d = dmax(bridge, 0.01 * fabs(sc) / el);
-            double dt = d * dmin(vh * el / -s1, 100.0) / vh;
+            double d = dmax(bridge, RF_GAP_PROBE * fabs(sc) / el);
+            double dt = d * dmin(vh * el / -s1, RF_GAP_PROBE_MAX) / vh;
             if (over_gap(t, arc, th + dt))
                 best = th;
         }
@@ -180,7 +180,7 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
      * a nodata triangle, below) */
     double bridge = m->cfg.centre || m->cfg.point ? 0.0 : m->cfg.rho;
     if (!t->is_grid && over_gap(t, arc, 0.0) &&
-        (!(vh > 0) || over_gap(t, arc, dmax(bridge, 0.01 * t->bsize) / vh)))
+        (!(vh > 0) || over_gap(t, arc, dmax(bridge, RF_GAP_PROBE * t->bsize) / vh)))
         return 0.0;
     /* the gaps along the path, a few cells at a time */
     double cell = t->is_grid ? t->cell : t->bsize;

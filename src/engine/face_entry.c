@@ -46,7 +46,7 @@ int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
     double s = rf_v3_dot(m->rock.s.v, l);
     m->rock.s.v = rf_v3_scale(l, s);
     rf_vec3 p = rf_crease_centre(A, B, m->cfg.rho, m->rock.s.p);
-    if (rf_v3_norm(rf_v3_sub(p, m->rock.s.p)) > 0.01 * rf_fmax(m->cfg.rho, 0.01))
+    if (rf_v3_norm(rf_v3_sub(p, m->rock.s.p)) > RF_CREASE_SNAP * rf_fmax(m->cfg.rho, RF_CREASE_SNAP))
         return -1;
     m->rock.s.p = p;
     if (m->rock.sup.n == 0 || m->rock.sup.zone != B->zone)
@@ -83,8 +83,8 @@ int rf_pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
 {
     rf_vec3 c = rf_v3_madd(q, m->cfg.rho, m->cfg.terrain->tri[to].n);
     rf_contact near;
-    double d = rf_closest_feature(m, c, m->cfg.rho + 1e-3, &near);
-    return d >= m->cfg.rho - 1e-6 * m->cfg.rho - m->cfg.tol_len;
+    double d = rf_closest_feature(m, c, m->cfg.rho + RF_PIVOT_REACH, &near);
+    return d >= m->cfg.rho - RF_RADIUS_REL_TOL * m->cfg.rho - m->cfg.tol_len;
 }
 
 /* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
@@ -116,7 +116,7 @@ rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *ga
     if (!(*gap > 0))
         return rf_v3(0, 0, 0);
     double along = 0.0;
-    if (T->n.z < 0.2) {
+    if (T->n.z < RF_STEEP_NZ) {
         rf_face_edges fe;
         rf_column_edges(T, &fe);
         along = *gap;
@@ -166,8 +166,8 @@ static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
     if (!(h > 0))
         return 0;
     rf_vec3 q = m->rock.s.p;
-    q.x += 4.0 * tol * v.x / h;
-    q.y += 4.0 * tol * v.y / h;
+    q.x += RF_REACH_TOLS * tol * v.x / h;
+    q.y += RF_REACH_TOLS * tol * v.y / h;
     double ke = rf_kinetic_energy(m->cfg.body, v, m->rock.s.w);
     size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
     for (size_t i = 0; i < n; i++) {
@@ -262,7 +262,7 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     }
     /* a slow sphere on a convex edge or vertex rolls over it onto a face */
     rf_vec3 w = m->rock.s.v;
-    if (rf_v3_hnorm(w) < 1e-9)
+    if (rf_v3_hnorm(w) < RF_DIR_SPEED_EPS)
         w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
     int32_t to = rf_face_beyond(t, -2, c->point, w);
     /* not back onto the face just flown off, met at its own edge as the rock leaves

@@ -66,7 +66,7 @@ double rf_exit_time(const rf_motion *m, const rf_face_edges *fe, const rf_arc *a
             t = 0.0; /* already beyond the edge and not coming back */
         } else if (rf_poly_entries(f, 2, 0.0, rf_fmin(T, best), tol, RF_APPROACH_EPS, r) > 0) {
             t = r[0];
-        } else if (fabs(f[0]) <= tol && fabs(f[1]) <= RF_APPROACH_EPS && f[2] < -1e-12) {
+        } else if (fabs(f[0]) <= tol && fabs(f[1]) <= RF_APPROACH_EPS && f[2] < -RF_EXIT_CURVE_EPS) {
             t = 0.0;
         }
         if (t < best) {
@@ -101,7 +101,7 @@ static next_kind next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
     if (fabs(vn) <= RF_APPROACH_EPS) {
         /* moving along the edge: the acceleration decides */
         double an = rf_v3_dot(acc, Tn->n);
-        if (fabs(an) > 1e-9)
+        if (fabs(an) > RF_ACCEL_EPS)
             vn = an > 0 ? INFINITY : -INFINITY;
     }
     if (m->cfg.centre) {
@@ -147,9 +147,9 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
 {
     const rf_terrain *t = m->cfg.terrain;
     rf_vec3 dir = m->rock.s.v;
-    if (rf_v3_norm(dir) < 1e-9)
+    if (rf_v3_norm(dir) < RF_DIR_SPEED_EPS)
         dir = acc;
-    if (rf_v3_hnorm(dir) < 1e-12)
+    if (rf_v3_hnorm(dir) < RF_VEC_ZERO)
         dir = rf_v3_scale(fe->m[edge], -1.0);
     int32_t to = rf_face_beyond(t, from, q, dir);
     if (to == from)

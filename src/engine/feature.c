@@ -110,7 +110,7 @@ static void vertical_overlap(const rf_triangle *T, double x, double y, double rh
             }
         }
     }
-    if (T->n.z > 1e-12) {
+    if (T->n.z > RF_NZ_MIN) {
         /* each offset face is met where the foot of the line's point lies in T (n.z
          * >= 0: the normals point up) */
         double zp = rf_triangle_z_at(T, x, y), dz = rho / T->n.z;
@@ -150,9 +150,9 @@ int32_t rf_face_beyond(const rf_terrain *t, int32_t from, rf_vec3 q, rf_vec3 dir
     if (!(h > 0))
         return rf_terrain_locate(t, q.x, q.y);
     double ux = dir.x / h, uy = dir.y / h;
-    double scale = 1.0 + dmax(fabs(q.x), fabs(q.y)) * 1e-9;
+    double scale = 1.0 + dmax(fabs(q.x), fabs(q.y)) * RF_BEYOND_REL;
     int32_t idx = -1;
-    for (double step = 1e-7 * scale; step < 1e-3; step *= 10) {
+    for (double step = RF_BEYOND_STEP * scale; step < RF_BEYOND_MAX; step *= 10) {
         idx = rf_terrain_locate(t, q.x + step * ux, q.y + step * uy);
         if (idx != from)
             return idx;

@@ -379,7 +379,7 @@ int rf_simulate_fixed_step(rf_motion *m)
     long marked = m->book.marked;
     /* the steps max_time takes and as many events as the exact engine may meet */
     double budget = ceil((m->cfg.t_end - m->rock.s.t) / dt) + RF_MAX_EVENTS;
-    long cap = budget < 1e15 ? (long)budget : (long)1e15;
+    long cap = budget < RF_FIXED_MAX_STEPS ? (long)budget : (long)RF_FIXED_MAX_STEPS;
     for (;;) {
         if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap)
             return RF_END_MAX_TIME;

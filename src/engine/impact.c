@@ -246,7 +246,7 @@ int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
     if (!(e > 0.0))
         return -1;
     rf_vec3 dir = rf_v3_madd(m->rock.s.v, -rf_v3_dot(m->rock.s.v, n), n);
-    if (!(rf_v3_norm(dir) > 1e-12)) {
+    if (!(rf_v3_norm(dir) > RF_VEC_ZERO)) {
         dir = rf_v3(n.x * n.z, n.y * n.z, n.z * n.z - 1.0); /* fall line */
     }
     double dl = rf_v3_norm(dir);

@@ -159,7 +159,7 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     m.cfg.centre = !m.cfg.point && sim->contact == RF_CONTACT_CENTRE;
     double scale = fmax(fmax(fabs(t->xmin), fabs(t->xmax)),
                         fmax(fmax(fabs(t->ymin), fabs(t->ymax)), fmax(fabs(t->zmin), fabs(t->zmax))));
-    m.cfg.tol_len = fmax(RF_LEN_TOL, 1e-14 * scale);
+    m.cfg.tol_len = fmax(RF_LEN_TOL, RF_LEN_TOL_REL * scale);
     m.cfg.v_stay = sqrt(2.0 * RF_GRAVITY * RF_STAY_HEIGHT);
     m.rock.s = *start;
     if (m.cfg.point)

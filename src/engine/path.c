@@ -229,7 +229,7 @@ static double narrow(rf_motion *m, rf_ev_kind kind, const rf_seg_event *ev, cons
 {
     double tmp[9];
     int side = 0;
-    for (int it = 0; it < 60 && b.hi - b.lo > RF_TIME_TOL; it++) {
+    for (int it = 0; it < RF_NARROW_MAX_ITER && b.hi - b.lo > RF_TIME_TOL; it++) {
         double t = step_eval(st, x, tmp);
         double ft = event_value(m, kind, ev, fe, c0, tmp);
         if (ft > 0) {
@@ -265,7 +265,7 @@ static double locate_bracket(rf_motion *m, rf_ev_kind kind, const rf_seg_event *
     double fhi = 1.0;
     if (guess > 0 && guess < h) {
         /* just after the parabola's estimate, the usual bracket */
-        lhi = step_lam(st, rf_fmin(h, guess + 1e-6 * h + 1e-12));
+        lhi = step_lam(st, rf_fmin(h, guess + RF_BRACKET_REL * h + RF_BRACKET_ABS));
         hi = step_eval(st, lhi, ye);
         fhi = event_value(m, kind, ev, fe, c0, ye);
     }
@@ -323,7 +323,7 @@ static double locate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, const 
         ev_bracket b = {st->la, 0.0, f0, st->lb, -1.0, 0.0};
         double lam = step_lam(st, guess);
         double tmp[9];
-        for (int it = 0; it < 8; it++) {
+        for (int it = 0; it < RF_NEWTON_MAX_ITER; it++) {
             double t = step_eval(st, lam, tmp);
             double ft = event_value(m, kind, ev, fe, c0, tmp);
             double rate = event_rate(m, f, kind, ev, fe, c0, tmp);

@@ -11,7 +11,7 @@
 double rf_draw_truncated(gsl_rng *rng, rf_dist d, double lo, double hi)
 {
     if (d.sd > 0.0) {
-        for (int k = 0; k < 1000; k++) {
+        for (int k = 0; k < RF_DRAW_MAX_TRIES; k++) {
             double x = d.mean + gsl_ran_gaussian_ziggurat(rng, d.sd);
             if (x >= lo && x <= hi)
                 return x;
@@ -121,7 +121,7 @@ void rf_motion_advance_split(rf_motion *m, const rf_arc *arc, const rf_arc *vel,
         double vmax = fmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
         double L = vmax * T;
         double next = sk->sample_spacing - m->book.sample_acc, last = -1.0;
-        for (long k = 0; next <= L && k < 10000000; k++) {
+        for (long k = 0; next <= L && k < RF_MAX_ARC_SAMPLES; k++) {
             double ts = T * next / L;
             rf_vec3 v = rf_arc_vel(vel, ts);
             rf_vec3 w = law ? rf_spin_at(law, m->cfg.rho, v, ts) : m->rock.s.w;

@@ -206,7 +206,7 @@ int rf_scene_at_once(rf_motion *m)
      * centre meets a column's face a hair before the column's edge) */
     rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
     double vh = rf_v3_hnorm(m->rock.s.v);
-    measure_horizon(m, &arc, vh > 0 ? fmax(RF_CROSSING_EPS, 4.0 * m->cfg.tol_len / vh) : RF_CROSSING_EPS);
+    measure_horizon(m, &arc, vh > 0 ? fmax(RF_CROSSING_EPS, RF_REACH_TOLS * m->cfg.tol_len / vh) : RF_CROSSING_EPS);
     m->scn.pending = RF_SCENE_NONE;
     return m->scn.ncrossings > 0 ? measure_event(m) : -1;
 }

@@ -76,7 +76,8 @@ struct rf_terrain_tables {
     int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
                          a mesh on its border in plan off its bounding box's sides */
     double nz_min;    /* the smallest z component of the faces' unit normals, at least
-                         1e-12 (centre contact: a centre meets a face r / n.z above) */
+                         RF_NZ_MIN (centre contact: a centre meets a face r / n.z
+                         above) */
 };
 
 /* One thread's scratch for the motion of its rocks, over the shared tables. */

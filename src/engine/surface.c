@@ -22,7 +22,7 @@
 static int along(rf_vec3 x, rf_vec3 e1)
 {
     double xl = rf_v3_norm(x);
-    return xl == 0.0 || rf_v3_norm(rf_v3_cross(x, e1)) <= 1e-12 * xl;
+    return xl == 0.0 || rf_v3_norm(rf_v3_cross(x, e1)) <= RF_PARALLEL_EPS * xl;
 }
 
 /* Centre mode: 1 when face `to` lies above the centre's reach and the rock cannot pay

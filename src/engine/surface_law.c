@@ -13,7 +13,7 @@ void rf_face_setup(const rf_motion *m, rf_vec3 n, rf_face_dyn *f)
     /* g_t = g - (g.n) n with g = (0, 0, -G) */
     f->gt = rf_v3(RF_GRAVITY * n.z * n.x, RF_GRAVITY * n.z * n.y, RF_GRAVITY * n.z * n.z - RF_GRAVITY);
     f->G = rf_v3_norm(f->gt);
-    if (f->G > 1e-12) {
+    if (f->G > RF_VEC_ZERO) {
         f->e1 = rf_v3_scale(f->gt, 1.0 / f->G);
     } else {
         f->G = 0.0;
@@ -71,7 +71,7 @@ int rf_crease_forces(rf_vec3 nA, rf_vec3 nB, double *xA, double *xB, rf_vec3 *l)
 {
     rf_vec3 c = rf_v3_cross(nA, nB);
     double cl = rf_v3_norm(c);
-    if (!(cl > 1e-6))
+    if (!(cl > RF_CREASE_MIN_ANGLE))
         return -1;
     *l = rf_v3_scale(c, 1.0 / cl);
     double bA = RF_GRAVITY * nA.z, bB = RF_GRAVITY * nB.z, nab = rf_v3_dot(nA, nB);
@@ -132,7 +132,7 @@ int rf_roll_holds(const rf_motion *m, rf_vec3 n)
         return 1; /* at rest where it stays: no force is needed */
     rf_vec3 dir = vl > 0 ? rf_v3_scale(m->rock.s.v, 1.0 / vl) : f.e1;
     rf_vec3 need = rf_v3_madd(rf_v3_scale(f.gt, 1.0 - k), -k * m->rock.sup.mu_r * f.gn, dir);
-    double cap = m->rock.sup.mu * f.gn * (1 + 1e-12);
+    double cap = m->rock.sup.mu * f.gn * (1 + RF_FRICTION_SLACK);
     /* or the slip law lets no slip grow from zero (|g_t| <= K mu g_n, the demand
      * without the resistance): where the two laws disagree (uphill, see docs/engine.md)
      * the sphere rolls on instead of switching between them at every instant */

@@ -136,7 +136,7 @@ static int covers_ground(const rf_triangle *T)
 {
     double ux = T->b.x - T->a.x, uy = T->b.y - T->a.y;
     double wx = T->c.x - T->a.x, wy = T->c.y - T->a.y;
-    return fabs(ux * wy - uy * wx) > 1e-12 * (ux * ux + uy * uy + wx * wx + wy * wy);
+    return fabs(ux * wy - uy * wx) > RF_VERTICAL_EPS * (ux * ux + uy * uy + wx * wx + wy * wy);
 }
 
 int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
@@ -227,7 +227,7 @@ rf_terrain_tables *rf_terrain_tables_build(const rf_terrain *t)
     tt->nz_min = 1.0;
     for (size_t k = 0; k < t->ntri; k++)
         tt->nz_min = fmin(tt->nz_min, t->tri[k].n.z);
-    tt->nz_min = fmax(tt->nz_min, 1e-12);
+    tt->nz_min = fmax(tt->nz_min, RF_NZ_MIN);
     return tt;
 }
 
