@@ -497,9 +497,8 @@ static void search_pieces(rf_search *s, double T)
     const rf_arc *arc = s->arc;
     double reach = sphere_reach(m);
     /* higher than this above the terrain's top, nothing is met: the reach (in centre
-     * mode the centre meets a face r / n.z above its plane, the furthest above the
-     * steepest face; a rock lifted onto a steep face at the top and let fall again
-     * fell through it) */
+     * mode the centre meets a face r / n.z above its plane (Eq. 6-7), the furthest
+     * above the steepest face) */
     double up = m->cfg.centre ? reach / m->ws->tables->nz_min : reach;
     double cell = t->is_grid ? t->cell : t->bsize;
     double vh = dmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));

@@ -270,12 +270,10 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
 }
 
 /* Centre mode (Eq. 6-7) and the point mass (rho 0): contact while the centre is over
- * the triangle and within rho of its plane, the window over the triangle found exactly
- * from its edges' columns.  A point mass was tested as a sphere's face, at one time
- * from the gathered window's start: one falling along a column's border, a hair under
- * a steep face's plane, lay outside the face along its normal there and fell through
- * it.  The centre's horizontal path is taken as straight (flight).  `left`: the face
- * flown off, met only once the centre moves over its column again. */
+ * the triangle (in its column) and within rho of its plane, the window over the
+ * triangle found exactly from its edges' columns, never from a sphere's test of the
+ * face along its normal.  The centre's horizontal path is taken as straight (flight).
+ * `left`: the face flown off, met only once the centre moves over its column again. */
 void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
 {
     const rf_triangle *T = &s->m->cfg.terrain->tri[idx];
@@ -299,9 +297,8 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
     int at_start = s->sp.n == 0 && t0 == 0.0; /* a flight's start */
     int moves_in = 0, moves_out = 0; /* on the column's border: in over an edge, out over one */
     /* an edge the centre moves along, by less than the tolerance across it over the
-     * edge's length, is crossed neither in nor out (along a grid cell's diagonal from a
-     * node, rounding had it moving out of one column and, over the other's edge, reach
-     * half the tolerance inside only after a minute: it fell through both) */
+     * edge's length, is crossed neither in nor out: rounding does not take it out of
+     * both columns of the edge at once */
     double vh = s->vh;
     int crosses[3];
     for (int k = 0; k < 3; k++) {
@@ -338,9 +335,8 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
         /* the centre moves over a face already within reach of its plane (at the start
          * of a flight, when it approaches the plane: a face that falls away from a
          * flight off the column's border is left alone); met where the centre is half the
-         * tolerance outside the column's edge: at the tolerance, rounding put it beyond
-         * the edge for the face's surface phase, which left the face at once (on the
-         * edge, it was met at once again after a reflection off a wall there) */
+         * tolerance outside the column's edge, so that the face's surface phase starts
+         * within its column's tolerance, not beyond its edge */
         double in = lo; /* the centre half the tolerance outside the edges it crosses */
         for (int k = 0; k < 3; k++)
             if (be[k] > 0 && crosses[k])

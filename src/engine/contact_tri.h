@@ -33,9 +33,11 @@ typedef struct rf_search {
     int nskip;
 } rf_search;
 
+/* 1 when triangle idx is one of the support triangles ex ignores (NULL: none). */
 int rf_excluded_tri(const rf_support *ex, int32_t idx);
 /* Bounding box of the arc over [t0, t1] (componentwise extremes). */
 void rf_arc_box(const rf_arc *arc, double t0, double t1, rf_vec3 *lo, rf_vec3 *hi);
+/* The planes of m's support faces (none in a flight). */
 void rf_support_planes_set(const rf_motion *m, rf_support_planes *sp);
 /* An arc's horizontal speed at its start (search.vh). */
 double rf_start_hspeed(const rf_arc *arc);
@@ -52,16 +54,16 @@ void rf_test_edge(rf_search *s, int32_t idx, int ei, rf_vec3 va, rf_vec3 vb, dou
 void rf_test_vertex(rf_search *s, int32_t idx, int vi, rf_vec3 q, double w0, double w1,
                         rf_vec3 blo, rf_vec3 bhi);
 /* Centre mode (Eq. 6-7) and the point mass (rho 0): contact while the centre is over
- * the triangle and within rho of its plane, the window over the triangle found exactly
- * from its edges' columns.  A point mass was tested as a sphere's face, at one time
- * from the gathered window's start: one falling along a column's border, a hair under
- * a steep face's plane, lay outside the face along its normal there and fell through
- * it.  The centre's horizontal path is taken as straight (flight).  `left`: the face
- * flown off, met only once the centre moves over its column again. */
+ * the triangle (in its column) and within rho of its plane, the window over the
+ * triangle found exactly from its edges' columns.  The centre's horizontal path is
+ * taken as straight (flight).  `left`: the face flown off, met only once the centre
+ * moves over its column again. */
 void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left);
 /* Face of triangle idx over [t0, t1].  Returns 1 when its edges and vertices must be
  * tested too, from *w0 on. */
 int rf_test_face(rf_search *s, int32_t idx, double t0, double t1, double *w0);
+/* The edges and vertices of triangle idx over [w0, t1] that can be met first (the
+ * live ones, rf_edge_live; on the support planes or below them none). */
 void rf_test_edges(rf_search *s, int32_t idx, double w0, double t1);
 int rf_coplanar_with_support(const rf_terrain *t, const rf_support *ex, const rf_triangle *T,
                                  double tol);

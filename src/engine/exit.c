@@ -81,9 +81,8 @@ static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, 
                 double xy[6] = {x0, y0, x1, k == 0 ? y0 : y1, k == 0 ? x1 : x0, y1};
                 double out, th = line_enters_triangle(arc->p, arc->v, xy, ta, te, &out);
                 /* over the hole only if no triangle holds the centre halfway across it
-                 * (a path along a hole's border stays on the terrain; a point a hair
-                 * past the border was still on the cell next to it, within the
-                 * locator's tolerance, on large cells) */
+                 * (a path along a hole's border stays on the terrain, and the locator
+                 * holds a point a hair past the border on the cell next to it) */
                 if (th <= tb && th < best && over_gap(t, arc, 0.5 * (th + out)))
                     best = th;
             }
@@ -127,8 +126,8 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
             double s1 = sg * (ex * arc->v.y - ey * arc->v.x);
             if (!(s1 < 0))
                 continue; /* not moving outwards */
-            /* the crossing; one more than a few tolerances behind the start was
-             * before it (a gap under the start is the caller's) */
+            /* the crossing; one more than a few tolerances behind the start is before
+             * it (a gap under the start is the caller's) */
             if (s0 < -pad * el)
                 continue;
             double th = dmax(0.0, -s0 / s1);

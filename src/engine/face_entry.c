@@ -1,4 +1,12 @@
-/* face_entry.c - landing, creases, the lifts and walls of the centre mode. */
+/* face_entry.c - the rock meets the terrain.
+ *
+ * A contact is an impact (Eq. 8, rf_impact); then the rock flies off when the
+ * rebound's normal speed reaches v_stay (the speed of a RF_STAY_HEIGHT hop), lands on
+ * the face or in a crease (both faces pressing on it), or, a slow sphere on a convex
+ * edge or vertex, rolls over it onto the next face (rf_pivot, total energy conserved).
+ * In centre mode (Eq. 6-7) a centre moving over a column closer to its face's plane
+ * than r is lifted onto the offset plane, the lift paid from the kinetic energy;
+ * where it cannot be paid the face is a wall (RF_IMPACT_WALL). */
 #include "engine/face_entry.h"
 
 #include <math.h>
@@ -286,8 +294,7 @@ void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
     if (!m->cfg.point && m->rock.sup.rolling) {
         /* it rolled on the plane of the bisector n_m of the two normals (w = n_m x v /
          * r), which slips on the face by v (1 - n . n_m): it slides until the slip
-         * vanishes.  Rolled on, the face's law (w . n kept, the rest from v) made
-         * energy: 1.64 kJ on 11.3 kJ in no time (30/9/1). */
+         * vanishes (the spin is kept, so no energy is made) */
         m->rock.sup.rolling = 0;
         rf_face_slip(m, m->cfg.terrain->tri[on].n);
     }

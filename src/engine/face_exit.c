@@ -1,4 +1,8 @@
-/* face_exit.c - leaving a face over an edge, and the end of a crease. */
+/* face_exit.c - the rock's contact point leaves its face over an edge: onto a face in
+ * the same plane (the path goes on), a concave edge (an impact on the next face), a
+ * convex one (a flight, or a slow sphere's roll over it paid from the motion across
+ * the edge), or off the terrain; and the crease's law, which ends the crease where a
+ * normal force would pull. */
 #include "engine/face_exit.h"
 
 #include <math.h>
@@ -160,10 +164,8 @@ int32_t rf_face_after(const rf_motion *m, int32_t from, int edge, const rf_face_
 /* 1 when a sphere whose contact point q crosses an edge, moving across it at vp, can
  * roll over it onto the face of normal n: the rise of its centre on the way (over the
  * top of a ridge, or up onto a shoulder) is paid from the energy of the motion across
- * the edge; the motion along it does not turn the sphere about it.  Rolled over a
- * sharp ridge along which it ran, with a hair of a velocity across it, a sphere was
- * turned onto the other face, where it crossed back at once, from side to side in no
- * time. */
+ * the edge (energy conserved, as rf_pivot); the motion along it does not turn the
+ * sphere about it. */
 static int climbs_over(const rf_motion *m, rf_vec3 q, rf_vec3 n, rf_vec3 vp)
 {
     const rf_body *b = m->cfg.body;

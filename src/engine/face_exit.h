@@ -22,6 +22,9 @@ typedef struct rf_crease {
     int rolling;
 } rf_crease;
 
+/* The edge functions of face T for the centre: in-plane, from its edges lifted by the
+ * contact radius along its normal (full contact, point mass), or of its column in plan
+ * (centre mode). */
 void rf_face_edges_setup(const rf_motion *m, const rf_triangle *T, rf_face_edges *fe);
 /* 1 when p lies on edge k's line (within the length tolerance). */
 int rf_on_edge(const rf_motion *m, const rf_face_edges *fe, int k, rf_vec3 p);

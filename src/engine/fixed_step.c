@@ -87,8 +87,7 @@ static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h, const rf
     int scene = m->scn.pending && ts < te;
     double tt = scene ? ts : te;
     /* the velocity changes linearly over the step, to ve at its end; the samples take
-     * it so (with ve, a piece cut short had samples faster than the rock ever was:
-     * 0.8 % above max_energy_kj) */
+     * it so, and none is faster than the rock at either end */
     rf_arc vel = {m->rock.s.p, h > 0 ? v0 : ve,
                   h > 0 ? rf_v3_scale(rf_v3_sub(ve, v0), 1.0 / h) : rf_v3(0, 0, 0)};
     rf_motion_advance_split(m, &arc, &vel, tt, law);
@@ -104,9 +103,8 @@ static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h, const rf
 
 /* The rock goes on in the direction of the step's velocity ve at the speed of its
  * time, where the step decides (the piece ended on a feature the velocity of its time
- * does not meet, and ve does).  Taking ve itself, a piece of no time gained the step's
- * h a in no time, at every such event: a point mass at a grid node, hopping on and off
- * its faces, went from 17.1 to 17.8 m/s at one instant (46/1/6). */
+ * does not meet, and ve does): a piece of no time gains no speed (ve itself would add
+ * the step's h a at an instant). */
 static void take_step_direction(rf_motion *m, rf_vec3 ve)
 {
     double vl = rf_v3_norm(ve);
@@ -127,12 +125,10 @@ static int flight_step(rf_motion *m, double h)
         rf_triangle_plane_distance(&t->tri[tri0], p0) < -RF_TOUCH_BAND * m->cfg.tol_len &&
         rf_v3_dot(t->tri[tri0].n, m->rock.s.v) < 0) {
         /* a centre under the face it is over, sinking further: the search finds no
-         * entry into a plane the centre is already under (stopped on a column's border
-         * at a pit beside a hole, a rock sank under the face's offset plane and fell
-         * through the terrain); rescued at once, onto the highest offset plane there.
-         * (Under the offset plane alone is left to the stall rules: a rock wedged
-         * among walls is, and is stopped, or rests when wedged there again; rescued
-         * at once at every step on a column's border, it was given up.) */
+         * entry into a plane the centre is already under, so it is rescued at once,
+         * onto the highest offset plane there.  (Under the offset plane alone is left
+         * to the stall rules: a rock wedged among walls is, and is stopped, or rests
+         * when wedged there again.) */
         int end = rf_rescue(m);
         return end == RF_RESCUED ? -1 : end;
     }
@@ -262,11 +258,10 @@ static int face_step(rf_motion *m, double h, face_run *run)
         return rf_surface_scene_event(m);
     if (tx == 0.0 && m->cfg.centre) {
         /* the step would leave over an edge the centre lies on at once: when a wall
-         * lies beyond, the rock meets it (a reflection off it, turned back out by the
-         * next step's velocity, ended every step there in no time).  Out of a run
-         * along another wall, it is in their corner: it meets the wall with the step's
-         * velocity, which the corner stops (with its own, moving out of the corner
-         * along the first wall, it went from one wall to the other at every step) */
+         * lies beyond, the rock meets it, as the exact engine's segments do (a
+         * reflection would be turned back by the next step's velocity, a step of no
+         * time).  Out of a run along another wall, it is in their corner: it meets the
+         * wall with the step's velocity, which the corner stops */
         if (run->wall >= 0) /* the edge left over is another (column_exit skips it) */
             take_step_direction(m, ve);
         int end = rf_wall_meet(m, &col, edge, &run->wall, &run->dir);
@@ -384,8 +379,7 @@ int rf_simulate_fixed_step(rf_motion *m)
         if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap)
             return RF_END_MAX_TIME;
         /* a slow rock's creep counts the steps that ended at an event, as the exact
-         * engine counts its events (a point mass on a frictionless pit went on
-         * around its vertex until max_time) */
+         * engine counts its events (rf_progress) */
         end = rf_progress(m, m->book.marked != marked);
         marked = m->book.marked;
         if (end >= 0) /* after a rescue (RF_RESCUED), in flight: fresh as every flight */

@@ -5,10 +5,6 @@
 
 #include "base/tolerances.h"
 
-
-/* Edge functions of a face: E_i(c) = m_i . c - o_i >= 0 while the contact point of a
- * centre c is inside edge i (in-plane distances; over the xy projection in centre
- * mode). */
 void rf_column_edges(const rf_triangle *T, rf_face_edges *fe)
 {
     rf_vec3 P[3] = {T->a, T->b, T->c};
@@ -37,8 +33,6 @@ int rf_coplanar(const rf_triangle *A, const rf_triangle *B, double tol)
     return rf_v3_norm(rf_v3_sub(A->n, B->n)) <= RF_COPLANAR_EPS && fabs(A->d - B->d) <= tol;
 }
 
-/* 1 when q (on the plane) lies on the inner side of all three edges or on them: the
- * signs of inside_margin's three distances. */
 int rf_inside_closed(const rf_triangle *T, rf_vec3 q)
 {
     rf_vec3 ab = rf_v3_sub(T->b, T->a), bc = rf_v3_sub(T->c, T->b), ca = rf_v3_sub(T->a, T->c);

@@ -310,8 +310,8 @@ static double locate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, const 
             /* a hair beyond the edge (within the tolerance, as rf_exit_time takes it) but
              * moving in, and beyond it by more at the step's end, where the step's
              * parabola saw no crossing: the exit where the path is the tolerance
-             * beyond the edge.  Taken at the start, the rock left a face it was moving
-             * into, which the flight leaves out, and fell through it. */
+             * beyond the edge, not at the start (the rock does not leave a face it is
+             * moving into) */
             rf_seg_event beyond = *ev;
             beyond.level = m->cfg.tol_len;
             return locate_bracket(m, kind, &beyond, fe, c0, st, f0 + m->cfg.tol_len, guess, ye);
@@ -353,9 +353,8 @@ static double locate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, const 
              * rounding at the root, a step's worth in time), with the event happened at
              * hi: narrowed within its bracket.  The parabola's estimate and the step's
              * end, which the search below starts from, can both lie before the path's
-             * crossing and after its return (a short excursion over an edge): a point
-             * mass left its face over the one edge, was taken out over another, and fell
-             * through the face beyond. */
+             * crossing and after its return (a short excursion over an edge), so the
+             * bracket found here is kept. */
             return narrow(m, kind, ev, fe, c0, st, b, step_between(st, b.llo, b.lhi, b.lo, b.hi, 0.5),
                           ye);
         }
@@ -478,8 +477,7 @@ rf_surface_end rf_face_path(rf_motion *m, const rf_face_dyn *f, rf_vec3 u0, cons
              * there and go on from rest (along the fall line) */
             double level = holds ? stop : RF_SPEED_EPS;
             /* unless the rock leaves the face first, still faster than that (its speed
-             * falls all along): a point mass slowing to rest beyond an edge of its face
-             * rested 2.5 mm under the steeper face beyond a valley line */
+             * falls all along): it does not rest beyond an edge of its face */
             if (!slide && rf_v3_norm(vn) <= level && rf_v3_norm(vk) > level &&
                 !(ev.kind == RF_EV_EXIT && rf_v3_norm(rf_arc_vel(&arc, ev.t)) > level)) {
                 ev.kind = holds ? RF_EV_REST : RF_EV_ZERO, ev.t = hs, ev.level = level;

@@ -205,17 +205,13 @@ static int unstall(rf_motion *m)
             T = &t->tri[tri];
             n = T->n;
             double gap;
-            /* onto the offset plane of the column now under the centre, as a centre
-             * moving over a column is lifted (pushed along the normal, it could end
-             * under the next column's plane and fall through the terrain, in either
-             * engine).  Wedged among walls it cannot pay the lift onto, it is stopped
-             * in the lowest column where it was wedged, just inside it, and goes on
-             * from there (settle_in_lowest_column).  Put onto the wall's plane for
-             * nothing instead, a rock at the foot of a near-vertical face was raised
-             * by many r (docs/engine.md).  Wedged again within r of where it was last
-             * wedged, it rests where it is: put onto the plane every time, a sphere
-             * at a node at the bottom of a pit fell back into the pit, gaining the
-             * height of the lift, until the rescues ran out. */
+            /* onto the offset plane of the column now under the centre (Eq. 6), as a
+             * centre moving over a column is lifted, and not along the normal, which
+             * can end under the next column's plane.  Wedged among walls it cannot pay
+             * the lift onto, it is stopped in the lowest column where it was wedged,
+             * just inside it, and goes on from there (settle_in_lowest_column): a lift
+             * is always paid, never given (docs/engine.md).  Wedged again within r of
+             * where it was last wedged, it rests where it is. */
             rf_vec3 move = rf_centre_lift_move(m, T, &gap);
             if (gap > 0 && !rf_pay_lift(m, move)) {
                 if (m->book.wedged && rf_v3_norm(rf_v3_sub(m->rock.s.p, m->book.wedge_p)) <= m->cfg.rho) {
@@ -235,10 +231,9 @@ static int unstall(rf_motion *m)
             if (dp < m->cfg.tol_len)
                 m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.tol_len - dp, T->n);
         } else {
-            /* out of the terrain, paid from the kinetic energy.  Pushed onto the offset
-             * plane of the face under the centre instead, a sphere wedged beside a steep
-             * face was raised by 0.07 m for nothing (the plane reaches beyond the face
-             * the sphere touches). */
+            /* out of the terrain along the nearest feature's normal (sphere_out), paid
+             * from the kinetic energy: not onto the offset plane of the face under the
+             * centre, which reaches beyond the face the sphere touches */
             rf_vec3 move = sphere_out(m);
             if (rf_v3_norm(move) > 0) {
                 if (!rf_pay_lift(m, move)) {

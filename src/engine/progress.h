@@ -12,8 +12,8 @@
 int rf_motion_start(rf_motion *m);
 /* Centre mode: of the faces whose columns hold the centre (several on a border, within
  * the length tolerance), the one whose offset plane is highest there; tri is the one
- * located.  Lifted onto another's plane, a rescued centre at a mesh's node lay under a
- * neighbouring column's plane, over that column, and fell through it. */
+ * located.  A centre lifted onto it lies on or above every plane of a column that
+ * holds it. */
 int32_t rf_highest_column(rf_motion *m, int32_t tri);
 /* The rock's progress, at every turn of either engine's loop: a rock that meets events
  * without moving in time (degenerate contact geometry) rests when slow, else moves free

@@ -41,9 +41,8 @@ void rf_set_spin(rf_motion *m, rf_vec3 n, rf_vec3 u);
 /* Records the motion along an arc over [0, T] from the current state (path length,
  * samples, their spin by the law: NULL, it stays, as in flight) and moves the state to
  * its end: p, v, t.  The caller sets the end's spin and notes the energy once the state
- * is whole (rf_set_spin, or rf_motion_note_energy): noted in between, the end's velocity
- * with the start's spin was more than the rock ever had where slip spun it down while
- * it sped up. */
+ * is whole (rf_set_spin, or rf_motion_note_energy), never in between: the end's
+ * velocity with the start's spin is no state the rock is in. */
 void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law);
 /* 1 when the motion is sampled along the way (the sink takes samples), the only use
  * rf_motion_advance makes of its spin law. */

@@ -1,4 +1,10 @@
-/* segment.c - closed-form segments of surface motion, and the dispatch of their events. */
+/* segment.c - segments of surface motion at constant acceleration, and the dispatch
+ * of their events.
+ *
+ * On the fall line, on a level face, along a wall or a crease, the surface law's
+ * acceleration is constant (Eq. 1-2, the 5/7 law): the path is a parabola and every
+ * event time (exit over an edge, rest, zero speed, rolling) is the root of a
+ * quadratic; contacts and scene events are searched along it. */
 #include "engine/segment.h"
 
 #include <math.h>

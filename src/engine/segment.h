@@ -30,6 +30,7 @@ typedef struct rf_seg_event {
 /* The faces a surface segment's contact search ignores: the support, and once the face
  * just left over an edge. */
 rf_support rf_segment_exclusion(rf_motion *m);
+/* Makes (kind, t) the segment's event when it is earlier than ev's. */
 void rf_seg_consider(rf_seg_event *ev, rf_ev_kind kind, double t);
 /* Finishes a segment at the event: records the motion and dispatches. */
 rf_surface_end rf_seg_dispatch(rf_motion *m, rf_seg_event *ev, rf_vec3 acc, const rf_face_edges *fe);

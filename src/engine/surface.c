@@ -34,10 +34,9 @@ static int is_wall(const rf_motion *m, int32_t to)
 
 /* Centre mode: the edge of the support's column that the centre lies on and is pressed
  * against by the surface law, beyond which lies a face whose offset plane is above the
- * centre and which the rock cannot pay the lift onto: a wall (centre_lift reflects the
- * velocity into it), along which the rock moves on.  -1 when none.  Without it, the
- * rock left the face over that edge, was reflected and turned back into it, ever more
- * nearly along it, at every event in no time. */
+ * centre and which the rock cannot pay the lift onto: a wall (a reflection off it,
+ * RF_IMPACT_WALL), along which the rock moves on (RF_IMPACT_WALL_MEET, then the wall's
+ * law rf_wall_law).  -1 when none. */
 static int wall_edge(rf_motion *m, const rf_face_dyn *f, const rf_face_edges *fe, rf_vec3 dir,
                      rf_vec3 *L)
 {

@@ -1,4 +1,5 @@
-/* surface_law.c - the surface laws (surface_law.h gives them). */
+/* surface_law.c - the laws of motion on a face and in a crease (surface_law.h states
+ * them, Eq. 1-2 and the 5/7 law). */
 #include "engine/surface_law.h"
 
 #include <math.h>

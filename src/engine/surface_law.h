@@ -29,9 +29,14 @@ typedef struct rf_face_dyn {
     double mu;
 } rf_face_dyn;
 
+/* The dynamics of a face of normal n for the rock's current mode and support
+ * coefficients: g_t, g_n and the fall line e1 (any in-plane direction on a level
+ * face), and the law (Eq. 1-2 for the point mass, the 5/7 law rolling). */
 void rf_face_setup(const rf_motion *m, rf_vec3 n, rf_face_dyn *f);
-/* The surface laws (module comment): acceleration of the centre and rate of the slip. */
+/* The surface laws (above): acceleration of the centre, a = k (g_t - c g_n dir), with
+ * dir the unit direction friction opposes. */
 rf_vec3 rf_law_accel(const rf_face_dyn *f, rf_vec3 dir);
+/* The rate of the slip of a slipping sphere, du/dt = g_t - K mu g_n u^ (udir = u^). */
 rf_vec3 rf_law_slip_rate(const rf_face_dyn *f, rf_vec3 udir);
 /* The direction the laws act along: the slip's for a slipping sphere, else the
  * velocity's; the fall line when it is zero. */
