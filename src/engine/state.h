@@ -3,6 +3,7 @@
  * piece of surface motion ends.  Functions live with their concern:
  *
  *   geometry    triangles, columns, planes               (no state)
+ *   hodograph   sliding and rolling off the fall line in closed form (no state)
  *   rock        the rock's records, energy, spin, draws  (bottom)
  *   travel      lines being passed, the tree odometer
  *   tables      per-terrain tables: boxes, edge lengths, live edges, holes
