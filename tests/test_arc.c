@@ -1,6 +1,8 @@
 /* Contact-time roots (arc.c): the first entering root of the quartic |W + V t + H t^2|^2
  * - rho^2 against a fine sampling, above all where the distance grazes rho. */
-#include "engine/motion_private.h"
+#include "base/arc.h"
+#include "base/tolerances.h"
+#include "engine/hodograph.h"
 #include "test.h"
 
 #include <gsl/gsl_rng.h>

@@ -4,7 +4,12 @@
  * before the time the search returns, and touches at that time; with no contact
  * returned, it penetrates nothing until it leaves the terrain.  A cull that drops a
  * triangle it should have kept shows as a rock passing through a face. */
-#include "engine/motion_private.h"
+#include "engine/contact.h"
+#include "engine/exit.h"
+#include "engine/geometry.h"
+#include "engine/progress.h"
+#include "engine/state.h"
+#include "engine/surface_law.h"
 #include "motion_test_util.h"
 #include "test.h"
 
@@ -57,13 +62,13 @@ static rf_motion motion_on(const rf_terrain *t, mode md, double rho)
 {
     rf_motion m;
     memset(&m, 0, sizeof m);
-    m.terrain = t;
+    m.cfg.terrain = t;
     m.ws = rf_workspace_alloc(t);
     ENSURE(m.ws != NULL);
-    m.point = md == POINT;
-    m.centre = md == CENTRE;
-    m.rho = rho;
-    m.tol_len = RF_LEN_TOL;
+    m.cfg.point = md == POINT;
+    m.cfg.centre = md == CENTRE;
+    m.cfg.rho = rho;
+    m.cfg.tol_len = RF_LEN_TOL;
     return m;
 }
 
@@ -72,9 +77,9 @@ static rf_motion motion_on(const rf_terrain *t, mode md, double rho)
 static void check_flight(rf_motion *m, const rf_arc *arc, double te, int k, int *hits,
                          int *misses)
 {
-    const rf_terrain *t = m->terrain;
-    mode md = m->point ? POINT : m->centre ? CENTRE : FULL;
-    double rho = m->rho;
+    const rf_terrain *t = m->cfg.terrain;
+    mode md = m->cfg.point ? POINT : m->cfg.centre ? CENTRE : FULL;
+    double rho = m->cfg.rho;
     rf_contact c;
     int found = rf_contact_search(m, arc, te, NULL, &c) && c.t <= te;
     double tend = found ? c.t : te;
@@ -245,7 +250,7 @@ TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
     int32_t k = rf_terrain_locate(&t, x, y);
     ENSURE(k >= 0 && t.zmax == 10.0);
     const rf_triangle *T = &t.tri[k];
-    double zc = rf_triangle_z_at(T, x, y) + m.rho / T->n.z; /* the offset plane, 14.02 */
+    double zc = rf_triangle_z_at(T, x, y) + m.cfg.rho / T->n.z; /* the offset plane, 14.02 */
     ENSURE(zc > t.zmax + 3.0);
     /* straight down from 0.1 m above it, and a falling parabola from 0.2 m */
     rf_arc arcs[2] = {{rf_v3(x, y, zc + 0.1), rf_v3(0, 0, -1.0), rf_v3(0, 0, 0)},
@@ -277,7 +282,7 @@ TEST(contact_centre_at_a_node_takes_the_highest_column)
     rf_motion m = motion_on(&t, CENTRE, 0.5);
     for (int node = 0; node < 3; node++) {
         int i = 4 + node, j = 6 + 2 * node;
-        m.s.p = rf_v3(i, j, z[j * N + i] + 0.5);
+        m.rock.s.p = rf_v3(i, j, z[j * N + i] + 0.5);
         int32_t steepest = -1, got = rf_highest_column(&m, rf_terrain_locate(&t, i, j));
         int got_at = 0;
         for (size_t k = 0; k < t.ntri; k++) {

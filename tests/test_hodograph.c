@@ -2,7 +2,9 @@
  * Runge-Kutta integration of w' = A e1 - B w^, x' = w, over the regimes of k = B / A:
  * speeding up (k < 1), the exponents that vanish (k = 1, 1/2 and next to them), slowing
  * to a stop (k > 1), and starting nearly up and nearly down the fall line. */
-#include "engine/motion_private.h"
+#include "base/arc.h"
+#include "base/tolerances.h"
+#include "engine/hodograph.h"
 #include "motion_test_util.h"
 #include "test.h"
 

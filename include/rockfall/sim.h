@@ -54,8 +54,18 @@ typedef struct rf_sink {
                    double approach_ms);
 } rf_sink;
 
-/* Per-thread scratch reused across trajectories (no allocation in the inner loop). */
+/* The read-only tables of a terrain the engine searches (triangle boxes, edge lengths
+ * in plan, the edges that can be met first, holes): built once per terrain and shared
+ * by the workspaces of all threads; t must outlive them.  NULL when out of memory. */
+typedef struct rf_terrain_tables rf_terrain_tables;
+rf_terrain_tables *rf_terrain_tables_build(const rf_terrain *t);
+void rf_terrain_tables_free(rf_terrain_tables *tt);
+
+/* Per-thread scratch reused across trajectories (no allocation in the inner loop).
+ * rf_workspace_alloc_shared reads the shared tables tt, which must outlive it;
+ * rf_workspace_alloc builds tables of its own for t (one thread, or a test). */
 typedef struct rf_workspace rf_workspace;
+rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt);
 rf_workspace *rf_workspace_alloc(const rf_terrain *t);
 void rf_workspace_free(rf_workspace *ws);
 

@@ -18,7 +18,7 @@ double rf_arc_length(rf_vec3 v, rf_vec3 a, double T)
         return 0.0;
     double A = rf_v3_norm2(a);
     double C = rf_v3_norm2(v);
-    if (!(A > 1e-300))
+    if (!(A > RF_QUAD_ZERO))
         return sqrt(C) * T;
     /* |v + a t| = sqrt(A) h(u), h = sqrt(u^2 + k^2), u = t + v.a / A, k = |v x a| / A;
      * the length is sqrt(A) / 2 [u h + k^2 asinh(u / k)] from u0 to u1 = u0 + T, both
@@ -34,7 +34,7 @@ double rf_arc_length(rf_vec3 v, rf_vec3 a, double T)
     double s = (u0 + u1) / (h0 + h1);
     double len = T * (h1 + u0 * s);
     /* below, the asinh term is under 1e-28 of the length */
-    if (k2 > 1e-30 * (u0 * u0 + u1 * u1)) {
+    if (k2 > RF_ASINH_REL * (u0 * u0 + u1 * u1)) {
         double L = s >= 0 ? log1p(T * (1.0 + s) / (u0 >= 0 ? u0 + h0 : k2 / (h0 - u0)))
                           : log1p(T * (1.0 - s) / (u1 <= 0 ? h1 - u1 : k2 / (h1 + u1)));
         len += k2 * L;
@@ -87,7 +87,7 @@ static double bracketed_root(const double *c, int deg, double lo, double hi, dou
     derivative(c, deg, d);
     int rising = plo < 0;
     double t = 0.5 * (lo + hi);
-    for (int it = 0; it < 200; it++) {
+    for (int it = 0; it < RF_ROOT_MAX_ITER; it++) {
         double p = rf_poly_eval(c, deg, t);
         if (p == 0.0)
             return t;
@@ -99,7 +99,8 @@ static double bracketed_root(const double *c, int deg, double lo, double hi, dou
         double tn = dp != 0.0 ? t - p / dp : 0.5 * (lo + hi);
         if (!(tn > lo && tn < hi))
             tn = 0.5 * (lo + hi);
-        if (fabs(tn - t) <= RF_TIME_TOL * 1e-2 + 1e-16 * fabs(t) || hi - lo <= 1e-16 * (1 + fabs(t)))
+        if (fabs(tn - t) <= RF_ROOT_STEP_TOL + RF_ROOT_REL * fabs(t) ||
+            hi - lo <= RF_ROOT_REL * (1 + fabs(t)))
             return tn;
         t = tn;
     }
@@ -225,7 +226,7 @@ static int quartic_stays_above(const double *c, double t0, double t1, double lev
     double size = fabs(q0) + fabs(q1) + fabs(q2) + fabs(q3) + fabs(q4);
     double b[5] = {q0, q0 + q1 / 4.0, q0 + q1 / 2.0 + q2 / 6.0,
                    q0 + 0.75 * q1 + 0.5 * q2 + 0.25 * q3, q0 + q1 + q2 + q3 + q4};
-    return bernstein4_above(b, level + 1e-14 * size, 2);
+    return bernstein4_above(b, level + RF_BERNSTEIN_REL * size, 2);
 }
 
 static int poly_entries(const double *c, int deg, double t0, double t1, double tol,
@@ -266,7 +267,7 @@ static int poly_entries(const double *c, int deg, double t0, double t1, double t
              * the dip may lie far along an edge's line, past the edge's end) */
             double x = pb == 0.0 ? b : bracketed_root(c, deg, a, b, pa);
             double dx = rf_poly_eval(d, deg - 1, x);
-            if (dx < -slope_eps && (pa > tol || dx < -100.0 * slope_eps))
+            if (dx < -slope_eps && (pa > tol || dx < -RF_DIP_SLOPE * slope_eps))
                 roots[n++] = x;
             else if (pb < -deep)
                 roots[n++] = level_root(c, deg, x, b, -deep);

@@ -21,9 +21,20 @@
  * Rest, rolling against slipping, coefficient draws and the stay threshold are those
  * of the exact engine, so the trajectories converge to it as dt -> 0 (first order);
  * the cost grows as 1/dt.  It is the reference for the speed-against-error report. */
-#include "engine/motion_private.h"
+#include "engine/fixed_step.h"
 
 #include <math.h>
+
+#include "engine/contact.h"
+#include "engine/exit.h"
+#include "engine/face_entry.h"
+#include "engine/face_exit.h"
+#include "engine/geometry.h"
+#include "engine/progress.h"
+#include "engine/rock.h"
+#include "engine/scene_events.h"
+#include "engine/surface.h"
+#include "engine/surface_law.h"
 
 /* ---- the column of a face (its xy projection) ------------------------------------- */
 
@@ -32,7 +43,7 @@
 static double column_exit(const rf_motion *m, const rf_face_edges *c, rf_vec3 p, rf_vec3 v, double T,
                           int skip, int *edge)
 {
-    double best = INFINITY, tol = m->tol_len;
+    double best = INFINITY, tol = m->cfg.tol_len;
     for (int k = 0; k < 3; k++) {
         if (k == skip)
             continue;
@@ -70,57 +81,54 @@ static int leave_face(rf_motion *m, int edge, const rf_face_edges *c, rf_vec3 ac
  * caller hands to rf_scene_event. */
 static int advance_piece(rf_motion *m, rf_vec3 ve, double te, double h, const rf_spin_law *law)
 {
-    rf_arc arc = {m->s.p, ve, rf_v3(0, 0, 0)};
-    rf_vec3 v0 = m->s.v;
+    rf_arc arc = {m->rock.s.p, ve, rf_v3(0, 0, 0)};
+    rf_vec3 v0 = m->rock.s.v;
     double ts = rf_scene_horizon(m, &arc, te);
-    int scene = m->scene_pending && ts < te;
+    int scene = m->scn.pending && ts < te;
     double tt = scene ? ts : te;
     /* the velocity changes linearly over the step, to ve at its end; the samples take
-     * it so (with ve, a piece cut short had samples faster than the rock ever was:
-     * 0.8 % above max_energy_kj) */
-    rf_arc vel = {m->s.p, h > 0 ? v0 : ve, h > 0 ? rf_v3_scale(rf_v3_sub(ve, v0), 1.0 / h) : rf_v3(0, 0, 0)};
+     * it so, and none is faster than the rock at either end */
+    rf_arc vel = {m->rock.s.p, h > 0 ? v0 : ve,
+                  h > 0 ? rf_v3_scale(rf_v3_sub(ve, v0), 1.0 / h) : rf_v3(0, 0, 0)};
     rf_motion_advance_split(m, &arc, &vel, tt, law);
     /* the end as the step's own interpolation rounds it (its results are kept) */
-    m->s.v = h > 0 ? rf_v3_add(v0, rf_v3_scale(rf_v3_sub(ve, v0), tt / h)) : ve;
-    if (law && !m->point)
-        m->s.w = rf_spin_at(law, m->rho, m->s.v, tt);
+    m->rock.s.v = h > 0 ? rf_v3_add(v0, rf_v3_scale(rf_v3_sub(ve, v0), tt / h)) : ve;
+    if (law && !m->cfg.point)
+        m->rock.s.w = rf_spin_at(law, m->cfg.rho, m->rock.s.v, tt);
     rf_motion_note_energy(m);
     if (!scene)
-        m->scene_pending = RF_SCENE_NONE;
+        m->scn.pending = RF_SCENE_NONE;
     return scene;
 }
 
 /* The rock goes on in the direction of the step's velocity ve at the speed of its
  * time, where the step decides (the piece ended on a feature the velocity of its time
- * does not meet, and ve does).  Taking ve itself, a piece of no time gained the step's
- * h a in no time, at every such event: a point mass at a grid node, hopping on and off
- * its faces, went from 17.1 to 17.8 m/s at one instant (46/1/6). */
+ * does not meet, and ve does): a piece of no time gains no speed (ve itself would add
+ * the step's h a at an instant). */
 static void take_step_direction(rf_motion *m, rf_vec3 ve)
 {
     double vl = rf_v3_norm(ve);
-    m->s.v = vl > 0 ? rf_v3_scale(ve, rf_v3_norm(m->s.v) / vl) : ve;
+    m->rock.s.v = vl > 0 ? rf_v3_scale(ve, rf_v3_norm(m->rock.s.v) / vl) : ve;
 }
 
 static int flight_step(rf_motion *m, double h)
 {
-    const rf_terrain *t = m->terrain;
-    rf_vec3 p0 = m->s.p;
-    rf_vec3 ve = m->s.v;
+    const rf_terrain *t = m->cfg.terrain;
+    rf_vec3 p0 = m->rock.s.p;
+    rf_vec3 ve = m->rock.s.v;
     ve.z -= RF_GRAVITY * h;
     rf_vec3 pe = rf_v3_madd(p0, h, ve);
     /* Eq. 6-7: a contact needs the centre in another face's column or below the offset
      * plane of the face under it at the step's end */
     int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y);
     if (tri0 >= 0 &&
-        rf_triangle_plane_distance(&t->tri[tri0], p0) < -RF_TOUCH_BAND * m->tol_len &&
-        rf_v3_dot(t->tri[tri0].n, m->s.v) < 0) {
+        rf_triangle_plane_distance(&t->tri[tri0], p0) < -RF_TOUCH_BAND * m->cfg.tol_len &&
+        rf_v3_dot(t->tri[tri0].n, m->rock.s.v) < 0) {
         /* a centre under the face it is over, sinking further: the search finds no
-         * entry into a plane the centre is already under (stopped on a column's border
-         * at a pit beside a hole, a rock sank under the face's offset plane and fell
-         * through the terrain); rescued at once, onto the highest offset plane there.
-         * (Under the offset plane alone is left to the stall rules: a rock wedged
-         * among walls is, and is stopped, or rests when wedged there again; rescued
-         * at once at every step on a column's border, it was given up.) */
+         * entry into a plane the centre is already under, so it is rescued at once,
+         * onto the highest offset plane there.  (Under the offset plane alone is left
+         * to the stall rules: a rock wedged among walls is, and is stopped, or rests
+         * when wedged there again.) */
         int end = rf_rescue(m);
         return end == RF_RESCUED ? -1 : end;
     }
@@ -129,7 +137,7 @@ static int flight_step(rf_motion *m, double h)
     int hit = 0, out = 0;
     rf_contact c;
     if (tri1 != tri0 || tri1 < 0 ||
-        rf_v3_dot(t->tri[tri1].n, pe) - t->tri[tri1].d - m->rho < m->tol_len) {
+        rf_v3_dot(t->tri[tri1].n, pe) - t->tri[tri1].d - m->cfg.rho < m->cfg.tol_len) {
         /* the step's straight piece p0 + ve t, searched as the exact engine searches a
          * flight (Eq. 6-7: the centre moves over a column already within reach of its
          * plane, or reaches the plane over the column) */
@@ -141,17 +149,17 @@ static int flight_step(rf_motion *m, double h)
          * rock bridges (rf_terrain_exit_time) is not */
         out = !hit && tri1 < 0 && tx < h;
     }
-    if (!hit && pe.z < t->zmin - m->rho - 1.0)
+    if (!hit && pe.z < t->zmin - m->cfg.rho - 1.0)
         out = 1; /* below every face */
     if (advance_piece(m, ve, te, h, NULL))
-        return rf_scene_event(m);
+        return rf_surface_scene_event(m);
     if (hit) {
         /* the velocity at the contact is v + g t; when that leaves the face but the
          * step's velocity meets it, the rock made a hop shorter than the step and is
          * back on the face, in the step's direction */
-        if (rf_v3_dot(m->s.v, c.n) >= 0 && rf_v3_dot(ve, c.n) < 0)
+        if (rf_v3_dot(m->rock.s.v, c.n) >= 0 && rf_v3_dot(ve, c.n) < 0)
             take_step_direction(m, ve);
-        m->flight_ex.n = 0;
+        m->rock.flight_ex.n = 0;
         if (rf_scene_at_once(m) >= 0)
             return RF_END_STOPPED;
         rf_contact_resolve(m, &c);
@@ -175,27 +183,28 @@ static int face_step(rf_motion *m, double h, face_run *run)
 {
     int seg_start = run->fresh;
     run->fresh = 1;
-    int32_t tri = m->sup.tri[0];
-    const rf_triangle *T = &m->terrain->tri[tri];
+    int32_t tri = m->rock.sup.tri[0];
+    const rf_triangle *T = &m->cfg.terrain->tri[tri];
     rf_vec3 n = T->n;
-    m->s.v = rf_in_plane(m->s.v, n);
+    m->rock.s.v = rf_in_plane(m->rock.s.v, n);
     rf_vec3 u = rf_v3(0, 0, 0);
-    if (!m->point) {
+    if (!m->cfg.point) {
         u = rf_face_slip(m, n);
-        if (m->sup.rolling && seg_start) {
+        if (m->rock.sup.rolling && seg_start) {
             u = rf_v3(0, 0, 0);
             if (!rf_roll_holds(m, n))
-                m->sup.rolling = 0;
-        } else if (m->sup.rolling) {
+                m->rock.sup.rolling = 0;
+        } else if (m->rock.sup.rolling) {
             u = rf_v3(0, 0, 0);
         }
     }
-    double speed = rf_v3_norm(m->s.v);
-    if (speed <= m->scene->sim->stop_speed && (m->point || m->sup.rolling) && rf_surface_holds(m))
+    double speed = rf_v3_norm(m->rock.s.v);
+    if (speed <= m->cfg.scene->sim->stop_speed && (m->cfg.point || m->rock.sup.rolling) &&
+        rf_surface_holds(m))
         return RF_END_REST;
     if (seg_start)
         run->wall = -1;
-    int slide = !m->point && !m->sup.rolling;
+    int slide = !m->cfg.point && !m->rock.sup.rolling;
     rf_vec3 du;
     rf_vec3 a;
     if (run->wall >= 0) {
@@ -203,7 +212,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
         a = rf_surface_accel(m, n, run->dir, run->dir, &du);
         rf_wall_law(run->dir, &a, &du);
     } else {
-        a = rf_surface_accel(m, n, m->s.v, u, &du);
+        a = rf_surface_accel(m, n, m->rock.s.v, u, &du);
     }
     /* a slipping sphere's step ends where the slip vanishes; it can only vanish where
      * friction K mu g_n exceeds the gravity component g_t, else it turns down the
@@ -211,10 +220,10 @@ static int face_step(rf_motion *m, double h, face_run *run)
     double hs = h;
     int slip_end = 0, can_stick = 0;
     if (slide) {
-        double K = rf_slip_factor(m->body, m->rho);
+        double K = rf_slip_factor(m->cfg.body, m->cfg.rho);
         /* along a wall the slip ends where it vanishes, and the wall is met anew */
         can_stick = run->wall >= 0 ||
-                    K * m->sup.mu * RF_GRAVITY * n.z > RF_GRAVITY * sqrt(fmax(0.0, 1.0 - n.z * n.z));
+                    K * m->rock.sup.mu * RF_GRAVITY * n.z > RF_GRAVITY * sqrt(fmax(0.0, 1.0 - n.z * n.z));
         double ul = rf_v3_norm(u);
         double dus = ul > 0 ? rf_v3_dot(du, u) / ul : 0.0;
         if (can_stick && ul > 0 && dus < 0 && ul <= -dus * hs) {
@@ -222,9 +231,9 @@ static int face_step(rf_motion *m, double h, face_run *run)
             slip_end = 1;
         }
     }
-    rf_vec3 v1 = rf_v3_madd(m->s.v, hs, a);
+    rf_vec3 v1 = rf_v3_madd(m->rock.s.v, hs, a);
     int zero = 0;
-    if (!slide && speed > 0 && rf_v3_dot(v1, m->s.v) < 0) {
+    if (!slide && speed > 0 && rf_v3_dot(v1, m->rock.s.v) < 0) {
         v1 = rf_v3(0, 0, 0); /* friction stops the rock, it does not push it back */
         zero = 1;
     }
@@ -240,20 +249,19 @@ static int face_step(rf_motion *m, double h, face_run *run)
     rf_face_edges col;
     rf_column_edges(T, &col);
     int edge = 0;
-    double tx = column_exit(m, &col, m->s.p, ve, hs, run->wall, &edge);
+    double tx = column_exit(m, &col, m->rock.s.p, ve, hs, run->wall, &edge);
     double te = tx < hs ? tx : hs;
     /* the slip from u to u1 over the step */
     rf_spin_law law = rf_spin_law_over(m, n, u, u1, hs);
     int scene = advance_piece(m, ve, te, hs, &law);
     if (scene)
-        return rf_scene_event(m);
-    if (tx == 0.0 && m->centre) {
+        return rf_surface_scene_event(m);
+    if (tx == 0.0 && m->cfg.centre) {
         /* the step would leave over an edge the centre lies on at once: when a wall
-         * lies beyond, the rock meets it (a reflection off it, turned back out by the
-         * next step's velocity, ended every step there in no time).  Out of a run
-         * along another wall, it is in their corner: it meets the wall with the step's
-         * velocity, which the corner stops (with its own, moving out of the corner
-         * along the first wall, it went from one wall to the other at every step) */
+         * lies beyond, the rock meets it, as the exact engine's segments do (a
+         * reflection would be turned back by the next step's velocity, a step of no
+         * time).  Out of a run along another wall, it is in their corner: it meets the
+         * wall with the step's velocity, which the corner stops */
         if (run->wall >= 0) /* the edge left over is another (column_exit skips it) */
             take_step_direction(m, ve);
         int end = rf_wall_meet(m, &col, edge, &run->wall, &run->dir);
@@ -269,7 +277,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
         /* the piece crossed the edge with the step's velocity; when the velocity of
          * its time does not leave over it (along the edge), the rock leaves in the
          * step's direction (else it flew back over the face it left, below its plane) */
-        if (rf_v3_dot(col.m[edge], m->s.v) >= -RF_APPROACH_EPS &&
+        if (rf_v3_dot(col.m[edge], m->rock.s.v) >= -RF_APPROACH_EPS &&
             rf_v3_dot(col.m[edge], ve) < -RF_APPROACH_EPS)
             take_step_direction(m, ve);
         int end = leave_face(m, edge, &col, a);
@@ -277,13 +285,13 @@ static int face_step(rf_motion *m, double h, face_run *run)
         return end;
     }
     if (slip_end) {
-        m->sup.rolling = 1;
+        m->rock.sup.rolling = 1;
         rf_set_spin(m, n, rf_v3(0, 0, 0));
         rf_motion_event(m);
     } else if (zero) {
-        m->s.v = rf_v3(0, 0, 0);
-        if (m->sup.rolling)
-            m->s.w = rf_v3(0, 0, 0);
+        m->rock.s.v = rf_v3(0, 0, 0);
+        if (m->rock.sup.rolling)
+            m->rock.s.w = rf_v3(0, 0, 0);
         rf_motion_event(m);
     } else {
         run->fresh = 0;
@@ -301,8 +309,8 @@ static int crease_step(rf_motion *m, double h)
     case RF_CREASE_REST: return RF_END_REST;
     case RF_CREASE_MOVES: break;
     }
-    const rf_terrain *t = m->terrain;
-    const rf_triangle *A = &t->tri[m->sup.tri[0]], *B = &t->tri[m->sup.tri[1]];
+    const rf_terrain *t = m->cfg.terrain;
+    const rf_triangle *A = &t->tri[m->rock.sup.tri[0]], *B = &t->tri[m->rock.sup.tri[1]];
     double s1 = cr.s + h * cr.as;
     int zero = 0;
     if (s1 < 0) {
@@ -316,7 +324,7 @@ static int crease_step(rf_motion *m, double h)
     for (int k2 = 0; k2 < 2; k2++) {
         rf_column_edges(k2 == 0 ? A : B, &col[k2]);
         int e2 = 0;
-        double t2 = column_exit(m, &col[k2], m->s.p, ve, h, -1, &e2);
+        double t2 = column_exit(m, &col[k2], m->rock.s.p, ve, h, -1, &e2);
         if (t2 < tx)
             tx = t2, edge = e2, slot = k2;
     }
@@ -326,16 +334,16 @@ static int crease_step(rf_motion *m, double h)
         roll = rf_crease_roll(m);
     int scene = advance_piece(m, ve, te, h, cr.rolling ? &roll : NULL);
     if (scene)
-        return rf_scene_event(m);
+        return rf_surface_scene_event(m);
     if (tx <= h) {
         /* the centre leaves one face's column: the crease goes on with the next face
          * on the same plane, or ends on the other face */
-        int32_t from = m->sup.tri[slot], other = m->sup.tri[1 - slot];
-        int32_t to = rf_face_after(m, from, edge, &col[slot], m->s.p, rf_v3_scale(cr.l, cr.as));
+        int32_t from = m->rock.sup.tri[slot], other = m->rock.sup.tri[1 - slot];
+        int32_t to = rf_face_after(m, from, edge, &col[slot], m->rock.s.p, rf_v3_scale(cr.l, cr.as));
         rf_motion_event(m);
-        if (to >= 0 && rf_coplanar(&m->terrain->tri[from], &m->terrain->tri[to], m->tol_len)) {
-            m->sup.tri[slot] = to;
-            m->sup.left = from;
+        if (to >= 0 && rf_coplanar(&m->cfg.terrain->tri[from], &m->cfg.terrain->tri[to], m->cfg.tol_len)) {
+            m->rock.sup.tri[slot] = to;
+            m->rock.sup.left = from;
             return -1;
         }
         if (to < 0)
@@ -344,9 +352,9 @@ static int crease_step(rf_motion *m, double h)
         return -1;
     }
     if (zero) {
-        m->s.v = rf_v3(0, 0, 0);
+        m->rock.s.v = rf_v3(0, 0, 0);
         if (cr.rolling)
-            m->s.w = rf_v3(0, 0, 0);
+            m->rock.s.w = rf_v3(0, 0, 0);
         rf_motion_event(m);
     }
     return -1;
@@ -356,32 +364,31 @@ static int crease_step(rf_motion *m, double h)
 
 int rf_simulate_fixed_step(rf_motion *m)
 {
-    const double dt = m->scene->sim->dt > 0 ? m->scene->sim->dt : 1e-3;
+    const double dt = m->cfg.scene->sim->dt > 0 ? m->cfg.scene->sim->dt : 1e-3;
     /* the paper's contact test (Eq. 6-7) whatever the project's contact option */
-    m->centre = !m->point;
+    m->cfg.centre = !m->cfg.point;
     int end = rf_motion_start(m);
     if (end >= 0)
         return end;
     face_run run = {1, -1, {0, 0, 0}};
-    long marked = m->marked;
+    long marked = m->book.marked;
     /* the steps max_time takes and as many events as the exact engine may meet */
-    double budget = ceil((m->t_end - m->s.t) / dt) + RF_MAX_EVENTS;
-    long cap = budget < 1e15 ? (long)budget : (long)1e15;
+    double budget = ceil((m->cfg.t_end - m->rock.s.t) / dt) + RF_MAX_EVENTS;
+    long cap = budget < RF_FIXED_MAX_STEPS ? (long)budget : (long)RF_FIXED_MAX_STEPS;
     for (;;) {
-        if (m->s.t >= m->t_end || ++m->events > cap)
+        if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap)
             return RF_END_MAX_TIME;
         /* a slow rock's creep counts the steps that ended at an event, as the exact
-         * engine counts its events (a point mass on a frictionless pit went on
-         * around its vertex until max_time) */
-        end = rf_progress(m, m->marked != marked);
-        marked = m->marked;
+         * engine counts its events (rf_progress) */
+        end = rf_progress(m, m->book.marked != marked);
+        marked = m->book.marked;
         if (end >= 0) /* after a rescue (RF_RESCUED), in flight: fresh as every flight */
             return end;
-        double h = fmin(dt, m->t_end - m->s.t);
-        if (m->sup.n == 1) {
+        double h = fmin(dt, m->cfg.t_end - m->rock.s.t);
+        if (m->rock.sup.n == 1) {
             end = face_step(m, h, &run);
         } else {
-            end = m->sup.n == 0 ? flight_step(m, h) : crease_step(m, h);
+            end = m->rock.sup.n == 0 ? flight_step(m, h) : crease_step(m, h);
             run.fresh = 1;
         }
         if (end >= 0)

@@ -21,6 +21,8 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "base/tolerances.h"
+
 void rf_hodograph_init(rf_hodograph *h, rf_vec3 w0, rf_vec3 n, rf_vec3 e1, double A, double B)
 {
     *h = (rf_hodograph){.e1 = e1}; /* every field set below; none left to chance */
@@ -89,13 +91,14 @@ double rf_hodograph_lambda(const rf_hodograph *h, double t, double lo, double hi
         return INFINITY;
     /* Newton's method (dt/dlambda = |w| / A) kept inside the bracket [lo, hi] */
     double lam = guess >= lo && guess <= hi ? guess : lo;
-    for (int it = 0; it < 200; it++) {
+    for (int it = 0; it < RF_HODOGRAPH_MAX_ITER; it++) {
         double speed, g = rf_hodograph_time(h, lam, &speed) - t;
         if (g >= 0)
             hi = lam;
         else
             lo = lam;
-        if (g == 0.0 || (hi < INFINITY && hi - lo <= 4e-16 * hi) || fabs(g) <= 4e-16 * t)
+        if (g == 0.0 || (hi < INFINITY && hi - lo <= RF_HODOGRAPH_REL_TOL * hi) ||
+            fabs(g) <= RF_HODOGRAPH_REL_TOL * t)
             return lam;
         lam = speed > 0 ? lam - g * h->A / speed : INFINITY;
         if (!(lam > lo && lam < hi))

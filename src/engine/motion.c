@@ -8,54 +8,50 @@
  * the number of events, not the simulated time.  Tree collisions and measure
  * crossings come in as more candidate events of every piece of motion through
  * rf_scene_horizon and rf_scene_event (scene_events.c). */
-#include "engine/motion_private.h"
+#include "rockfall/sim.h"
 
-#include <gsl/gsl_randist.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define START_TOUCH_TOL 1e-6 /* a start this close to the ground touches it (m) */
+#include "engine/contact.h"
+#include "engine/exit.h"
+#include "engine/face_entry.h"
+#include "engine/fixed_step.h"
+#include "engine/progress.h"
+#include "engine/rock.h"
+#include "engine/scene_events.h"
+#include "engine/state.h"
+#include "engine/surface.h"
+#include "engine/tables.h"
 
-/* ---- public helpers ------------------------------------------------------------------ */
-
-double rf_draw_truncated(gsl_rng *rng, rf_dist d, double lo, double hi)
+rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt)
 {
-    if (d.sd > 0.0) {
-        for (int k = 0; k < 1000; k++) {
-            double x = d.mean + gsl_ran_gaussian_ziggurat(rng, d.sd);
-            if (x >= lo && x <= hi)
-                return x;
-        }
-    }
-    return d.mean < lo ? lo : (d.mean > hi ? hi : d.mean);
-}
-
-rf_workspace *rf_workspace_alloc(const rf_terrain *t)
-{
+    const rf_terrain *t = tt->terrain;
     rf_workspace *ws = calloc(1, sizeof *ws);
     if (!ws)
         return NULL;
-    ws->terrain = t;
+    ws->tables = tt;
     ws->cap = 256;
     ws->cand = malloc(ws->cap * sizeof *ws->cand);
     ws->stamp = calloc(t->ntri ? t->ntri : 1, sizeof *ws->stamp);
     ws->tested = calloc(t->ntri ? t->ntri : 1, sizeof *ws->tested);
-    ws->edge_live = malloc(t->ntri ? t->ntri : 1);
-    ws->tri_box = malloc(6 * (t->ntri ? t->ntri : 1) * sizeof *ws->tri_box);
-    ws->hedge = malloc(3 * (t->ntri ? t->ntri : 1) * sizeof *ws->hedge);
-    if (!ws->cand || !ws->stamp || !ws->tested || !ws->edge_live || !ws->tri_box || !ws->hedge ||
-        rf_edge_live_build(t, ws->edge_live)) {
+    if (!ws->cand || !ws->stamp || !ws->tested) {
         rf_workspace_free(ws);
         return NULL;
     }
-    rf_tri_box_build(t, ws->tri_box);
-    rf_hedge_build(t, ws->hedge);
-    ws->has_gaps = rf_terrain_has_gaps(t, ws->edge_live);
-    ws->nz_min = 1.0;
-    for (size_t k = 0; k < t->ntri; k++)
-        ws->nz_min = fmin(ws->nz_min, t->tri[k].n.z);
-    ws->nz_min = fmax(ws->nz_min, 1e-12);
+    return ws;
+}
+
+rf_workspace *rf_workspace_alloc(const rf_terrain *t)
+{
+    rf_terrain_tables *tt = rf_terrain_tables_build(t);
+    rf_workspace *ws = tt ? rf_workspace_alloc_shared(tt) : NULL;
+    if (!ws) {
+        rf_terrain_tables_free(tt);
+        return NULL;
+    }
+    ws->own = tt;
     return ws;
 }
 
@@ -66,101 +62,20 @@ void rf_workspace_free(rf_workspace *ws)
     free(ws->cand);
     free(ws->stamp);
     free(ws->tested);
-    free(ws->edge_live);
-    free(ws->tri_box);
-    free(ws->hedge);
     free(ws->near_hit);
     free(ws->pend_idx);
     free(ws->pend_w0);
+    rf_terrain_tables_free(ws->own);
     free(ws);
-}
-
-/* ---- records ------------------------------------------------------------------------ */
-
-double rf_motion_energy(const rf_motion *m) { return rf_kinetic_energy(m->body, m->s.v, m->s.w); }
-
-double rf_motion_note_energy(rf_motion *m)
-{
-    double e = rf_motion_energy(m) / 1000.0;
-    if (e > m->rec->max_energy_kj)
-        m->rec->max_energy_kj = e;
-    return e;
-}
-
-void rf_motion_sample(rf_motion *m, rf_vec3 p, rf_vec3 v, double ekj)
-{
-    double z;
-    double h = rf_terrain_height(m->terrain, p.x, p.y, &z) >= 0 ? p.z - z : 0.0;
-    m->sink->sample(m->sink->ctx, p, rf_v3_norm(v), ekj, h);
-}
-
-void rf_motion_advance(rf_motion *m, const rf_arc *arc, double T, const rf_spin_law *law)
-{
-    rf_motion_advance_split(m, arc, arc, T, law);
-}
-
-void rf_motion_advance_split(rf_motion *m, const rf_arc *arc, const rf_arc *vel, double T,
-                             const rf_spin_law *law)
-{
-    if (!(T > 0))
-        return;
-    if (m->point)
-        law = NULL; /* no spin */
-    m->rec->path_length_m += rf_arc_length(arc->v, arc->a, T);
-    rf_scene_travel(m, arc, T);
-    const rf_sink *sk = m->sink;
-    if (rf_motion_samples(m)) {
-        /* |v_h(t)|^2 is convex on an arc: its larger end bounds the horizontal speed */
-        double vmax = fmax(rf_v3_hnorm(arc->v), rf_v3_hnorm(rf_arc_vel(arc, T)));
-        double L = vmax * T;
-        double next = sk->sample_spacing - m->sample_acc, last = -1.0;
-        for (long k = 0; next <= L && k < 10000000; k++) {
-            double ts = T * next / L;
-            rf_vec3 v = rf_arc_vel(vel, ts);
-            rf_vec3 w = law ? rf_spin_at(law, m->rho, v, ts) : m->s.w;
-            rf_motion_sample(m, rf_arc_pos(arc, ts), v, rf_kinetic_energy(m->body, v, w) / 1000.0);
-            last = next;
-            next += sk->sample_spacing;
-        }
-        m->sample_acc = last >= 0 ? L - last : m->sample_acc + L;
-    }
-    m->s.p = rf_arc_pos(arc, T);
-    m->s.v = rf_arc_vel(vel, T);
-    m->s.t += T;
-}
-
-void rf_motion_event(rf_motion *m)
-{
-    m->marked++;
-    double e = rf_motion_note_energy(m);
-    const rf_sink *sk = m->sink;
-    if (!sk)
-        return;
-    if (sk->path_point) {
-        rf_path_point pt = {m->s.t, m->s.p, rf_v3_norm(m->s.v), e};
-        sk->path_point(sk->ctx, &pt);
-    }
-    if (sk->sample) {
-        rf_motion_sample(m, m->s.p, m->s.v, e);
-        m->sample_acc = 0.0;
-    }
-}
-
-/* ---- flight ------------------------------------------------------------------------ */
-
-int rf_flight_contact(rf_motion *m, const rf_arc *arc, double T, rf_contact *c)
-{
-    const rf_support *ex = m->flight_ex.n ? &m->flight_ex : NULL;
-    return rf_contact_search(m, arc, T, ex, c) && c->t <= T;
 }
 
 /* One flight until its next event; returns -1 to go on, or the end reason. */
 static int flight_step(rf_motion *m)
 {
-    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    double T = fmax(0.0, m->t_end - m->s.t);
+    rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    double T = fmax(0.0, m->cfg.t_end - m->rock.s.t);
     /* below every face: the rock has left the terrain */
-    double zfloor = m->terrain->zmin - m->rho - 1.0;
+    double zfloor = m->cfg.terrain->zmin - m->cfg.rho - 1.0;
     double t_fall = INFINITY;
     double r[2];
     int nr = rf_quadratic_roots(-0.5 * RF_GRAVITY, arc.v.z, arc.p.z - zfloor, r);
@@ -172,16 +87,16 @@ static int flight_step(rf_motion *m)
     int hit = rf_flight_contact(m, &arc, te, &c);
     double tend = hit ? c.t : te;
     double ts = rf_scene_horizon(m, &arc, tend);
-    int scene = m->scene_pending && ts < tend;
+    int scene = m->scn.pending && ts < tend;
     rf_motion_advance(m, &arc, scene ? ts : tend, NULL);
     rf_motion_note_energy(m); /* before an impact takes energy */
     if (scene)
-        return rf_scene_event(m);
+        return rf_surface_scene_event(m);
     if (hit) {
         if (rf_scene_at_once(m) >= 0)
             return RF_END_STOPPED;
         rf_contact_resolve(m, &c); /* knows the face flown off from flight_ex */
-        m->flight_ex.n = 0;
+        m->rock.flight_ex.n = 0;
         rf_motion_event(m);
         return -1;
     }
@@ -190,306 +105,20 @@ static int flight_step(rf_motion *m)
     return RF_END_MAX_TIME;
 }
 
-/* ---- start ------------------------------------------------------------------------- */
-
-/* rf_motion_start without the progress watch. */
-static int place_start(rf_motion *m)
-{
-    const rf_terrain *t = m->terrain;
-    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-    if (tri < 0)
-        return RF_END_EXITED;
-    m->sup.n = 0;
-    m->sup.left = -1;
-    m->flight_ex.n = 0;
-    rf_contact c;
-    memset(&c, 0, sizeof c);
-    double dist;
-    if (m->point || m->centre) {
-        const rf_triangle *T = &t->tri[tri];
-        dist = rf_v3_dot(T->n, m->s.p) - T->d;
-        c.tri = tri;
-        c.kind = RF_FEAT_FACE;
-        c.n = T->n;
-        c.point = rf_v3_madd(m->s.p, -dist, T->n);
-        if (m->point && T->n.z > 0) {
-            /* the point's height above the face, measured vertically */
-            double zs = rf_triangle_z_at(T, m->s.p.x, m->s.p.y);
-            dist = (m->s.p.z - zs) * T->n.z;
-        }
-    } else {
-        /* a sphere into the terrain (released in a hollow, or below the ground) is
-         * pushed out of the feature nearest its centre; when that leaves it in another
-         * one or under the ground, it is raised on its vertical instead, until it just
-         * touches the terrain */
-        const rf_triangle *T = &t->tri[tri];
-        double dp = rf_v3_dot(T->n, m->s.p) - T->d;
-        if (dp < m->rho)
-            m->s.p = rf_v3_madd(m->s.p, m->rho - dp, T->n);
-        dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
-        if (dist < m->rho - m->tol_len) {
-            rf_vec3 p0 = m->s.p;
-            m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
-            dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
-            /* a push that leaves it in the terrain or puts it under the ground (clear
-             * of every feature, but below them) is not taken */
-            int32_t under = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-            if (dist < m->rho - m->tol_len || under < 0 ||
-                rf_triangle_plane_distance(&t->tri[under], m->s.p) < m->rho - m->tol_len) {
-                m->s.p = p0;
-                m->s.p.z = rf_clear_height(m, p0);
-                dist = rf_closest_feature(m, m->s.p, m->rho + 1.0, &c);
-            }
-        }
-    }
-    if (!(dist <= m->rho + START_TOUCH_TOL))
-        return -1; /* in the air */
-    double gap;
-    if (m->point && t->tri[c.tri].n.z > 0)
-        m->s.p.z = rf_triangle_z_at(&t->tri[c.tri], m->s.p.x, m->s.p.y);
-    else if (m->centre && dist < m->rho)
-        m->s.p = rf_v3_add(m->s.p, rf_centre_lift_move(m, &t->tri[c.tri], &gap));
-    else if (c.kind == RF_FEAT_FACE)
-        m->s.p = rf_v3_madd(m->s.p, m->rho - dist, c.n);
-    double vn = rf_v3_dot(m->s.v, c.n);
-    if (vn > m->v_stay)
-        return -1; /* launched off the ground */
-    if (c.kind == RF_FEAT_FACE && vn > -m->v_stay) {
-        rf_surface_enter(m, c.tri);
-        return -1;
-    }
-    rf_contact_resolve(m, &c);
-    return -1;
-}
-
-int rf_motion_start(rf_motion *m)
-{
-    int end = place_start(m);
-    if (end < 0) {
-        m->stall_t = m->s.t;
-        m->creep_p = m->s.p;
-    }
-    return end;
-}
-
-/* ---- the exact engine ------------------------------------------------------------- */
-
-/* The height of face T's offset plane (r above it) on the vertical through p. */
-static double offset_plane_z(const rf_motion *m, const rf_triangle *T, rf_vec3 p)
-{
-    return rf_triangle_z_at(T, p.x, p.y) + m->rho / T->n.z;
-}
-
-/* Of the columns of upward faces holding p within `reach`, the one whose offset plane
- * is highest there (highest = 1) or lowest (0); tri, unless -1, counts as holding p.
- * -1 when none does. */
-static int32_t column_extreme(rf_motion *m, rf_vec3 p, double reach, int32_t tri, int highest)
-{
-    const rf_terrain *t = m->terrain;
-    double sign = highest ? 1.0 : -1.0; /* the lowest is the highest of -z */
-    double best = tri >= 0 ? sign * offset_plane_z(m, &t->tri[tri], p) : -INFINITY;
-    int32_t skip = tri;
-    size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
-    for (size_t i = 0; i < n; i++) {
-        int32_t k = m->ws->cand[i];
-        const rf_triangle *T = &t->tri[k];
-        if (k == skip || !(T->n.z > 0))
-            continue;
-        double z = sign * offset_plane_z(m, T, p);
-        if (z > best && rf_in_column(T, p, -reach))
-            best = z, tri = k;
-    }
-    return tri;
-}
-
-int32_t rf_highest_column(rf_motion *m, int32_t tri)
-{
-    return column_extreme(m, m->s.p, m->tol_len, tri, 1);
-}
-
-/* Centre mode: the rock wedged among walls, at p before the rescue's free motion, is
- * put in the column, of those within a micrometre of p (RF_SETTLE_REACH length
- * tolerances: a rock reflected off a wall lies a few tolerances beyond the border of
- * the column it came from), whose offset plane is lowest there (it stood on that one or
- * higher), moved towards the column's centroid until it is inside by twice the length
- * tolerance, where no other column holds it, and lifted onto that plane should it be
- * under it (the least lift that leaves it over the terrain; none usually).  Returns 0,
- * or -1 when no column will do (the rock is left where it is). */
-static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
-{
-    const rf_terrain *t = m->terrain;
-    double tol = m->tol_len;
-    int32_t best = column_extreme(m, p, RF_SETTLE_REACH * tol, -1, 0);
-    if (best < 0)
-        return -1;
-    const rf_triangle *T = &t->tri[best];
-    /* the least part f of the way to the centroid g that puts it inside by 2 tol: the
-     * distances to the column's edges are linear along the way */
-    rf_vec3 g = rf_v3((T->a.x + T->b.x + T->c.x) / 3.0, (T->a.y + T->b.y + T->c.y) / 3.0, p.z);
-    rf_face_edges fe;
-    rf_column_edges(T, &fe);
-    double f = 0.0;
-    for (int e = 0; e < 3; e++) {
-        double sp = rf_v3_dot(fe.m[e], p) - fe.o[e], sg = rf_v3_dot(fe.m[e], g) - fe.o[e];
-        if (sp < 2.0 * tol && sg > sp)
-            f = fmax(f, (2.0 * tol - sp) / (sg - sp));
-    }
-    rf_vec3 q = rf_v3(p.x + fmin(f, 0.5) * (g.x - p.x), p.y + fmin(f, 0.5) * (g.y - p.y), p.z);
-    if (!rf_in_column(T, q, tol) || column_extreme(m, q, tol, best, 1) != best)
-        return -1;
-    m->s.p = q;
-    double gap;
-    m->s.p = rf_v3_add(q, rf_centre_lift_move(m, T, &gap));
-    return 0;
-}
-
-/* A full-contact sphere: the move that takes it out of the terrain it is in (its
- * centre within r plus the length tolerance of a feature): along the normal of the
- * nearest feature, where that leaves it clear of every feature and not under the face
- * under it; else up its vertical to where it is clear (an edge's normal has no side,
- * and a centre under a valley line would be pushed deeper).  Zero when it is clear. */
-static rf_vec3 sphere_out(rf_motion *m)
-{
-    const rf_terrain *t = m->terrain;
-    rf_vec3 p = m->s.p;
-    rf_contact c;
-    double d = rf_closest_feature(m, p, m->rho + 1.0, &c);
-    if (c.kind == RF_FEAT_FACE)
-        d = rf_triangle_plane_distance(&t->tri[c.tri], p);
-    if (!(d < m->rho + m->tol_len))
-        return rf_v3(0, 0, 0);
-    rf_vec3 q = rf_v3_madd(p, m->rho + m->tol_len - d, c.n);
-    rf_contact near;
-    int32_t under = rf_terrain_locate(t, q.x, q.y);
-    if (rf_closest_feature(m, q, m->rho + 1.0, &near) < m->rho - m->tol_len || under < 0 ||
-        rf_triangle_plane_distance(&t->tri[under], q) < 0) {
-        q = p;
-        q.z = rf_clear_height(m, p) + m->tol_len;
-    }
-    return rf_v3_sub(q, p);
-}
-
-/* Returns 1 when the rock rests: wedged again where a rescue last found it wedged
- * (centre mode), or too slow to pay its way out of the terrain (a full-contact
- * sphere). */
-static int unstall(rf_motion *m)
-{
-    const rf_terrain *t = m->terrain;
-    rf_vec3 p0 = m->s.p;
-    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    rf_motion_advance(m, &arc, RF_UNSTALL_TIME, NULL);
-    rf_motion_note_energy(m);
-    int32_t tri = rf_terrain_locate(t, m->s.p.x, m->s.p.y);
-    if (tri >= 0) {
-        const rf_triangle *T = &t->tri[tri];
-        rf_vec3 n = T->n; /* the velocity into the terrain is taken along it */
-        if (m->centre) {
-            tri = rf_highest_column(m, tri);
-            T = &t->tri[tri];
-            n = T->n;
-            double gap;
-            /* onto the offset plane of the column now under the centre, as a centre
-             * moving over a column is lifted (pushed along the normal, it could end
-             * under the next column's plane and fall through the terrain, in either
-             * engine).  Wedged among walls it cannot pay the lift onto, it is stopped
-             * in the lowest column where it was wedged, just inside it, and goes on
-             * from there (settle_in_lowest_column).  Put onto the wall's plane for
-             * nothing instead, a rock at the foot of a near-vertical face was raised
-             * by many r (docs/engine.md).  Wedged again within r of where it was last
-             * wedged, it rests where it is: put onto the plane every time, a sphere
-             * at a node at the bottom of a pit fell back into the pit, gaining the
-             * height of the lift, until the rescues ran out. */
-            rf_vec3 move = rf_centre_lift_move(m, T, &gap);
-            if (gap > 0 && !rf_pay_lift(m, move)) {
-                if (m->wedged && rf_v3_norm(rf_v3_sub(m->s.p, m->wedge_p)) <= m->rho) {
-                    if (rf_triangle_plane_distance(T, m->s.p) < 0)
-                        m->s.p = rf_v3_add(m->s.p, move); /* not under the face */
-                    return 1;
-                }
-                m->wedged = 1;
-                m->wedge_p = m->s.p;
-                if (settle_in_lowest_column(m, p0))
-                    m->s.p = rf_v3_add(m->s.p, move);
-                m->s.v = rf_v3(0, 0, 0);
-                m->s.w = rf_v3(0, 0, 0);
-            }
-        } else if (m->point) {
-            double dp = rf_triangle_plane_distance(T, m->s.p);
-            if (dp < m->tol_len)
-                m->s.p = rf_v3_madd(m->s.p, m->tol_len - dp, T->n);
-        } else {
-            /* out of the terrain, paid from the kinetic energy.  Pushed onto the offset
-             * plane of the face under the centre instead, a sphere wedged beside a steep
-             * face was raised by 0.07 m for nothing (the plane reaches beyond the face
-             * the sphere touches). */
-            rf_vec3 move = sphere_out(m);
-            if (rf_v3_norm(move) > 0) {
-                if (!rf_pay_lift(m, move)) {
-                    /* too slow to pay its way out: it rests out of the terrain (where
-                     * it was, it could lie under a face) */
-                    m->s.p = rf_v3_add(m->s.p, move);
-                    return 1;
-                }
-                n = rf_v3_unit(move);
-            }
-        }
-        double vn = rf_v3_dot(m->s.v, n);
-        if (vn < 0)
-            m->s.v = rf_v3_madd(m->s.v, -vn, n);
-    }
-    m->sup.n = 0;
-    m->flight_ex.n = 0;
-    return 0;
-}
-
-int rf_progress(rf_motion *m, int events)
-{
-    double stop = m->scene->sim->stop_speed;
-    if (events) {
-        if (rf_v3_norm(m->s.v) > stop || rf_v3_norm(rf_v3_sub(m->s.p, m->creep_p)) > RF_CREEP_DIST) {
-            m->creep_p = m->s.p;
-            m->creep = 0;
-        } else if (++m->creep > RF_CREEP_EVENTS) {
-            return RF_END_REST;
-        }
-    }
-    if (m->s.t > m->stall_t + RF_STALL_TIME) {
-        m->stall_t = m->s.t;
-        m->stall = 0;
-    } else if (++m->stall > RF_STALL_EVENTS) {
-        /* no progress in time: a rock wedged between features */
-        if (rf_v3_norm(m->s.v) <= stop)
-            return RF_END_REST;
-        return rf_rescue(m);
-    }
-    return -1;
-}
-
-int rf_rescue(rf_motion *m)
-{
-    if (++m->rescues > RF_MAX_RESCUES)
-        return RF_END_MAX_TIME;
-    if (unstall(m))
-        return RF_END_REST;
-    m->stall = 0;
-    m->stall_t = m->s.t;
-    return RF_RESCUED;
-}
-
 static int run_exact(rf_motion *m)
 {
     int end = rf_motion_start(m);
     if (end >= 0)
         return end;
     for (;;) {
-        if (++m->events > RF_MAX_EVENTS)
+        if (++m->book.events > RF_MAX_EVENTS)
             return RF_END_MAX_TIME;
         end = rf_progress(m, 1);
         if (end >= 0)
             return end;
-        if (m->s.t >= m->t_end)
+        if (m->rock.s.t >= m->cfg.t_end)
             return RF_END_MAX_TIME;
-        if (m->sup.n == 0) {
+        if (m->rock.sup.n == 0) {
             end = flight_step(m);
             if (end >= 0)
                 return end;
@@ -518,24 +147,24 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     const rf_simulation *sim = scene->sim;
     rf_motion m;
     memset(&m, 0, sizeof m);
-    m.scene = scene;
-    m.terrain = t;
-    m.body = body;
+    m.cfg.scene = scene;
+    m.cfg.terrain = t;
+    m.cfg.body = body;
     m.rng = rng;
     m.ws = ws;
-    m.sink = sink;
-    m.rec = out;
-    m.point = body->model == RF_MODEL_POINT;
-    m.rho = rf_body_contact_radius(body);
-    m.centre = !m.point && sim->contact == RF_CONTACT_CENTRE;
+    m.book.sink = sink;
+    m.book.rec = out;
+    m.cfg.point = body->model == RF_MODEL_POINT;
+    m.cfg.rho = rf_body_contact_radius(body);
+    m.cfg.centre = !m.cfg.point && sim->contact == RF_CONTACT_CENTRE;
     double scale = fmax(fmax(fabs(t->xmin), fabs(t->xmax)),
                         fmax(fmax(fabs(t->ymin), fabs(t->ymax)), fmax(fabs(t->zmin), fabs(t->zmax))));
-    m.tol_len = fmax(RF_LEN_TOL, 1e-14 * scale);
-    m.v_stay = sqrt(2.0 * RF_GRAVITY * RF_STAY_HEIGHT);
-    m.s = *start;
-    if (m.point)
-        m.s.w = rf_v3(0, 0, 0);
-    m.t_end = start->t + sim->max_time;
+    m.cfg.tol_len = fmax(RF_LEN_TOL, RF_LEN_TOL_REL * scale);
+    m.cfg.v_stay = sqrt(2.0 * RF_GRAVITY * RF_STAY_HEIGHT);
+    m.rock.s = *start;
+    if (m.cfg.point)
+        m.rock.s.w = rf_v3(0, 0, 0);
+    m.cfg.t_end = start->t + sim->max_time;
     memset(out, 0, sizeof *out);
     out->max_energy_kj = rf_motion_energy(&m) / 1000.0;
     rf_scene_begin(&m);
@@ -547,11 +176,11 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
 
     out->reason = (rf_stop_reason)end;
     if (end == RF_END_REST) {
-        m.s.v = rf_v3(0, 0, 0);
-        m.s.w = rf_v3(0, 0, 0);
+        m.rock.s.v = rf_v3(0, 0, 0);
+        m.rock.s.w = rf_v3(0, 0, 0);
     }
-    out->stop = m.s.p;
-    out->duration_s = m.s.t - start->t;
+    out->stop = m.rock.s.p;
+    out->duration_s = m.rock.s.t - start->t;
     rf_motion_event(&m);
     return 0;
 }

@@ -13,129 +13,68 @@
  * candidate's position over the bound (vegetation.c).  Gaps are measured in distance,
  * not time, so no time step enters: the exact and the fixed-step engines sample the
  * same process. */
-#include "engine/motion_private.h"
+#include "engine/scene_events.h"
 
 #include <gsl/gsl_randist.h>
 #include <math.h>
 #include <string.h>
 
+#include "engine/impact.h"
+#include "engine/rock.h"
+#include "engine/travel.h"
 #include "scene/vegetation.h"
 
-static double draw_gap(rf_motion *m) { return gsl_ran_exponential(m->rng, 1.0 / m->tree_bound); }
+static double draw_gap(rf_motion *m) { return gsl_ran_exponential(m->rng, 1.0 / m->scn.tree_bound); }
 
 void rf_scene_begin(rf_motion *m)
 {
-    const rf_scene *sc = m->scene;
-    m->scene_pending = RF_SCENE_NONE;
-    m->odo = 0.0;
-    m->phi_r = 2.0 * m->body->radius;
-    const rf_terrain *t = m->terrain;
+    const rf_scene *sc = m->cfg.scene;
+    m->scn.pending = RF_SCENE_NONE;
+    m->scn.odo = 0.0;
+    m->scn.phi_r = 2.0 * m->cfg.body->radius;
+    const rf_terrain *t = m->cfg.terrain;
     /* forests that cover no part of the terrain cost nothing */
     int any = rf_vegetation_touches(sc->forests, sc->nforests, t->xmin, t->ymin, t->xmax, t->ymax);
-    m->tree_bound = any ? rf_vegetation_rate_bound(sc->forests, sc->nforests, m->phi_r) : 0.0;
-    if (m->tree_bound > 0.0) {
-        m->tree_next = draw_gap(m);
-        m->tree_u = gsl_rng_uniform(m->rng);
+    m->scn.tree_bound = any ? rf_vegetation_rate_bound(sc->forests, sc->nforests, m->scn.phi_r) : 0.0;
+    if (m->scn.tree_bound > 0.0) {
+        m->scn.tree_next = draw_gap(m);
+        m->scn.tree_u = gsl_rng_uniform(m->rng);
     }
 }
 
-/* ---- one passage of a line -----------------------------------------------------------
- *
- * A rock that crosses a measure's line and comes back across it before its centre has
- * been further than its radius from the crossed segment's line passes the line once:
- * the crossings back and forth of that passage are not recorded again (a point mass
- * running along a valley line that a control line follows wandered across it by a
- * fraction of a millimetre and was recorded at each).  Once further than its radius
- * from it, the passage is over and the next crossing is a new one.  The same rule
- * passes over a crossing seen again: by the next piece of motion, which starts on the
- * line (rounded to either side of it), and as the neighbouring segment's root of a
- * crossing through a polyline vertex. */
-
-/* The largest horizontal distance from the passage's line over [0, T] of the arc. */
-static double passage_reach(const rf_passage *ps, const rf_arc *arc, double T)
-{
-    double f[3] = {ps->nx * (arc->p.x - ps->ax) + ps->ny * (arc->p.y - ps->ay),
-                   ps->nx * arc->v.x + ps->ny * arc->v.y,
-                   0.5 * (ps->nx * arc->a.x + ps->ny * arc->a.y)};
-    double lo, hi;
-    rf_quadratic_range(f, 0.0, fmax(T, 0.0), &lo, &hi);
-    return fmax(-lo, hi);
-}
-
-/* The passage of measure `which`, or NULL. */
-static rf_passage *passage_of(rf_motion *m, int which)
-{
-    for (int i = 0; i < m->npassing; i++)
-        if (m->passing[i].measure == which)
-            return &m->passing[i];
-    return NULL;
-}
-
-/* A crossing of segment c->segment of its measure recorded: that measure's passage
- * starts (the oldest passage makes room when all are taken). */
-static void passage_start(rf_motion *m, const rf_crossing *c)
-{
-    const double *A = &m->scene->measures[c->measure].line.xy[2 * c->segment], *B = A + 2;
-    double dx = B[0] - A[0], dy = B[1] - A[1], len = hypot(dx, dy);
-    rf_passage *ps = passage_of(m, c->measure);
-    if (!ps) {
-        if (m->npassing == RF_MAX_COINCIDENT_CROSSINGS) {
-            memmove(m->passing, m->passing + 1, (size_t)(m->npassing - 1) * sizeof *m->passing);
-            m->npassing--;
-        }
-        ps = &m->passing[m->npassing++];
-    }
-    /* a crossed segment has a length (measures.c passes over a zero one) */
-    *ps = (rf_passage){c->measure, A[0], A[1], -dy / len, dx / len};
-}
-
-void rf_scene_travel(rf_motion *m, const rf_arc *arc, double T)
-{
-    for (int i = 0; i < m->npassing;) {
-        if (passage_reach(&m->passing[i], arc, T) > m->body->radius) {
-            memmove(m->passing + i, m->passing + i + 1,
-                    (size_t)(m->npassing - i - 1) * sizeof *m->passing);
-            m->npassing--;
-        } else {
-            i++;
-        }
-    }
-    if (m->tree_bound > 0.0)
-        m->odo += rf_horizontal_length(arc->v, arc->a, T);
-}
 
 /* The earliest tree collision over [0, T] of the arc, or T.  Rejected candidates on
  * the way are used up. */
 static double tree_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
-    const rf_scene *sc = m->scene;
+    const rf_scene *sc = m->cfg.scene;
     double L = rf_horizontal_length(arc->v, arc->a, T);
-    while (m->tree_next - m->odo <= L) {
-        double s = fmax(m->tree_next - m->odo, 0.0);
+    while (m->scn.tree_next - m->scn.odo <= L) {
+        double s = fmax(m->scn.tree_next - m->scn.odo, 0.0);
         double t = rf_horizontal_time_at(arc->v, arc->a, s, T);
         rf_vec3 p = rf_arc_pos(arc, t);
         double zg;
-        if (rf_terrain_height(m->terrain, p.x, p.y, &zg) >= 0) {
+        if (rf_terrain_height(m->cfg.terrain, p.x, p.y, &zg) >= 0) {
             double h_r = p.z - zg; /* Eq. 9-10: the centre's vertical height above the slope */
-            int f = rf_vegetation_accept(sc->forests, sc->nforests, p.x, p.y, h_r, m->phi_r,
-                                         m->tree_bound, m->tree_u);
+            int f = rf_vegetation_accept(sc->forests, sc->nforests, p.x, p.y, h_r, m->scn.phi_r,
+                                         m->scn.tree_bound, m->scn.tree_u);
             if (f >= 0) {
-                m->tree_forest = f;
+                m->scn.tree_forest = f;
                 return t;
             }
         }
-        m->tree_next += draw_gap(m);
-        m->tree_u = gsl_rng_uniform(m->rng);
+        m->scn.tree_next += draw_gap(m);
+        m->scn.tree_u = gsl_rng_uniform(m->rng);
     }
     return T;
 }
 
 /* The measures' part of rf_scene_horizon: the first crossings within T into
- * m->crossings (m->ncrossings of them; 0: none). */
+ * m->scn.crossings (m->scn.ncrossings of them; 0: none). */
 static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
-    const rf_scene *sc = m->scene;
-    m->ncrossings = 0;
+    const rf_scene *sc = m->cfg.scene;
+    m->scn.ncrossings = 0;
     if (sc->nmeasures == 0)
         return;
     /* from just before the start: a crossing at the very end of the previous piece that
@@ -144,16 +83,16 @@ static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
     double after = -RF_CROSSING_EPS;
     for (;;) {
         int k = rf_measures_first_crossings(sc->measures, sc->nmeasures, arc->p, arc->v, arc->a,
-                                            after, T, m->crossings, RF_MAX_COINCIDENT_CROSSINGS);
-        double t0 = k > 0 ? m->crossings[0].t : INFINITY;
+                                            after, T, m->scn.crossings, RF_MAX_COINCIDENT_CROSSINGS);
+        double t0 = k > 0 ? m->scn.crossings[0].t : INFINITY;
         int kept = 0;
         for (int i = 0; i < k; i++) {
-            rf_crossing c = m->crossings[i];
-            const rf_passage *ps = passage_of(m, c.measure);
-            if (!ps || passage_reach(ps, arc, c.t) > m->body->radius)
-                m->crossings[kept++] = c;
+            rf_crossing c = m->scn.crossings[i];
+            const rf_passage *ps = rf_passage_of(m, c.measure);
+            if (!ps || rf_passage_reach(ps, arc, c.t) > m->cfg.body->radius)
+                m->scn.crossings[kept++] = c;
         }
-        m->ncrossings = kept;
+        m->scn.ncrossings = kept;
         if (kept > 0 || k == 0)
             return;
         after = t0 + RF_CROSSING_EPS;
@@ -162,18 +101,18 @@ static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
 
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
-    m->scene_pending = RF_SCENE_NONE;
+    m->scn.pending = RF_SCENE_NONE;
     double best = T;
     measure_horizon(m, arc, T);
-    if (m->ncrossings > 0) {
-        best = fmax(m->crossings[0].t, 0.0);
-        m->scene_pending = RF_SCENE_MEASURE;
+    if (m->scn.ncrossings > 0) {
+        best = fmax(m->scn.crossings[0].t, 0.0);
+        m->scn.pending = RF_SCENE_MEASURE;
     }
-    if (m->tree_bound > 0.0) {
+    if (m->scn.tree_bound > 0.0) {
         double tt = tree_horizon(m, arc, best);
         if (tt < best) {
             best = tt;
-            m->scene_pending = RF_SCENE_TREE;
+            m->scn.pending = RF_SCENE_TREE;
         }
     }
     return best;
@@ -183,35 +122,36 @@ double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
  * acts.  Returns RF_END_STOPPED or -1. */
 static int cross_measure(rf_motion *m, int which)
 {
-    const rf_measure *ms = &m->scene->measures[which];
-    const rf_body *b = m->body;
+    const rf_measure *ms = &m->cfg.scene->measures[which];
+    const rf_body *b = m->cfg.body;
     double zg;
-    double hpass = rf_terrain_height(m->terrain, m->s.p.x, m->s.p.y, &zg) >= 0 ? m->s.p.z - zg : NAN;
-    double et = 0.5 * b->mass * rf_v3_norm2(m->s.v);
+    rf_vec3 p = m->rock.s.p;
+    double hpass = rf_terrain_height(m->cfg.terrain, p.x, p.y, &zg) >= 0 ? p.z - zg : NAN;
+    double et = 0.5 * b->mass * rf_v3_norm2(m->rock.s.v);
     double e = rf_motion_energy(m);
     rf_motion_note_energy(m); /* before a stop takes it */
     rf_interception_record r;
     r.measure = which;
-    r.t_s = m->s.t;
-    r.p = m->s.p;
-    r.speed_ms = rf_v3_norm(m->s.v);
+    r.t_s = m->rock.s.t;
+    r.p = m->rock.s.p;
+    r.speed_ms = rf_v3_norm(m->rock.s.v);
     r.energy_kj = e / 1000.0;
     r.energy_trans_kj = et / 1000.0;
     r.energy_rot_kj = (e - et) / 1000.0;
     r.passing_height_m = hpass;
     r.outcome = rf_measure_outcome(ms, hpass, r.energy_kj);
-    if (m->sink && m->sink->interception)
-        m->sink->interception(m->sink->ctx, &r);
+    if (m->book.sink && m->book.sink->interception)
+        m->book.sink->interception(m->book.sink->ctx, &r);
     if (r.outcome == RF_OUT_STOPPED) {
-        m->s.v = rf_v3(0, 0, 0);
-        m->s.w = rf_v3(0, 0, 0);
+        m->rock.s.v = rf_v3(0, 0, 0);
+        m->rock.s.w = rf_v3(0, 0, 0);
         return RF_END_STOPPED;
     }
     if (r.outcome == RF_OUT_BROKE_THROUGH) {
         /* it goes on with the residual energy E - E_capacity, in the same direction */
         double k = sqrt(fmax(r.energy_kj - rf_measure_breaking_energy(ms), 0.0) / r.energy_kj);
-        m->s.v = rf_v3_scale(m->s.v, k);
-        m->s.w = rf_v3_scale(m->s.w, k);
+        m->rock.s.v = rf_v3_scale(m->rock.s.v, k);
+        m->rock.s.w = rf_v3_scale(m->rock.s.w, k);
     }
     return -1;
 }
@@ -220,9 +160,9 @@ static int cross_measure(rf_motion *m, int which)
  * is never seen by the next. */
 static int measure_event(rf_motion *m)
 {
-    for (int i = 0; i < m->ncrossings; i++) {
-        passage_start(m, &m->crossings[i]);
-        if (cross_measure(m, m->crossings[i].measure) >= 0)
+    for (int i = 0; i < m->scn.ncrossings; i++) {
+        rf_passage_start(m, &m->scn.crossings[i]);
+        if (cross_measure(m, m->scn.crossings[i].measure) >= 0)
             return RF_END_STOPPED;
     }
     rf_motion_event(m);
@@ -232,37 +172,27 @@ static int measure_event(rf_motion *m)
 /* Fig. 6b: a collision with a vertical rigid stem at a uniformly random lateral offset
  * across the swept band; horizontal contact normal; the forest's restitution and
  * friction applied by the impact law, rotation included. */
-static int tree_event(rf_motion *m)
+static int tree_event(rf_motion *m, int32_t *onto)
 {
-    const rf_forest *f = &m->scene->forests[m->tree_forest];
-    m->tree_next = m->odo + draw_gap(m);
-    m->tree_u = gsl_rng_uniform(m->rng);
-    rf_vec3 vh = rf_v3(m->s.v.x, m->s.v.y, 0.0);
+    m->scn.tree_next = m->scn.odo + draw_gap(m);
+    m->scn.tree_u = gsl_rng_uniform(m->rng);
+    rf_vec3 vh = rf_v3(m->rock.s.v.x, m->rock.s.v.y, 0.0);
     if (!(rf_v3_norm(vh) > 0.0))
         return -1;
     double q = 2.0 * gsl_rng_uniform(m->rng) - 1.0;
     rf_vec3 n = rf_tree_contact_normal(vh, q);
-    double e = rf_draw_truncated(m->rng, f->restitution, 0.0, 1.0);
-    double mu = rf_draw_truncated(m->rng, f->friction, 0.0, INFINITY);
-    double e0 = rf_motion_energy(m), v0 = rf_v3_norm(m->s.v);
-    double vin = -rf_v3_dot(m->s.v, n);
-    rf_impact_apply(m, n, e, mu);
-    double e1 = rf_motion_energy(m);
-    m->rec->n_tree_hits++;
-    if (m->sink && m->sink->impact)
-        m->sink->impact(m->sink->ctx, m->s.t, e0 / 1000.0, e1 / 1000.0, vin);
-    if (m->sink && m->sink->tree_hit) {
-        rf_tree_hit_record r = {m->s.t, m->s.p, v0, rf_v3_norm(m->s.v), (e0 - e1) / 1000.0};
-        m->sink->tree_hit(m->sink->ctx, &r);
-    }
-    if (m->sup.n > 0) {
+    rf_impact_site site = {RF_IMPACT_TREE, m->scn.tree_forest, n};
+    rf_impact(m, &site, NULL);
+    if (m->rock.sup.n > 0) {
         /* on the surface: off into flight when the stem throws it up, else back onto
-         * the face it was on, its velocity made tangent */
-        int32_t tri = m->sup.tri[0];
-        double vn = rf_v3_dot(m->s.v, m->terrain->tri[tri].n);
-        m->sup.n = 0;
-        if (vn <= m->v_stay)
-            rf_surface_enter(m, tri);
+         * the face it was on (*onto), its velocity made tangent there */
+        int32_t tri = m->rock.sup.tri[0];
+        double vn = rf_v3_dot(m->rock.s.v, m->cfg.terrain->tri[tri].n);
+        m->rock.sup.n = 0;
+        if (vn <= m->cfg.v_stay) {
+            *onto = tri;
+            return -1;
+        }
     }
     rf_motion_event(m);
     return -1;
@@ -274,21 +204,22 @@ int rf_scene_at_once(rf_motion *m)
      * in the crossing's place.  At once: within RF_CROSSING_EPS, or within four length
      * tolerances of travel, the precision an event on the terrain is placed with (the
      * centre meets a column's face a hair before the column's edge) */
-    rf_arc arc = {m->s.p, m->s.v, rf_v3(0, 0, -RF_GRAVITY)};
-    double vh = rf_v3_hnorm(m->s.v);
-    measure_horizon(m, &arc, vh > 0 ? fmax(RF_CROSSING_EPS, 4.0 * m->tol_len / vh) : RF_CROSSING_EPS);
-    m->scene_pending = RF_SCENE_NONE;
-    return m->ncrossings > 0 ? measure_event(m) : -1;
+    rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
+    double vh = rf_v3_hnorm(m->rock.s.v);
+    measure_horizon(m, &arc, vh > 0 ? fmax(RF_CROSSING_EPS, RF_REACH_TOLS * m->cfg.tol_len / vh) : RF_CROSSING_EPS);
+    m->scn.pending = RF_SCENE_NONE;
+    return m->scn.ncrossings > 0 ? measure_event(m) : -1;
 }
 
-int rf_scene_event(rf_motion *m)
+int rf_scene_event(rf_motion *m, int32_t *onto)
 {
-    int kind = m->scene_pending;
-    m->scene_pending = RF_SCENE_NONE;
+    int kind = m->scn.pending;
+    *onto = -1;
+    m->scn.pending = RF_SCENE_NONE;
     if (kind == RF_SCENE_MEASURE)
         return measure_event(m);
     if (kind == RF_SCENE_TREE)
-        return tree_event(m);
+        return tree_event(m, onto);
     rf_motion_event(m);
     return -1;
 }

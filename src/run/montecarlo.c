@@ -295,14 +295,16 @@ static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o
     worker *workers = calloc((size_t)nthreads, sizeof *workers);
     pthread_t *tids = calloc((size_t)nthreads, sizeof *tids);
     int status = 0, started = 0;
-    if (!workers || !tids) {
+    /* the terrain's tables, read by every worker's workspace */
+    rf_terrain_tables *tables = rf_terrain_tables_build(&ctx->p->terrain);
+    if (!workers || !tids || !tables) {
         status = rf_error_set(err, "", 0, 0, "out of memory");
         goto done;
     }
     for (int i = 0; i < nthreads; i++) {
         workers[i].ctx = ctx;
         workers[i].id = i;
-        workers[i].ws = rf_workspace_alloc(&ctx->p->terrain);
+        workers[i].ws = rf_workspace_alloc_shared(tables);
         workers[i].rng = gsl_rng_alloc(rf_rng_type());
         if (!workers[i].ws || !workers[i].rng) {
             status = rf_error_set(err, "", 0, 0, "out of memory");
@@ -356,6 +358,7 @@ done:
             if (workers[i].rng)
                 gsl_rng_free(workers[i].rng);
         }
+    rf_terrain_tables_free(tables);
     free(workers);
     free(tids);
     return status;

@@ -1,0 +1,312 @@
+/* face_entry.c - the rock meets the terrain.
+ *
+ * A contact is an impact (Eq. 8, rf_impact); then the rock flies off when the
+ * rebound's normal speed reaches v_stay (the speed of a RF_STAY_HEIGHT hop), lands on
+ * the face or in a crease (both faces pressing on it), or, a slow sphere on a convex
+ * edge or vertex, rolls over it onto the next face (rf_pivot, total energy conserved).
+ * In centre mode (Eq. 6-7) a centre moving over a column closer to its face's plane
+ * than r is lifted onto the offset plane, the lift paid from the kinetic energy;
+ * where it cannot be paid the face is a wall (RF_IMPACT_WALL). */
+#include "engine/face_entry.h"
+
+#include <math.h>
+
+#include "engine/feature.h"
+#include "engine/contact.h"
+#include "engine/geometry.h"
+#include "engine/impact.h"
+#include "engine/rock.h"
+#include "engine/scene_events.h"
+#include "engine/surface_law.h"
+
+void rf_support_single(rf_motion *m, int32_t tri, int fresh)
+{
+    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    if (fresh || m->rock.sup.n == 0 || m->rock.sup.zone != T->zone)
+        rf_support_draw(m, tri);
+    m->rock.sup.n = 1;
+    m->rock.sup.tri[0] = tri;
+    m->rock.sup.tri[1] = -1;
+    m->rock.sup.left = -1;
+    /* on the offset plane, velocity tangent */
+    m->rock.s.p = rf_v3_madd(m->rock.s.p, T->d + m->cfg.rho - rf_v3_dot(T->n, m->rock.s.p), T->n);
+    m->rock.s.v = rf_in_plane(m->rock.s.v, T->n);
+    m->rock.sup.rolling = 0;
+    if (!m->cfg.point)
+        rf_face_slip(m, T->n);
+}
+
+void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1); }
+
+/* The rock on face A meets face B gently: a crease when both faces press on it. */
+int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
+{
+    const rf_triangle *A = &m->cfg.terrain->tri[a], *B = &m->cfg.terrain->tri[b];
+    if (a == b || rf_coplanar(A, B, m->cfg.tol_len))
+        return -1;
+    if (rf_v3_dot(m->rock.s.v, A->n) > m->cfg.v_stay)
+        return -1; /* leaving A */
+    double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
+    rf_vec3 l;
+    if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0)
+        return -1;
+    /* both faces touched: the centre lies on both offset planes */
+    double s = rf_v3_dot(m->rock.s.v, l);
+    m->rock.s.v = rf_v3_scale(l, s);
+    rf_vec3 p = rf_crease_centre(A, B, m->cfg.rho, m->rock.s.p);
+    if (rf_v3_norm(rf_v3_sub(p, m->rock.s.p)) > RF_CREASE_SNAP * rf_fmax(m->cfg.rho, RF_CREASE_SNAP))
+        return -1;
+    m->rock.s.p = p;
+    if (m->rock.sup.n == 0 || m->rock.sup.zone != B->zone)
+        rf_support_draw(m, b);
+    int rolling = !m->cfg.point && m->rock.sup.n >= 1 && m->rock.sup.rolling;
+    m->rock.sup.n = 2;
+    m->rock.sup.tri[0] = a;
+    m->rock.sup.tri[1] = b;
+    m->rock.sup.left = -1;
+    m->rock.sup.rolling = rolling;
+    if (rolling) {
+        rf_spin_law roll = rf_crease_roll(m);
+        m->rock.s.w = rf_spin_at(&roll, m->cfg.rho, m->rock.s.v, 0.0);
+    }
+    return 0;
+}
+
+/* Landing gently on face tri (rebound below the stay threshold). */
+static void land(rf_motion *m, int32_t tri)
+{
+    if (m->rock.sup.n == 1 && rf_try_crease(m, m->rock.sup.tri[0], tri) == 0)
+        return;
+    if (m->rock.sup.n == 2) {
+        int32_t a = m->rock.sup.tri[0], b = m->rock.sup.tri[1];
+        if (rf_try_crease(m, a, tri) == 0 || rf_try_crease(m, b, tri) == 0)
+            return;
+    }
+    rf_support_single(m, tri, m->rock.sup.n == 0);
+}
+
+/* 1 when a sphere rolled over q onto face `to` would touch no other feature: the
+ * roll is only taken where the two faces are all there is. */
+int rf_pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
+{
+    rf_vec3 c = rf_v3_madd(q, m->cfg.rho, m->cfg.terrain->tri[to].n);
+    rf_contact near;
+    double d = rf_closest_feature(m, c, m->cfg.rho + RF_PIVOT_REACH, &near);
+    return d >= m->cfg.rho - RF_RADIUS_REL_TOL * m->cfg.rho - m->cfg.tol_len;
+}
+
+/* The rock takes off: no support; face `exclude` (-1: none) is left out of the flight's
+ * contact search. */
+void rf_go_flight(rf_motion *m, int32_t exclude)
+{
+    m->rock.sup.n = 0;
+    m->rock.flight_ex.n = exclude >= 0 ? 1 : 0;
+    m->rock.flight_ex.tri[0] = exclude;
+}
+
+/* A slow sphere on a convex edge or vertex (unit normal u) that cannot roll over it
+ * cleanly hops off: its velocity is turned, at the same speed, to leave the feature
+ * at the stay speed, so that it is never dragged through the feature. */
+void rf_hop(rf_motion *m, rf_vec3 u)
+{
+    double speed = rf_v3_norm(m->rock.s.v);
+    double vn = rf_fmin(speed, m->cfg.v_stay);
+    rf_vec3 vt = rf_v3_madd(m->rock.s.v, -rf_v3_dot(m->rock.s.v, u), u);
+    double vtl = rf_v3_norm(vt);
+    double st = sqrt(rf_fmax(0.0, speed * speed - vn * vn));
+    m->rock.s.v = rf_v3_add(rf_v3_scale(u, vn), vtl > 0 ? rf_v3_scale(vt, st / vtl) : rf_v3(0, 0, 0));
+    rf_go_flight(m, -1);
+}
+
+rf_vec3 rf_centre_lift_move(const rf_motion *m, const rf_triangle *T, double *gap)
+{
+    *gap = m->cfg.rho - (rf_v3_dot(T->n, m->rock.s.p) - T->d);
+    if (!(*gap > 0))
+        return rf_v3(0, 0, 0);
+    double along = 0.0;
+    if (T->n.z < RF_STEEP_NZ) {
+        rf_face_edges fe;
+        rf_column_edges(T, &fe);
+        along = *gap;
+        for (int k = 0; k < 3; k++) {
+            double mn = rf_v3_dot(fe.m[k], T->n);
+            if (mn < 0)
+                along = rf_fmin(along, rf_fmax(0.0, (rf_v3_dot(fe.m[k], m->rock.s.p) - fe.o[k]) / -mn));
+        }
+    }
+    return rf_v3_madd(rf_v3(0, 0, (*gap - along) / T->n.z), along, T->n);
+}
+
+/* The potential energy (J) a lift by `move` costs. */
+double rf_lift_cost(const rf_motion *m, rf_vec3 move)
+{
+    return m->cfg.body->mass * RF_GRAVITY * move.z;
+}
+
+int rf_pay_lift(rf_motion *m, rf_vec3 move)
+{
+    double cost = rf_lift_cost(m, move);
+    double ke = rf_motion_energy(m);
+    if (!(ke > cost) || !(ke > 0.0))
+        return 0;
+    double s = sqrt((ke - cost) / ke);
+    m->rock.s.v = rf_v3_scale(m->rock.s.v, s);
+    m->rock.s.w = rf_v3_scale(m->rock.s.w, s);
+    m->rock.s.p = rf_v3_add(m->rock.s.p, move);
+    return 1;
+}
+
+/* Centre mode: 1 when face `to`'s offset plane is above the centre's reach and a rock
+ * of kinetic energy ke (J) cannot pay the lift onto it: a wall. */
+int rf_wall_for(const rf_motion *m, int32_t to, double ke)
+{
+    double gap;
+    rf_vec3 move = rf_centre_lift_move(m, &m->cfg.terrain->tri[to], &gap);
+    return gap > m->cfg.tol_len && rf_lift_cost(m, move) >= ke;
+}
+
+/* 1 when the centre, moving horizontally along v (with its spin) from where it is, goes
+ * on into the column of a face other than `skip` that is a wall to it: another wall,
+ * meeting the one it was reflected off where the centre is. */
+static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
+{
+    double h = rf_v3_hnorm(v), tol = m->cfg.tol_len;
+    if (!(h > 0))
+        return 0;
+    rf_vec3 q = m->rock.s.p;
+    q.x += RF_REACH_TOLS * tol * v.x / h;
+    q.y += RF_REACH_TOLS * tol * v.y / h;
+    double ke = rf_kinetic_energy(m->cfg.body, v, m->rock.s.w);
+    size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
+    for (size_t i = 0; i < n; i++) {
+        int32_t k = m->ws->cand[i];
+        const rf_triangle *T = &m->cfg.terrain->tri[k];
+        if (k != skip && T->n.z > 0 && rf_in_column(T, q, 0.5 * tol) &&
+            rf_wall_for(m, k, ke))
+            return 1;
+    }
+    return 0;
+}
+
+/* Centre mode (Eq. 6-7) tests only the face under the centre, so the centre can move
+ * over a face whose plane it is already closer to than r.  It is lifted onto that
+ * face's offset plane, and the lift is paid from the kinetic energy; when the rock
+ * cannot pay, the face acts as a wall at the border of its column and the horizontal
+ * velocity into it is reflected with restitution e.  Returns 1 after a reflection. */
+/* The column a wall reflection happens at: its edge functions, and how far inside
+ * each edge the centre is. */
+typedef struct wall_column {
+    rf_face_edges fe;
+    double side[3];
+    int32_t tri;
+} wall_column;
+
+/* At a corner of the column, a reflection off one edge that leaves the rock moving in
+ * over the other (along the first: it ran on between two walls, under both), or into
+ * the column of another wall that meets this one there, takes the whole horizontal
+ * velocity instead, which leaves the corner (rf_impact_site.corner). */
+static int wall_corner_ahead(rf_motion *m, rf_vec3 v, const void *ctx)
+{
+    const wall_column *wc = ctx;
+    int corner = 0;
+    for (int k = 0; k < 3 && !corner; k++)
+        corner = fabs(wc->side[k]) <= m->cfg.tol_len && rf_v3_dot(v, wc->fe.m[k]) > RF_APPROACH_EPS;
+    return corner || wall_ahead(m, wc->tri, v);
+}
+
+static int centre_lift(rf_motion *m, const rf_contact *c)
+{
+    const rf_triangle *T = &m->cfg.terrain->tri[c->tri];
+    double gap;
+    rf_vec3 move = rf_centre_lift_move(m, T, &gap);
+    if (!(gap > 0) || rf_pay_lift(m, move))
+        return 0;
+    /* the border of the face's column the centre is crossing: nearest to it among
+     * those it moves in through */
+    wall_column wc;
+    wc.tri = c->tri;
+    rf_column_edges(T, &wc.fe);
+    rf_vec3 P[3] = {T->a, T->b, T->c};
+    double best = INFINITY;
+    rf_vec3 in = rf_v3(0, 0, 0);
+    for (int k = 0; k < 3; k++) {
+        rf_vec3 mk = wc.fe.m[k];
+        wc.side[k] = mk.x * (m->rock.s.p.x - P[k].x) + mk.y * (m->rock.s.p.y - P[k].y);
+        if (rf_v3_dot(m->rock.s.v, mk) > 0 && wc.side[k] < best)
+            best = wc.side[k], in = mk;
+    }
+    rf_impact_site site = {RF_IMPACT_WALL, c->tri, in, rf_v3_dot(m->rock.s.v, in), wall_corner_ahead, &wc};
+    rf_impact(m, &site, NULL);
+    return 1;
+}
+
+void rf_contact_resolve(rf_motion *m, const rf_contact *c)
+{
+    const rf_terrain *t = m->cfg.terrain;
+    if (m->cfg.centre && centre_lift(m, c))
+        return; /* reflected: the support is unchanged */
+    rf_vec3 n = c->n;
+    if (c->kind != RF_FEAT_FACE) {
+        rf_vec3 d = rf_v3_sub(m->rock.s.p, c->point);
+        double dl = rf_v3_norm(d);
+        if (dl > 0)
+            n = rf_v3_scale(d, 1.0 / dl);
+    }
+    /* exactly at the contact distance */
+    if (!m->cfg.centre) {
+        double dist = rf_feature_distance(t, c, m->rock.s.p);
+        m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dist, n);
+    }
+    rf_impact_site site = {RF_IMPACT_SLOPE, c->tri, n};
+    double rebound = rf_impact(m, &site, NULL);
+    if (rebound >= m->cfg.v_stay) {
+        rf_go_flight(m, -1);
+        return;
+    }
+    m->rock.s.v = rf_v3_madd(m->rock.s.v, -rf_v3_dot(m->rock.s.v, n), n);
+    if (c->kind == RF_FEAT_FACE || m->cfg.point || m->cfg.centre) {
+        land(m, c->tri);
+        return;
+    }
+    /* a slow sphere on a convex edge or vertex rolls over it onto a face */
+    rf_vec3 w = m->rock.s.v;
+    if (rf_v3_hnorm(w) < RF_DIR_SPEED_EPS)
+        w = rf_v3(n.x, n.y, 0.0); /* gravity pulls the centre further over that side */
+    int32_t to = rf_face_beyond(t, -2, c->point, w);
+    /* not back onto the face just flown off, met at its own edge as the rock leaves
+     * it along that edge: it would leave it again at once */
+    if (m->rock.flight_ex.n > 0 && to == m->rock.flight_ex.tri[0])
+        to = -1;
+    if (to >= 0 && rf_pivot_clear(m, c->point, to) && rf_pivot(m, c->point, to) == 0) {
+        rf_support_single(m, to, m->rock.sup.n == 0);
+        m->rock.sup.rolling = 1;
+        return;
+    }
+    rf_hop(m, n);
+}
+
+void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
+{
+    m->rock.sup.n = 1;
+    m->rock.sup.tri[0] = on;
+    m->rock.sup.tri[1] = -1;
+    m->rock.sup.left = left;
+    if (!m->cfg.point && m->rock.sup.rolling) {
+        /* it rolled on the plane of the bisector n_m of the two normals (w = n_m x v /
+         * r), which slips on the face by v (1 - n . n_m): it slides until the slip
+         * vanishes (the spin is kept, so no energy is made) */
+        m->rock.sup.rolling = 0;
+        rf_face_slip(m, m->cfg.terrain->tri[on].n);
+    }
+}
+
+int rf_surface_scene_event(rf_motion *m)
+{
+    int32_t onto;
+    int end = rf_scene_event(m, &onto);
+    if (onto >= 0) {
+        rf_surface_enter(m, onto);
+        rf_motion_event(m);
+    }
+    return end;
+}
