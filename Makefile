@@ -54,8 +54,10 @@ $(BUILD)/tools/%: tools/%.c $(BUILD)/libfixtures.a $(BUILD)/librockfall.a
 	$(CC) $(CFLAGS) -Itests $(LDFLAGS) $< $(BUILD)/libfixtures.a $(BUILD)/librockfall.a $(LDLIBS) -o $@
 
 $(BUILD)/librockfall.a: $(LIB_OBJ)
+	rm -f $@
 	$(AR) rcs $@ $^
 $(BUILD)/libfixtures.a: $(FIX_OBJ)
+	rm -f $@
 	$(AR) rcs $@ $^
 $(BUILD)/rockfall: $(CLI_OBJ) $(BUILD)/librockfall.a
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
