@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/tolerances.h"
 #include "base/util.h"
 
 /* ---- statistics ---------------------------------------------------------------- */
@@ -238,7 +239,7 @@ int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_
         size_t nh = rf_envelope(sim, ns, 0.95, hull);
         size_t in = 0;
         for (size_t i = 0; i < nm; i++)
-            in += (size_t)rf_hull_contains(hull, nh, meas[2 * i], meas[2 * i + 1], 1e-9);
+            in += (size_t)rf_hull_contains(hull, nh, meas[2 * i], meas[2 * i + 1], RF_HULL_TOL);
         out->inside = (double)in / (double)nm;
         out->n_sim = ns;
         rc = 0;

@@ -109,4 +109,30 @@
 #define RF_DIP_SLOPE 100.0         /* a root below tol is an entry when the polynomial falls
                                       this many times slope_eps there */
 
+/* ---- the terrain ------------------------------------------------------------------- */
+#define RF_LOCATE_TOL 1e-9         /* barycentric slack of point location: a point on a shared
+                                      edge or vertex is in both triangles, never in the crack
+                                      between them */
+#define RF_DEGENERATE_REL 1e-12    /* a triangle with |(b - a) x (c - a)| below this times its
+                                      longest edge squared has no area and is dropped */
+#define RF_ON_EDGE_REL RF_DEGENERATE_REL /* a point whose cross product with a polygon's edge
+                                      is below this times the edge squared lies on it */
+
+/* ---- the scene: measures' lines and trees ------------------------------------------ */
+#define RF_SEGMENT_FRACTION_TOL 1e-12 /* a crossing's fraction along a line's segment may lie
+                                      this far outside [0, 1], so a crossing through a vertex
+                                      is on both neighbouring segments (reported once) */
+#define RF_CROSSING_EPS 1e-12      /* (s) a motion piece looks for crossings after this: one
+                                      that starts on a line (the piece before counted it) does
+                                      not count it again, and a crossing through a vertex of a
+                                      line (a root of both its segments) counts once */
+#define RF_ODOMETER_REL 1e-15      /* the time at which a flight has travelled a distance in
+                                      plan: relative precision (of max(1, T)) */
+#define RF_ODOMETER_MAX_ITER 100   /* Newton steps of that search at most */
+
+/* ---- statistics and figures --------------------------------------------------------- */
+#define RF_HULL_TOL 1e-9           /* (m) a point this close outside a hull is inside it */
+#define RF_TICK_SNAP 1e-9          /* part of a step: an axis tick or a bin edge this close to a
+                                      multiple of its step is on it */
+
 #endif

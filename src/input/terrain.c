@@ -9,14 +9,9 @@
 #include <string.h>
 
 #include "input/terrain_io.h"
+#include "base/tolerances.h"
 #include "base/util.h"
 
-/* Barycentric slack of point location: a point on a shared edge or vertex is inside
- * both triangles, never in the crack between them. */
-#define LOCATE_TOL 1e-9
-/* A triangle with |(b - a) x (c - a)| below this times its longest edge squared has no
- * area and is dropped. */
-#define DEGENERATE_REL 1e-12
 /* Bucket edge as a multiple of the mean horizontal triangle edge. */
 #define BUCKET_EDGE_FACTOR 1.0
 /* At most this many buckets per triangle (and at least MIN_BUCKETS in all), and at
@@ -58,7 +53,7 @@ static int triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t
     rf_vec3 cr = rf_v3_cross(ab, ac);
     double len = rf_v3_norm(cr);
     double e2 = fmax(rf_v3_norm2(ab), fmax(rf_v3_norm2(ac), rf_v3_norm2(bc)));
-    if (!(len > DEGENERATE_REL * e2))
+    if (!(len > RF_DEGENERATE_REL * e2))
         return 0;
     rf_vec3 n = rf_v3_scale(cr, 1.0 / len);
     if (n.z < 0)
@@ -168,7 +163,7 @@ int rf_point_in_polygon(const double *poly_xy, size_t npoly, double x, double y)
         double xj = poly_xy[2 * j], yj = poly_xy[2 * j + 1];
         double dx = xj - xi, dy = yj - yi;
         double cross = dx * (y - yi) - dy * (x - xi);
-        if (fabs(cross) <= 1e-12 * (dx * dx + dy * dy) && x >= fmin(xi, xj) &&
+        if (fabs(cross) <= RF_ON_EDGE_REL * (dx * dx + dy * dy) && x >= fmin(xi, xj) &&
             x <= fmax(xi, xj) && y >= fmin(yi, yj) && y <= fmax(yi, yj))
             return 1; /* on the boundary */
         if ((yi > y) != (yj > y) && x < xi + (y - yi) * dx / dy)
@@ -200,7 +195,7 @@ static int32_t grid_locate_near(const rf_terrain *t, double x, double y, long ci
             for (int k = 0; k < 2; k++) {
                 int32_t idx = t->grid_tri[2 * ((size_t)j * (t->nx - 1) + (size_t)i) + (size_t)k];
                 double tt = 0.0, ss = 0.0;
-                if (idx >= 0 && rf_triangle_contains_xy(&t->tri[idx], x, y, LOCATE_TOL, &tt, &ss)) {
+                if (idx >= 0 && rf_triangle_contains_xy(&t->tri[idx], x, y, RF_LOCATE_TOL, &tt, &ss)) {
                     double zz = bary_z(&t->tri[idx], tt, ss);
                     if (zz > best_z)
                         best = idx, best_z = zz;
@@ -217,8 +212,8 @@ static int32_t grid_locate(const rf_terrain *t, double x, double y, double *z)
 {
     double fx = (x - t->x0) / t->cell, fy = (y - t->y0) / t->cell;
     double wx = (double)(t->nx - 1), wy = (double)(t->ny - 1);
-    if (!(fx >= -LOCATE_TOL && fx <= wx + LOCATE_TOL && fy >= -LOCATE_TOL &&
-          fy <= wy + LOCATE_TOL))
+    if (!(fx >= -RF_LOCATE_TOL && fx <= wx + RF_LOCATE_TOL && fy >= -RF_LOCATE_TOL &&
+          fy <= wy + RF_LOCATE_TOL))
         return -1;
     double fi = floor(fx), fj = floor(fy);
     fi = fi < 0 ? 0 : (fi > wx - 1 ? wx - 1 : fi);
@@ -232,7 +227,7 @@ static int32_t grid_locate(const rf_terrain *t, double x, double y, double *z)
     if (z) {
         const rf_triangle *tri = &t->tri[idx];
         double tt = 0.0, ss = 0.0;
-        rf_triangle_contains_xy(tri, x, y, LOCATE_TOL, &tt, &ss);
+        rf_triangle_contains_xy(tri, x, y, RF_LOCATE_TOL, &tt, &ss);
         *z = bary_z(tri, tt, ss);
     }
     return idx;
@@ -242,7 +237,7 @@ static int32_t grid_locate(const rf_terrain *t, double x, double y, double *z)
 static long bucket_of(double c, double c0, double size, size_t n)
 {
     double f = (c - c0) / size;
-    if (!(f >= -LOCATE_TOL && f <= (double)n + LOCATE_TOL))
+    if (!(f >= -RF_LOCATE_TOL && f <= (double)n + RF_LOCATE_TOL))
         return -1;
     long b = (long)floor(f);
     if (b < 0)
@@ -265,7 +260,7 @@ static int32_t mesh_locate(const rf_terrain *t, double x, double y, double *z)
         int32_t idx = t->bucket_items[k];
         const rf_triangle *tri = &t->tri[idx];
         double tt = 0.0, ss = 0.0;
-        if (rf_triangle_contains_xy(tri, x, y, LOCATE_TOL, &tt, &ss)) {
+        if (rf_triangle_contains_xy(tri, x, y, RF_LOCATE_TOL, &tt, &ss)) {
             double zz = bary_z(tri, tt, ss);
             if (zz > best_z)
                 best = idx, best_z = zz;
@@ -409,7 +404,7 @@ static void compute_bounds(rf_terrain *t)
 static void bucket_span(const rf_terrain *t, const rf_triangle *tri, double size, size_t nbx,
                         size_t nby, size_t *i0, size_t *i1, size_t *j0, size_t *j1, int *any)
 {
-    double pad = LOCATE_TOL * size;
+    double pad = RF_LOCATE_TOL * size;
     double tx0 = fmin(tri->a.x, fmin(tri->b.x, tri->c.x)) - pad;
     double tx1 = fmax(tri->a.x, fmax(tri->b.x, tri->c.x)) + pad;
     double ty0 = fmin(tri->a.y, fmin(tri->b.y, tri->c.y)) - pad;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/tolerances.h"
 #include "rockfall/empirical.h"
 
 /* Fig. 1b: the largest empirical spreading angle. */
@@ -122,8 +123,8 @@ static void crosscheck_release(report *r, const rep_measure *m, const road_stats
 /* Bins [lo, hi) of width bw covering the values; returns the number of bins. */
 static size_t make_bins(double *lo, double *hi, double bw)
 {
-    *lo = floor(*lo / bw + 1e-9) * bw;
-    double top = ceil(*hi / bw - 1e-9) * bw;
+    *lo = floor(*lo / bw + RF_TICK_SNAP) * bw;
+    double top = ceil(*hi / bw - RF_TICK_SNAP) * bw;
     if (top <= *hi)
         top += bw;
     *hi = top;

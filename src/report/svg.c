@@ -6,6 +6,8 @@
 #include <stdarg.h>
 #include <string.h>
 
+#include "base/tolerances.h"
+
 #define SVG_FONT "font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\""
 
 int rf_svg_open(rf_svg *s, const char *path, double width, double height, const char *title,
@@ -121,7 +123,7 @@ double rf_svg_nice_step(double range, int target)
 /* Decimals that show a tick step exactly. */
 static int step_decimals(double step)
 {
-    int d = (int)-floor(log10(step) + 1e-9);
+    int d = (int)-floor(log10(step) + RF_TICK_SNAP);
     return d < 0 ? 0 : d > 6 ? 6 : d;
 }
 
@@ -138,23 +140,23 @@ void rf_svg_axes(rf_svg *s, const char *xlabel, const char *ylabel)
         ystep = 1.0;
     int xd = step_decimals(xstep), yd = step_decimals(ystep);
     fputs("<g stroke=\"#333\" stroke-width=\"1\">\n", f);
-    for (double v = ceil(s->x0 / xstep - 1e-9) * xstep; v <= s->x1 + 1e-9 * xstep; v += xstep) {
+    for (double v = ceil(s->x0 / xstep - RF_TICK_SNAP) * xstep; v <= s->x1 + RF_TICK_SNAP * xstep; v += xstep) {
         double px = rf_svg_px(s, v);
         fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", px, s->bottom, px,
                 s->bottom + 5);
     }
-    for (double v = ceil(s->y0 / ystep - 1e-9) * ystep; v <= s->y1 + 1e-9 * ystep; v += ystep) {
+    for (double v = ceil(s->y0 / ystep - RF_TICK_SNAP) * ystep; v <= s->y1 + RF_TICK_SNAP * ystep; v += ystep) {
         double py = rf_svg_py(s, v);
         fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", s->left - 5, py,
                 s->left, py);
     }
     fputs("</g>\n", f);
-    for (double v = ceil(s->x0 / xstep - 1e-9) * xstep; v <= s->x1 + 1e-9 * xstep; v += xstep)
+    for (double v = ceil(s->x0 / xstep - RF_TICK_SNAP) * xstep; v <= s->x1 + RF_TICK_SNAP * xstep; v += xstep)
         rf_svg_text(s, rf_svg_px(s, v), s->bottom + 19, "text-anchor=\"middle\"", "%.*f", xd,
-                    fabs(v) < 1e-9 * xstep ? 0.0 : v);
-    for (double v = ceil(s->y0 / ystep - 1e-9) * ystep; v <= s->y1 + 1e-9 * ystep; v += ystep)
+                    fabs(v) < RF_TICK_SNAP * xstep ? 0.0 : v);
+    for (double v = ceil(s->y0 / ystep - RF_TICK_SNAP) * ystep; v <= s->y1 + RF_TICK_SNAP * ystep; v += ystep)
         rf_svg_text(s, s->left - 8, rf_svg_py(s, v) + 4, "text-anchor=\"end\"", "%.*f", yd,
-                    fabs(v) < 1e-9 * ystep ? 0.0 : v);
+                    fabs(v) < RF_TICK_SNAP * ystep ? 0.0 : v);
     if (xlabel)
         rf_svg_text(s, (s->left + s->right) / 2, s->bottom + 40, "text-anchor=\"middle\"", "%s",
                     xlabel);

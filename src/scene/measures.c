@@ -4,11 +4,8 @@
 #include <math.h>
 
 #include "base/arc.h" /* rf_quadratic_roots */
+#include "base/tolerances.h"
 #include "base/util.h"
-
-/* Relative tolerance on the segment fraction, so a crossing exactly through a
- * vertex is on both neighbouring segments (then reported once, by time). */
-#define U_TOL 1e-12
 
 /* Which side of the path through vertex V, along the horizontal direction (wx, wy),
  * vertex k of l lies on: > 0 left, < 0 right, 0 on the path's line. */
@@ -91,10 +88,10 @@ static double segment_crossing(const rf_polyline *l, size_t s, rf_vec3 p, rf_vec
         double x = p.x + v.x * t + 0.5 * a.x * t * t - A[0];
         double y = p.y + v.y * t + 0.5 * a.y * t * t - A[1];
         double u = (x * dx + y * dy) / len2;
-        if (u >= -U_TOL && u <= 1.0 + U_TOL) {
+        if (u >= -RF_SEGMENT_FRACTION_TOL && u <= 1.0 + RF_SEGMENT_FRACTION_TOL) {
             /* through an inner vertex with both arms on one side: touched (j = 0, no
              * vertex, is an end vertex to vertex_touch: never only touched) */
-            size_t j = u <= U_TOL ? s : u >= 1.0 - U_TOL ? s + 1 : 0;
+            size_t j = u <= RF_SEGMENT_FRACTION_TOL ? s : u >= 1.0 - RF_SEGMENT_FRACTION_TOL ? s + 1 : 0;
             if (vertex_touch(l, j, v.x + a.x * t, v.y + a.y * t))
                 continue;
             *u_out = rf_fmin(rf_fmax(u, 0.0), 1.0);

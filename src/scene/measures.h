@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 
+#include "base/tolerances.h" /* RF_CROSSING_EPS */
 #include "input/measure_kinds.h" /* rf_measure_breaking_energy */
 #include "rockfall/project.h"
 #include "rockfall/records.h"
@@ -17,13 +18,6 @@ typedef struct rf_crossing {
     size_t segment;
     double t, u;
 } rf_crossing;
-
-/* Time after which a motion piece looks for crossings: a piece that starts exactly on
- * a polyline (the previous piece ended on it and counted it) does not count it again,
- * and a search that goes on after a crossing at tc starts at tc + RF_CROSSING_EPS, so
- * a crossing through a polyline vertex (a root of both neighbouring segments) counts
- * once. */
-#define RF_CROSSING_EPS 1e-12
 
 /* Earliest crossing over (t_after, T] of any measure's polyline by the horizontal
  * path of p(t) = p + v t + a t^2 / 2 (the centre over one motion piece: a flight

@@ -6,6 +6,7 @@
 #include <gsl/gsl_cdf.h>
 
 #include "base/arc.h" /* rf_arc_length */
+#include "base/tolerances.h"
 #include "base/util.h"
 
 double rf_forest_density_above(const rf_forest *f, double h_r)
@@ -92,8 +93,8 @@ double rf_horizontal_time_at(rf_vec3 v, rf_vec3 a, double s, double T)
         return sp > 0.0 ? fmin(s / sp, T) : T;
     }
     /* s(t) is increasing: Newton's method kept inside a shrinking bracket. */
-    double lo = 0.0, hi = T, t = T * fmin(1.0, s / fmax(rf_horizontal_length(vh, ah, T), 1e-300));
-    for (int it = 0; it < 100; it++) {
+    double lo = 0.0, hi = T, t = T * fmin(1.0, s / fmax(rf_horizontal_length(vh, ah, T), RF_QUAD_ZERO));
+    for (int it = 0; it < RF_ODOMETER_MAX_ITER; it++) {
         double f = rf_arc_length(vh, ah, t) - s;
         if (f > 0)
             hi = t;
@@ -103,7 +104,7 @@ double rf_horizontal_time_at(rf_vec3 v, rf_vec3 a, double s, double T)
         double tn = d > 0 ? t - f / d : 0.5 * (lo + hi);
         if (!(tn > lo && tn < hi))
             tn = 0.5 * (lo + hi);
-        if (fabs(tn - t) <= 1e-15 * fmax(1.0, T) || hi - lo <= 1e-15 * fmax(1.0, T))
+        if (fabs(tn - t) <= RF_ODOMETER_REL * fmax(1.0, T) || hi - lo <= RF_ODOMETER_REL * fmax(1.0, T))
             return tn;
         t = tn;
     }
