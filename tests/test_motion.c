@@ -338,3 +338,53 @@ TEST(motion_grazing_touches_are_not_impacts)
     rf_workspace_free(ws);
     rf_project_free(&p);
 }
+
+/* ---- tables shared between threads ---------------------------------------------------- */
+
+static double shared_z(int i, int j, void *ctx)
+{
+    gsl_rng *g = ctx;
+    (void)j;
+    return 60.0 - 0.9 * i + 0.6 * gsl_rng_uniform(g);
+}
+
+/* The same trajectories from a workspace over tables built once for the terrain (as the
+ * Monte Carlo threads share them) and from one that builds its own: the records (stop
+ * point, duration, path length, largest energy, impacts) the same bytes, on a grid and
+ * on a mesh of the same surface, in full and centre contact. */
+TEST(motion_shared_terrain_tables_give_the_private_tables_results)
+{
+    for (int mesh = 0; mesh < 2; mesh++) {
+        gsl_rng *g = gsl_rng_alloc(gsl_rng_mt19937);
+        gsl_rng_set(g, 2385);
+        rf_terrain t;
+        mt_grid_terrain(&t, mesh, 41, 21, 1.5, shared_z, g,
+                        (rf_surface){{0.35, 0.1}, {0.45, 0.05}});
+        gsl_rng_free(g);
+        rf_terrain_tables *tt = rf_terrain_tables_build(&t);
+        ENSURE(tt != NULL);
+        rf_workspace *shared = rf_workspace_alloc_shared(tt), *own = rf_workspace_alloc(&t);
+        ENSURE(shared && own);
+        for (int k = 0; k < 16; k++) {
+            rf_contact_kind contact = k % 2 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL;
+            rf_simulation sim = mt_sim(RF_MODEL_SPHERE, contact, 60.0);
+            rf_scene scene = {.terrain = &t, .sim = &sim};
+            rf_body b = rf_body_make(800.0 + 150.0 * k, 2650.0, RF_MODEL_SPHERE);
+            rf_state s = mt_state(rf_v3(2.0 + 0.37 * k, 3.0 + 0.9 * k, 62.0), rf_v3(1.5, 0.2 * k, 0.0));
+            rf_trajectory_record ra, rb;
+            gsl_rng *ga = gsl_rng_alloc(rf_rng_type()), *gb = gsl_rng_alloc(rf_rng_type());
+            gsl_rng_set(ga, 77 + (unsigned long)k);
+            gsl_rng_set(gb, 77 + (unsigned long)k);
+            ENSURE(rf_simulate(&scene, &b, &s, ga, shared, NULL, &ra) == 0);
+            ENSURE(rf_simulate(&scene, &b, &s, gb, own, NULL, &rb) == 0);
+            ENSURE_MSG(memcmp(&ra, &rb, sizeof ra) == 0, "mesh %d, trajectory %d", mesh, k);
+            ENSURE(ra.n_impacts > 0);
+            gsl_rng_free(ga);
+            gsl_rng_free(gb);
+        }
+        rf_workspace_free(shared);
+        rf_workspace_free(own);
+        rf_terrain_tables_free(tt);
+        rf_terrain_free(&t);
+    }
+}
