@@ -214,6 +214,28 @@ static int view_done(rf_run_view *v, sqlite3_stmt *st, int rc, rf_error *err)
     return rc == SQLITE_DONE ? 0 : rf_query_db_error(v->db, err);
 }
 
+/* Reads every row of sql (?1 bound to id) into the array *rows of *n elements of size
+ * elem, one element a row, filled by row(v, st, element); row returns -1 when memory
+ * runs out. */
+static int load_rows(rf_run_view *v, const char *sql, int64_t id, void **rows, size_t *n,
+                     size_t elem, int (*row)(rf_run_view *v, sqlite3_stmt *st, void *e),
+                     rf_error *err)
+{
+    sqlite3_stmt *st = view_prepare(v, sql, id, err);
+    if (!st)
+        return -1;
+    size_t cap = 0;
+    int rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        if (rf_grow(rows, &cap, *n + 1, elem) ||
+            row(v, st, (char *)*rows + elem * (*n)++)) {
+            sqlite3_finalize(st);
+            return view_oom(err);
+        }
+    }
+    return view_done(v, st, rc, err);
+}
+
 static int load_run_row(rf_run_view *v, rf_error *err)
 {
     sqlite3_stmt *st = view_prepare(
@@ -255,58 +277,44 @@ static int load_run_row(rf_run_view *v, rf_error *err)
     return rc == SQLITE_ROW ? 0 : rf_query_db_error(v->db, err);
 }
 
+static int release_of_row(rf_run_view *v, sqlite3_stmt *st, void *e)
+{
+    (void)v;
+    rf_view_release *r = e;
+    *r = (rf_view_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
+                           .rock = col_dup(st, 2), .x = rf_query_column_real(st, 3),
+                           .y = rf_query_column_real(st, 4), .z = rf_query_column_real(st, 5),
+                           .mass = rf_query_column_real(st, 6),
+                           .action_level = sqlite3_column_int(st, 7),
+                           .count = (long)sqlite3_column_int64(st, 8)};
+    return r->name && r->rock ? 0 : -1;
+}
+
 static int load_releases(rf_run_view *v, rf_error *err)
 {
-    sqlite3_stmt *st = view_prepare(v,
-                                    "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
-                                    " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
-                                    v->id, err);
-    if (!st)
-        return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&v->rel, &cap, v->nrel + 1, sizeof *v->rel)) {
-            sqlite3_finalize(st);
-            return view_oom(err);
-        }
-        rf_view_release *e = &v->rel[v->nrel++];
-        *e = (rf_view_release){.id = sqlite3_column_int64(st, 0), .name = col_dup(st, 1),
-                               .rock = col_dup(st, 2), .x = rf_query_column_real(st, 3),
-                               .y = rf_query_column_real(st, 4), .z = rf_query_column_real(st, 5),
-                               .mass = rf_query_column_real(st, 6),
-                               .action_level = sqlite3_column_int(st, 7),
-                               .count = (long)sqlite3_column_int64(st, 8)};
-        if (!e->name || !e->rock) {
-            sqlite3_finalize(st);
-            return view_oom(err);
-        }
-    }
-    return view_done(v, st, rc, err);
+    return load_rows(v,
+                     "SELECT id, name, rock, x, y, z, mass_kg, action_level, count"
+                     " FROM releases WHERE run_id = ?1 ORDER BY idx, id",
+                     v->id, (void **)&v->rel, &v->nrel, sizeof *v->rel, release_of_row, err);
+}
+
+/* One vertex (x, y) of a measure's polyline. */
+static int vertex_of_row(rf_run_view *v, sqlite3_stmt *st, void *e)
+{
+    (void)v;
+    double *xy = e;
+    xy[0] = rf_query_column_real(st, 0);
+    xy[1] = rf_query_column_real(st, 1);
+    return 0;
 }
 
 /* The measure's polyline from its JSON text. */
 static int load_line(rf_run_view *v, rf_view_measure *m, rf_error *err)
 {
-    sqlite3_stmt *st = view_prepare(
-        v,
-        "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
-        " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
-        m->id, err);
-    if (!st)
-        return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&m->xy, &cap, 2 * (m->n + 1), sizeof *m->xy)) {
-            sqlite3_finalize(st);
-            return view_oom(err);
-        }
-        m->xy[2 * m->n] = rf_query_column_real(st, 0);
-        m->xy[2 * m->n + 1] = rf_query_column_real(st, 1);
-        m->n++;
-    }
-    return view_done(v, st, rc, err);
+    return load_rows(v,
+                     "SELECT json_extract(j.value, '$[0]'), json_extract(j.value, '$[1]')"
+                     " FROM measures m, json_each(m.line) j WHERE m.id = ?1 ORDER BY j.key",
+                     m->id, (void **)&m->xy, &m->n, 2 * sizeof *m->xy, vertex_of_row, err);
 }
 
 static int importance_of(const char *text)
@@ -317,9 +325,10 @@ static int importance_of(const char *text)
     return -1;
 }
 
-/* One measure row (the columns of load_measures) into m. */
-static int measure_of_row(rf_run_view *v, sqlite3_stmt *st, rf_view_measure *m)
+/* One measure row (the columns of load_measures) into e. */
+static int measure_of_row(rf_run_view *v, sqlite3_stmt *st, void *e)
 {
+    rf_view_measure *m = e;
     *m = (rf_view_measure){.id = sqlite3_column_int64(st, 0),
                            .idx = (long)sqlite3_column_int64(st, 1), .name = col_dup(st, 2),
                            .kind_name = col_dup(st, 3), .importance_name = col_dup(st, 4),
@@ -342,29 +351,16 @@ static int measure_of_row(rf_run_view *v, sqlite3_stmt *st, rf_view_measure *m)
 
 static int load_measures(rf_run_view *v, rf_error *err)
 {
-    sqlite3_stmt *st = view_prepare(
-        v,
-        v->schema >= 2 ? "SELECT id, idx, name, kind, importance, height_m, mel_kj, sel_kj,"
-                         " cap_serviceability_kj, cap_restorability_kj, cap_ultimate_kj,"
-                         " cap_near_collapse_kj, sel_source"
-                         " FROM measures WHERE run_id = ?1 ORDER BY idx, id"
-                       : "SELECT id, idx, name, kind, importance, height_m, mel_kj, sel_kj,"
-                         " cap_serviceability_kj, cap_restorability_kj, cap_ultimate_kj,"
-                         " cap_near_collapse_kj, NULL"
-                         " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
-        v->id, err);
-    if (!st)
-        return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&v->mea, &cap, v->nmea + 1, sizeof *v->mea) ||
-            measure_of_row(v, st, &v->mea[v->nmea++])) {
-            sqlite3_finalize(st);
-            return view_oom(err);
-        }
-    }
-    if (view_done(v, st, rc, err))
+    if (load_rows(v,
+                  v->schema >= 2 ? "SELECT id, idx, name, kind, importance, height_m, mel_kj, sel_kj,"
+                                   " cap_serviceability_kj, cap_restorability_kj, cap_ultimate_kj,"
+                                   " cap_near_collapse_kj, sel_source"
+                                   " FROM measures WHERE run_id = ?1 ORDER BY idx, id"
+                                 : "SELECT id, idx, name, kind, importance, height_m, mel_kj, sel_kj,"
+                                   " cap_serviceability_kj, cap_restorability_kj, cap_ultimate_kj,"
+                                   " cap_near_collapse_kj, NULL"
+                                   " FROM measures WHERE run_id = ?1 ORDER BY idx, id",
+                  v->id, (void **)&v->mea, &v->nmea, sizeof *v->mea, measure_of_row, err))
         return -1;
     for (size_t k = 0; k < v->nmea; k++)
         if (load_line(v, &v->mea[k], err))
@@ -404,29 +400,25 @@ static int load_grid(rf_run_view *v, rf_error *err)
     return status;
 }
 
+static int ground_of_row(rf_run_view *v, sqlite3_stmt *st, void *e)
+{
+    (void)v;
+    *(rf_view_ground *)e =
+        (rf_view_ground){sqlite3_column_int64(st, 0), sqlite3_column_int64(st, 1),
+                         rf_query_column_real(st, 2), rf_query_column_real(st, 3),
+                         rf_query_column_real(st, 4)};
+    return 0;
+}
+
 static int load_ground(rf_run_view *v, rf_error *err)
 {
     if (v->schema < 2)
         return 0;
-    sqlite3_stmt *st = view_prepare(v,
-                                    "SELECT release_id, measure_id, x, y, z FROM ground_points"
-                                    " WHERE run_id = ?1 ORDER BY release_id, measure_id",
-                                    v->id, err);
-    if (!st)
-        return -1;
-    size_t cap = 0;
-    int rc;
-    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
-        if (rf_grow((void **)&v->ground, &cap, v->nground + 1, sizeof *v->ground)) {
-            sqlite3_finalize(st);
-            return view_oom(err);
-        }
-        v->ground[v->nground++] =
-            (rf_view_ground){sqlite3_column_int64(st, 0), sqlite3_column_int64(st, 1),
-                             rf_query_column_real(st, 2), rf_query_column_real(st, 3),
-                             rf_query_column_real(st, 4)};
-    }
-    return view_done(v, st, rc, err);
+    return load_rows(v,
+                     "SELECT release_id, measure_id, x, y, z FROM ground_points"
+                     " WHERE run_id = ?1 ORDER BY release_id, measure_id",
+                     v->id, (void **)&v->ground, &v->nground, sizeof *v->ground, ground_of_row,
+                     err);
 }
 
 int rf_run_view_load(sqlite3 *db, int64_t run, rf_run_view *v, rf_error *err)
