@@ -42,6 +42,32 @@ static void load_variant(const char *from, const char *to, rf_rules *r)
                "%d:%d: %s", err.line, err.column, err.message);
 }
 
+/* Table 3's text with its `allowance:` block (the end of the file) replaced by
+ * `allowance` (a whole line, or "" for none); malloc'd. */
+static char *table3_with_allowance(const char *allowance)
+{
+    char *text = rf_test_read_text(TABLE3);
+    ENSURE(text);
+    char *at = strstr(text, "\nallowance:\n");
+    ENSURE_MSG(at, "no allowance block in %s", TABLE3);
+    size_t n = (size_t)(at - text) + 1 + strlen(allowance) + 1;
+    char *out = malloc(n);
+    ENSURE(out);
+    snprintf(out, n, "%.*s\n%s", (int)(at - text), text, allowance);
+    free(text);
+    return out;
+}
+
+/* Table 3 with its allowances replaced */
+static void load_allowance(const char *allowance, rf_rules *r)
+{
+    char *text = table3_with_allowance(allowance);
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_rules_load_text("allowance.yaml", text, strlen(text), r, &err) == 0,
+               "%d:%d: %s", err.line, err.column, err.message);
+    free(text);
+}
+
 /* ---- Table 3 --------------------------------------------------------------------- */
 
 TEST(rules_table3_every_cell)
@@ -798,16 +824,21 @@ TEST(rules_allowance_defaults_and_keys)
     ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == 0.01);
     ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == 0.0);
     rf_rules_free(&r);
+    /* the defaults, without the block: those table3.yaml states */
+    load_allowance("", &r);
+    ENSURE(r.allowance[RF_INTEGRITY_MAX_TIME] == RF_ALLOWANCE_MAX_TIME);
+    ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == RF_ALLOWANCE_LEFT_TERRAIN);
+    ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == RF_ALLOWANCE_REST_STEEP);
+    ENSURE(RF_ALLOWANCE_MAX_TIME == 0.0 && RF_ALLOWANCE_LEFT_TERRAIN == 0.01 &&
+           RF_ALLOWANCE_REST_STEEP == 0.0);
+    rf_rules_free(&r);
     /* each key on its own; the others keep their defaults */
-    load_variant("no_interceptions: pass", "no_interceptions: pass\nallowance: {max_time: 0.05}",
-                 &r);
+    load_allowance("allowance: {max_time: 0.05}\n", &r);
     ENSURE(r.allowance[RF_INTEGRITY_MAX_TIME] == 0.05);
     ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == 0.01);
     ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == 0.0);
     rf_rules_free(&r);
-    load_variant("no_interceptions: pass",
-                 "no_interceptions: pass\nallowance: {left_terrain: 0, rest_on_steep_face: 0.5}",
-                 &r);
+    load_allowance("allowance: {left_terrain: 0, rest_on_steep_face: 0.5}\n", &r);
     ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == 0.0);
     ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == 0.5);
     rf_rules_free(&r);
@@ -906,8 +937,7 @@ TEST(rules_max_time_trajectories_make_a_pass_inconclusive)
                                      " FROM run_verdicts") == 1);
     /* the rule file may allow them */
     rf_rules_free(&r);
-    load_variant("no_interceptions: pass", "no_interceptions: pass\nallowance: {max_time: 0.01}",
-                 &r);
+    load_allowance("allowance: {max_time: 0.01}\n", &r);
     buf = evaluate_verdict(&t, &r, &res);
     ENSURE_MSG(res.verdict == RF_VERDICT_PASS && strstr(buf, "verdict: PASS"), "%s", buf);
     free(buf);
@@ -1100,12 +1130,11 @@ TEST(rules_end_to_end_simulated_scene)
     static char out[65536];
     /* Table 3, allowing every rock to leave the terrain: the profile ends 80 m past the
      * barriers' line, with no road drawn, and this case is about the classification */
-    char *table3 = rf_test_read_text(TABLE3);
-    ENSURE(table3);
+    char *table3 = table3_with_allowance("allowance: {left_terrain: 1}\n");
     snprintf(rules, sizeof rules, "%s/rules.yaml", rf_test_tmpdir());
     FILE *rf = fopen(rules, "w");
     ENSURE(rf);
-    fprintf(rf, "%sallowance: {left_terrain: 1}\n", table3);
+    fputs(table3, rf);
     fclose(rf);
     free(table3);
     snprintf(project, sizeof project, "%s/scene.yaml", rf_test_tmpdir());
