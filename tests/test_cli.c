@@ -280,3 +280,87 @@ TEST(cli_report_keeps_the_terrain_of_the_run)
     }
     free(first);
 }
+
+/* ---- verdict integrity ------------------------------------------------------------ */
+
+/* A slope (a profile 40 m wide) with a barrier across it that stops every rock it
+ * meets and the road (a control line) below it, checked against Table 3: a PASS when
+ * the rocks reach the barrier.  `simulation` and `velocity` vary the run. */
+static const char *integrity_project(const char *name, const char *simulation,
+                                     const char *velocity)
+{
+    char cwd[512], text[4096];
+    ENSURE(getcwd(cwd, sizeof cwd));
+    snprintf(text, sizeof text,
+             "name: %s\n"
+             "seed: 38\n"
+             "terrain:\n"
+             "  profile: {points: [[0, 120], [60, 60], [100, 40], [160, 35]], width: 40}\n"
+             "  surface: {restitution: {mean: 0.3, sd: 0.1}, friction: {mean: 0.4, sd: 0.1}}\n"
+             "rocks:\n"
+             "  - {name: r, mass: 1500, action_level: 2}\n"
+             "releases:\n"
+             "  - {name: top, point: [5, 20], rock: r, count: 40, jitter: 5, velocity: %s}\n"
+             "measures:\n"
+             "  - {name: B, kind: barrier, line: [[80, 0.5], [80, 39.5]], height: 50,"
+             " importance: usual, behaviour: stop, mel: 1e7}\n"
+             "  - {name: road, kind: control, line: [[150, 0.5], [150, 39.5]],"
+             " importance: usual}\n"
+             "simulation: {paths: 0%s%s}\n"
+             "rules: %s/rules/table3.yaml\n",
+             name, velocity, simulation[0] ? ", " : "", simulation, cwd);
+    char file[64];
+    snprintf(file, sizeof file, "%s.yaml", name);
+    return rf_test_write(file, text);
+}
+
+/* `rockfall run` of the project into a new database, which prints `counts` in its
+ * summary, then `rockfall check` of it: both exit with `status` and print `verdict`. */
+static void run_and_check(const char *project, const char *counts, int status,
+                          const char *verdict, char *out, size_t cap)
+{
+    char db[700], args[2048];
+    snprintf(db, sizeof db, "%s.db", project);
+    snprintf(args, sizeof args, "run %s -o %s", project, db);
+    ENSURE_MSG(rf_test_rockfall(args, out, cap) == status, "%s", out);
+    ENSURE_MSG(strstr(out, verdict) && strstr(out, counts), "%s", out);
+    snprintf(args, sizeof args, "check %s", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, cap) == status, "%s", out);
+    ENSURE_MSG(strstr(out, verdict), "%s", out);
+}
+
+TEST(cli_rocks_reaching_the_barrier_pass)
+{
+    static char out[65536];
+    run_and_check(integrity_project("reached", "", "[0, 0, 0]"),
+                  "  ended by max_time 0, left the terrain before any control line 0, at rest on"
+                  " a face steeper than its friction holds 0\n",
+                  0, "verdict: PASS", out, sizeof out);
+    ENSURE_MSG(strstr(out, "PASS trajectories_max_time           0 ended by max_time"), "%s",
+               out);
+}
+
+/* max_time shorter than the rocks need: every trajectory ends on the slope above the
+ * barrier, which no rock reached; that is no PASS. */
+TEST(cli_max_time_too_short_is_inconclusive)
+{
+    static char out[65536];
+    run_and_check(integrity_project("short", "max_time: 0.5", "[0, 0, 0]"),
+                  "  ended by max_time 40, left the terrain before any control line 0,", 1,
+                  "verdict: INCONCLUSIVE", out, sizeof out);
+    ENSURE_MSG(strstr(out, "40 of 40 trajectories ended by max_time") &&
+                   strstr(out, "INCONCLUSIVE trajectories_max_time") && !strstr(out, "PASS (all"),
+               "%s", out);
+}
+
+/* A release velocity that throws every rock off the side of the terrain: none reaches
+ * the barrier or the road, and none is counted as kept for a PASS. */
+TEST(cli_rocks_thrown_off_the_terrain_are_inconclusive)
+{
+    static char out[65536];
+    run_and_check(integrity_project("thrown", "", "[0, 60, 0]"),
+                  "  ended by max_time 0, left the terrain before any control line 40,", 1,
+                  "verdict: INCONCLUSIVE", out, sizeof out);
+    ENSURE_MSG(strstr(out, "40 of 40 trajectories left the terrain before any control line"),
+               "%s", out);
+}

@@ -93,9 +93,11 @@ TEST(noto_layout_checked_and_stored)
     sqlite3 *h;
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
     /* two checks for each of the barrier and the embankment, none for the control
-     * line, and the layout's */
-    ENSURE(dbt_real(h, "SELECT count(*) FROM checks") == 5);
-    ENSURE(dbt_real(h, "SELECT count(*) FROM checks WHERE measure_id IS NULL") == 1);
+     * line, and the layout's; and the three integrity checks of the run */
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 5);
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
+                       " on_failure = 'fail'") == 1);
+    ENSURE(dbt_real(h, "SELECT count(*) FROM checks WHERE on_failure = 'inconclusive'") == 3);
     /* the layout's share, counted again here: no crossing of the road, every
      * interception of B1 and E1 within serviceability */
     ENSURE(dbt_real(h, "SELECT value FROM checks WHERE measure_id IS NULL") ==

@@ -10,6 +10,7 @@
 
 #include "rockfall/project.h"
 #include "check/rules.h"
+#include "results/schema.h"
 #include "results/store.h"
 #include "corpus_test_util.h"
 #include "db_test_util.h"
@@ -39,6 +40,32 @@ static void load_variant(const char *from, const char *to, rf_rules *r)
     rf_error err = {{0}};
     ENSURE_MSG(rf_rules_load_text("variant.yaml", out, strlen(out), r, &err) == 0,
                "%d:%d: %s", err.line, err.column, err.message);
+}
+
+/* Table 3's text with its `allowance:` block (the end of the file) replaced by
+ * `allowance` (a whole line, or "" for none); malloc'd. */
+static char *table3_with_allowance(const char *allowance)
+{
+    char *text = rf_test_read_text(TABLE3);
+    ENSURE(text);
+    char *at = strstr(text, "\nallowance:\n");
+    ENSURE_MSG(at, "no allowance block in %s", TABLE3);
+    size_t n = (size_t)(at - text) + 1 + strlen(allowance) + 1;
+    char *out = malloc(n);
+    ENSURE(out);
+    snprintf(out, n, "%.*s\n%s", (int)(at - text), text, allowance);
+    free(text);
+    return out;
+}
+
+/* Table 3 with its allowances replaced */
+static void load_allowance(const char *allowance, rf_rules *r)
+{
+    char *text = table3_with_allowance(allowance);
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_rules_load_text("allowance.yaml", text, strlen(text), r, &err) == 0,
+               "%d:%d: %s", err.line, err.column, err.message);
+    free(text);
 }
 
 /* ---- Table 3 --------------------------------------------------------------------- */
@@ -411,7 +438,8 @@ TEST(rules_layout_share_counts_the_rockfalls_kept)
     scene_finish(&t);
     ENSURE(evaluate(&t, &r) == 0);
     ENSURE(dbt_real(rf_store_db(t.s), "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
-                                      " value IS NULL AND passed = 1") == 1.0);
+                                      " value IS NULL AND passed = 1 AND on_failure = 'fail'")
+           == 1.0);
     rf_rules_free(&r);
     rf_store_close(t.s);
 }
@@ -616,8 +644,8 @@ TEST(rules_stored_fraction_equals_sql_count_and_is_idempotent)
     for (int round = 0; round < 3; round++) {
         evaluate(&t, &r);
         ENSURE(dbt_real(db, "SELECT count(*) FROM classifications") == 37 + 11 + 1 + 23);
-        /* B1 B2 E1 B3, and the layout's */
-        ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 2.0 * 4 + 1);
+        /* B1 B2 E1 B3, the layout's, and the three integrity checks */
+        ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 2.0 * 4 + 1 + 3);
     }
     int passed;
     double stored = check_value(&t, "B1", "serviceability_share", &passed);
@@ -786,6 +814,263 @@ TEST(rules_path_of_run)
     rf_store_close(t.s);
 }
 
+/* ---- verdict integrity ------------------------------------------------------------- */
+
+TEST(rules_allowance_defaults_and_keys)
+{
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    ENSURE(r.allowance[RF_INTEGRITY_MAX_TIME] == 0.0);
+    ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == 0.01);
+    ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == 0.0);
+    rf_rules_free(&r);
+    /* the defaults, without the block: those table3.yaml states */
+    load_allowance("", &r);
+    ENSURE(r.allowance[RF_INTEGRITY_MAX_TIME] == RF_ALLOWANCE_MAX_TIME);
+    ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == RF_ALLOWANCE_LEFT_TERRAIN);
+    ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == RF_ALLOWANCE_REST_STEEP);
+    ENSURE(RF_ALLOWANCE_MAX_TIME == 0.0 && RF_ALLOWANCE_LEFT_TERRAIN == 0.01 &&
+           RF_ALLOWANCE_REST_STEEP == 0.0);
+    rf_rules_free(&r);
+    /* each key on its own; the others keep their defaults */
+    load_allowance("allowance: {max_time: 0.05}\n", &r);
+    ENSURE(r.allowance[RF_INTEGRITY_MAX_TIME] == 0.05);
+    ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == 0.01);
+    ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == 0.0);
+    rf_rules_free(&r);
+    load_allowance("allowance: {left_terrain: 0, rest_on_steep_face: 0.5}\n", &r);
+    ENSURE(r.allowance[RF_INTEGRITY_LEFT_TERRAIN] == 0.0);
+    ENSURE(r.allowance[RF_INTEGRITY_REST_STEEP] == 0.5);
+    rf_rules_free(&r);
+    /* the boundary: count / n equal to the allowance is within it */
+    ENSURE(rf_rules_within_allowance(5, 500, 0.01) && !rf_rules_within_allowance(6, 500, 0.01));
+    ENSURE(rf_rules_within_allowance(0, 500, 0.0) && !rf_rules_within_allowance(1, 500, 0.0));
+    ENSURE(rf_rules_within_allowance(1, 0, 0.0));
+    for (long n = 100; n <= 100000; n *= 10)
+        ENSURE(rf_rules_within_allowance(n / 100, n, 0.01) &&
+               !rf_rules_within_allowance(n / 100 + 1, n, 0.01));
+}
+
+/* One trajectory of the release of `level` that ended for `reason`, across the road
+ * (a control line) or not, at rest on a steep face or not. */
+static void ending(scene *t, int level, rf_stop_reason reason, int across_road, int steep)
+{
+    rf_error err = {{0}};
+    rf_trajectory_record tr = {.stop = {5.0, 5.0, 80.0}, .reason = reason, .duration_s = 3.0,
+                               .rest_on_steep_face = steep};
+    int64_t id;
+    ENSURE(rf_store_add_trajectory(t->s, (size_t)(level - 1), t->next_idx[level - 1]++, &tr,
+                                   &id, &err) == 0);
+    if (!across_road)
+        return;
+    rf_interception_record in = {.measure = M_ROAD, .t_s = 2.0, .p = {20.0, 10.25, 82.0},
+                                 .speed_ms = 20.0, .energy_kj = 300.0, .energy_trans_kj = 300.0,
+                                 .passing_height_m = 1.0, .outcome = RF_OUT_PASSED};
+    ENSURE_MSG(rf_store_add_interception(t->s, id, &in, NULL, &err) == 0, "%s", err.message);
+}
+
+/* Evaluates the run into res, the printout into a string (malloc'd) */
+static char *evaluate_verdict(scene *t, const rf_rules *r, rf_rules_result *res)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *out = open_memstream(&buf, &len);
+    ENSURE(out);
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_rules_evaluate_verdict(rf_store_db(t->s), t->run, r, out, res, &err) == 0,
+               "%s", err.message);
+    fclose(out);
+    return buf;
+}
+
+/* A layout whose design checks all pass: 48 of 50 rocks within serviceability at B1,
+ * 20 of 20 at E1, and `rest` trajectories at rest on the slope. */
+static void passing_layout(scene *t, const char *db, int rest)
+{
+    scene_open(t, RF_USUAL, NULL, db);
+    hits(t, 2, M_B1, 50, 48);
+    hits(t, 2, M_E1, 20, 20);
+    for (int i = 0; i < rest; i++)
+        ending(t, 1, RF_END_REST, 0, 0);
+}
+
+/* The verdict stored for the run: in run_verdicts and, for integrity check `rule`,
+ * in checks and check_results. */
+static void ensure_stored(scene *t, const char *verdict, const char *rule, double value,
+                          int passed)
+{
+    sqlite3 *db = rf_store_db(t->s);
+    ENSURE_MSG(dbt_int(db, "SELECT verdict = '%s' FROM run_verdicts WHERE run_id = %lld",
+                       verdict, (long long)t->run) == 1,
+               "run_verdicts does not say %s", verdict);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE run_id = %lld AND rule = '%s' AND"
+                       " measure_id IS NULL AND on_failure = 'inconclusive' AND passed = %d",
+                   (long long)t->run, rule, passed) == 1);
+    ENSURE(dbt_real(db, "SELECT value FROM checks WHERE run_id = %lld AND rule = '%s'",
+                    (long long)t->run, rule) == value);
+    ENSURE(dbt_int(db, "SELECT verdict = '%s' FROM check_results WHERE rule = '%s'",
+                   passed ? "pass" : "inconclusive", rule) == 1);
+}
+
+/* Trajectories cut short by max_time say nothing of where the rocks would have gone:
+ * a layout whose design checks pass is not a PASS then. */
+TEST(rules_max_time_trajectories_make_a_pass_inconclusive)
+{
+    scene t;
+    passing_layout(&t, "max-time.db", 29);
+    ending(&t, 1, RF_END_MAX_TIME, 0, 0);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    rf_rules_result res;
+    char *buf = evaluate_verdict(&t, &r, &res);
+    ENSURE_MSG(res.verdict == RF_VERDICT_INCONCLUSIVE && res.failed == 0 &&
+                   res.inconclusive == 1, "%s", buf);
+    ENSURE_MSG(strstr(buf, "verdict: INCONCLUSIVE") && !strstr(buf, "verdict: PASS") &&
+                   strstr(buf, "INCONCLUSIVE trajectories_max_time") &&
+                   strstr(buf, "1 of 100 trajectories ended by max_time") &&
+                   strstr(buf, "simulation.max_time"),
+               "%s", buf);
+    free(buf);
+    ensure_stored(&t, "inconclusive", "trajectories_max_time", 0.01, 0);
+    ENSURE(dbt_int(rf_store_db(t.s), "SELECT checks_failed = 0 AND checks_inconclusive = 1"
+                                     " FROM run_verdicts") == 1);
+    /* the rule file may allow them */
+    rf_rules_free(&r);
+    load_allowance("allowance: {max_time: 0.01}\n", &r);
+    buf = evaluate_verdict(&t, &r, &res);
+    ENSURE_MSG(res.verdict == RF_VERDICT_PASS && strstr(buf, "verdict: PASS"), "%s", buf);
+    free(buf);
+    ensure_stored(&t, "pass", "trajectories_max_time", 0.01, 1);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* A rock that left the terrain before any control line may have reached the road past
+ * the terrain's edge: 1 % of the trajectories is allowed by default, one more is not;
+ * one that crossed the road before it left is no such rock. */
+TEST(rules_left_terrain_before_a_control_line_beyond_the_allowance_is_inconclusive)
+{
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    for (int over = 0; over <= 1; over++) {
+        scene t;
+        passing_layout(&t, over ? "left-over.db" : "left-within.db", 24 - over);
+        /* 100 trajectories: 70 hits, 24 or 23 at rest, 5 across the road and gone, and
+         * 1 or 2 gone before any control line */
+        for (int i = 0; i < 5; i++)
+            ending(&t, 3, RF_END_EXITED, 1, 0);
+        for (int i = 0; i < 1 + over; i++)
+            ending(&t, 3, RF_END_EXITED, 0, 0);
+        scene_finish(&t);
+        rf_rules_result res;
+        char *buf = evaluate_verdict(&t, &r, &res);
+        ENSURE(dbt_int(rf_store_db(t.s), "SELECT count(*) FROM trajectories") == 100);
+        if (!over) {
+            ENSURE_MSG(res.verdict == RF_VERDICT_PASS && strstr(buf, "verdict: PASS"), "%s", buf);
+            ENSURE_MSG(strstr(buf, "PASS trajectories_left_terrain       1 left the terrain"
+                                   " before any control line (0.0100 <= allowance 0.01)"),
+                       "%s", buf);
+            ensure_stored(&t, "pass", "trajectories_left_terrain", 0.01, 1);
+        } else {
+            ENSURE_MSG(res.verdict == RF_VERDICT_INCONCLUSIVE &&
+                           strstr(buf, "verdict: INCONCLUSIVE") &&
+                           strstr(buf, "2 of 100 trajectories left the terrain before any "
+                                       "control line"),
+                       "%s", buf);
+            ensure_stored(&t, "inconclusive", "trajectories_left_terrain", 0.02, 0);
+        }
+        free(buf);
+        rf_store_close(t.s);
+    }
+    rf_rules_free(&r);
+}
+
+/* A rock the fixed-step engine put to rest on a face steeper than its friction holds
+ * would have moved on: none is allowed by default. */
+TEST(rules_rest_on_a_steep_face_is_inconclusive)
+{
+    scene t;
+    passing_layout(&t, "steep.db", 29);
+    ending(&t, 1, RF_END_REST, 0, 1);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    rf_rules_result res;
+    char *buf = evaluate_verdict(&t, &r, &res);
+    ENSURE_MSG(res.verdict == RF_VERDICT_INCONCLUSIVE &&
+                   strstr(buf, "1 of 100 trajectories came to rest on a face steeper than "
+                               "their friction holds"),
+               "%s", buf);
+    free(buf);
+    ensure_stored(&t, "inconclusive", "trajectories_rest_on_steep_face", 0.01, 0);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* A layout that fails a design check stays FAIL when it is also inconclusive, with
+ * the reasons printed under the verdict. */
+TEST(rules_fail_wins_over_inconclusive)
+{
+    scene t;
+    scene_open(&t, RF_USUAL, NULL, "fail-and-max-time.db");
+    hits(&t, 2, M_B1, 50, 40);
+    ending(&t, 1, RF_END_MAX_TIME, 0, 0);
+    scene_finish(&t);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    rf_rules_result res;
+    char *buf = evaluate_verdict(&t, &r, &res);
+    ENSURE_MSG(res.verdict == RF_VERDICT_FAIL && res.failed == 2 && res.inconclusive == 1,
+               "%s", buf);
+    ENSURE_MSG(strstr(buf, "verdict: FAIL (2 of 9 checks failed)") &&
+                   strstr(buf, "also inconclusive") &&
+                   strstr(buf, "1 of 51 trajectories ended by max_time"),
+               "%s", buf);
+    free(buf);
+    ensure_stored(&t, "fail", "trajectories_max_time", 1.0 / 51.0, 0);
+    ENSURE(dbt_int(rf_store_db(t.s), "SELECT checks_failed = 2 AND checks_inconclusive = 1"
+                                     " FROM run_verdicts") == 1);
+    rf_rules_free(&r);
+    rf_store_close(t.s);
+}
+
+/* check writes into a file of schema version 2 without upgrading it: the integrity
+ * checks are rows of its checks table as it is, and a rest on a steep face, which
+ * version 2 did not record, is not counted. */
+TEST(rules_integrity_checked_in_a_version_2_file)
+{
+    const char *path = rf_test_path("v2.db");
+    char *text = NULL;
+    FILE *in = fopen("tests/data/results-v2.db", "rb"), *out = fopen(path, "wb");
+    ENSURE(in && out);
+    char chunk[65536];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, in)) > 0)
+        ENSURE(fwrite(chunk, 1, n, out) == n);
+    fclose(in);
+    fclose(out);
+    sqlite3 *db;
+    rf_error err = {{0}};
+    ENSURE(rf_db_open(path, RF_DB_CHECK, &db, NULL, &err) == 0);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    size_t len = 0;
+    FILE *pr = open_memstream(&text, &len);
+    rf_rules_result res;
+    ENSURE_MSG(rf_rules_evaluate_verdict(db, 1, &r, pr, &res, &err) == 0, "%s", err.message);
+    fclose(pr);
+    ENSURE_MSG(res.verdict == RF_VERDICT_FAIL && res.inconclusive == 0, "%s", text);
+    ENSURE_MSG(strstr(text, "PASS trajectories_rest_on_steep_face not recorded"), "%s", text);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE rule LIKE 'trajectories_%%'") == 3);
+    ENSURE(dbt_int(db, "SELECT value IS NULL FROM checks WHERE"
+                       " rule = 'trajectories_rest_on_steep_face'") == 1);
+    free(text);
+    rf_rules_free(&r);
+    sqlite3_close(db);
+}
+
 /* ---- the command line -------------------------------------------------------------- */
 
 /* The exit status of `rockfall check` agrees with the stored checks. */
@@ -824,7 +1109,7 @@ TEST(rules_cli_check_exit_status)
     ENSURE(rf_test_rockfall(args, out, sizeof out) == 1);
     sqlite3 *db;
     ENSURE(sqlite3_open(fail_db, &db) == SQLITE_OK);
-    ENSURE(dbt_real(db, "SELECT count(*) FROM checks") == 9.0);
+    ENSURE(dbt_real(db, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 9.0);
     ENSURE(dbt_real(db, "SELECT count(*) FROM checks WHERE passed = 0") == 2.0);
     sqlite3_close(db);
     /* no --rules and no rules in the project; a bad rule file: bad input */
@@ -841,9 +1126,17 @@ TEST(rules_cli_check_exit_status)
  * whose MEL gives a serviceable share clearly above 0.9 and one clearly below. */
 TEST(rules_end_to_end_simulated_scene)
 {
-    char cwd[512], project[700], db[700], args[2048];
+    char rules[700], project[700], db[700], args[2048];
     static char out[65536];
-    ENSURE(getcwd(cwd, sizeof cwd));
+    /* Table 3, allowing every rock to leave the terrain: the profile ends 80 m past the
+     * barriers' line, with no road drawn, and this case is about the classification */
+    char *table3 = table3_with_allowance("allowance: {left_terrain: 1}\n");
+    snprintf(rules, sizeof rules, "%s/rules.yaml", rf_test_tmpdir());
+    FILE *rf = fopen(rules, "w");
+    ENSURE(rf);
+    fputs(table3, rf);
+    fclose(rf);
+    free(table3);
     snprintf(project, sizeof project, "%s/scene.yaml", rf_test_tmpdir());
     snprintf(db, sizeof db, "%s/scene.db", rf_test_tmpdir());
     /* Both barriers are evaluation lines (collect) on the same line, tall enough that
@@ -864,10 +1157,10 @@ TEST(rules_end_to_end_simulated_scene)
         "  - {name: low, kind: barrier, line: [[80, 0.5], [80, 39.5]], height: 50,"
         " importance: usual, behaviour: collect, mel: %.6f}\n"
         "simulation: {paths: 0}\n"
-        "rules: %s/" TABLE3 "\n";
+        "rules: %s\n";
     FILE *f = fopen(project, "w");
     ENSURE(f);
-    fprintf(f, fmt, 1e7, 1e7, cwd);
+    fprintf(f, fmt, 1e7, 1e7, rules);
     fclose(f);
     snprintf(args, sizeof args, "run %s -o %s -q", project, db);
     ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
@@ -891,7 +1184,7 @@ TEST(rules_end_to_end_simulated_scene)
 
     f = fopen(project, "w");
     ENSURE(f);
-    fprintf(f, fmt, mel_high, mel_low, cwd);
+    fprintf(f, fmt, mel_high, mel_low, rules);
     fclose(f);
     snprintf(args, sizeof args, "run %s -o %s", project, db);
     ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 1, "%s", out);

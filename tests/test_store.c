@@ -704,7 +704,7 @@ TEST(store_rejects_another_schema_version)
     ENSURE(rf_store_open(path, &s, &err) != 0);
     ENSURE(s == NULL);
     ENSURE(strcmp(err.file, path) == 0);
-    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 2"), "%s",
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 3"), "%s",
                err.message);
 
     /* Still version 7: nothing was written. */
@@ -949,12 +949,12 @@ static char *v1_dump(sqlite3 *db)
     return all;
 }
 
-/* A copy of the version-1 fixture in the case's directory. */
-static const char *copy_v1(const char *name)
+/* A copy of a fixture file in the case's directory. */
+static const char *copy_fixture(const char *fixture, const char *name)
 {
     size_t len = 0;
-    FILE *f = fopen(V1_FIXTURE, "rb");
-    ENSURE_MSG(f, "cannot open %s", V1_FIXTURE);
+    FILE *f = fopen(fixture, "rb");
+    ENSURE_MSG(f, "cannot open %s", fixture);
     char *buf = malloc(1 << 20);
     ENSURE(buf);
     len = fread(buf, 1, 1 << 20, f);
@@ -967,6 +967,9 @@ static const char *copy_v1(const char *name)
     free(buf);
     return path;
 }
+
+/* A copy of the version-1 fixture in the case's directory. */
+static const char *copy_v1(const char *name) { return copy_fixture(V1_FIXTURE, name); }
 
 TEST(store_measure_kinds_are_rows_that_measures_reference)
 {
@@ -1002,8 +1005,8 @@ TEST(store_upgrades_a_version_1_file_in_place)
 
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 2);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 2);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
     ENSURE(dbt_int(db, "SELECT count(*) FROM measure_kinds") == RF_N_MEASURE_KINDS);
     ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM measures m JOIN measure_kinds k ON k.name = m.kind") ==
@@ -1024,7 +1027,7 @@ TEST(store_upgrades_a_version_1_file_in_place)
     free(before);
     free(after);
 
-    /* a second opening finds version 2 and changes nothing */
+    /* a second opening finds the current version and changes nothing */
     db = open_raw(path);
     int cookie = (int)dbt_int(db, "PRAGMA schema_version");
     sqlite3_close(db);
@@ -1065,4 +1068,102 @@ TEST(store_check_and_read_modes_leave_the_schema_alone)
         ENSURE(rf_db_open(other, (rf_db_mode)mode, &db, NULL, &err) != 0 && !db);
         ENSURE_MSG(strstr(err.message, "not a rockfall results database"), "%s", err.message);
     }
+}
+
+/* A database written by rockfall at schema version 2 (`rockfall run
+ * projects/noto/noto-3.3.yaml --count 5`, checked by that run): five releases of five
+ * trajectories, the measures B1, E1 and road, five checks. */
+#define V2_FIXTURE "tests/data/results-v2.db"
+
+/* The rows of a version-2 file in the columns of version 2. */
+static char *v2_dump(sqlite3 *db)
+{
+    return dump(db, "SELECT (SELECT group_concat(x, ';') FROM (SELECT quote(id) || quote(run_id)"
+                    " || quote(release_id) || quote(idx) || quote(stop_x) || quote(stop_y) ||"
+                    " quote(stop_z) || stop_reason || quote(duration_s) || quote(path_length_m)"
+                    " || quote(max_energy_kj) || quote(n_impacts) || quote(n_tree_hits) AS x"
+                    " FROM trajectories ORDER BY id)),"
+                    " (SELECT group_concat(x, ';') FROM (SELECT quote(id) || quote(run_id) ||"
+                    " quote(measure_id) || rule || quote(value) || quote(threshold) ||"
+                    " quote(passed) AS x FROM checks ORDER BY id)),"
+                    " (SELECT group_concat(quote(energy_kj) || outcome) FROM interceptions),"
+                    " (SELECT group_concat(limit_state || ok) FROM classifications),"
+                    " (SELECT group_concat(quote(energy_p95_kj)) FROM hazard_cells),"
+                    " (SELECT count(*) || sum(length(z)) FROM terrain_grids),"
+                    " (SELECT group_concat(rules_path) FROM runs)");
+}
+
+/* Version 2 to 3 in place: the rows kept in their columns, the trajectories of the
+ * old run not recorded as to a rest on a steep face (NULL), every old check a design
+ * check, the views current; a later run's trajectories record it. */
+TEST(store_upgrades_a_version_2_file_in_place)
+{
+    const char *path = copy_fixture(V2_FIXTURE, "v2.db");
+    sqlite3 *db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 2);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_table_info('trajectories')"
+                       " WHERE name = 'rest_steep'") == 0);
+    char *before = v2_dump(db);
+    sqlite3_close(db);
+
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 3);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 3);
+    char *after = v2_dump(db);
+    ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories") == 25);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE rest_steep IS NULL") == 25);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 5);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
+    /* the views of version 3: the run's verdict as its checks left it (Table 3 failed
+     * E1's share at five rocks a release) */
+    ENSURE(dbt_int(db, "SELECT count(*) FROM run_verdicts WHERE verdict = 'fail'"
+                       " AND checks_inconclusive = 0") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM check_results WHERE verdict = 'fail'") == 1);
+    sqlite3_close(db);
+    free(before);
+    free(after);
+
+    /* a run into the upgraded file records the rest of every trajectory */
+    test_project t;
+    make_project(&t);
+    rf_store *s = open_store(path);
+    write_run(s, &t.p, 2, "complete");
+    rf_store_close(s);
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE run_id = 2") > 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE run_id = 2 AND"
+                       " rest_steep IS NOT 0") == 0);
+    sqlite3_close(db);
+}
+
+/* The upgrade is one transaction: failing at its last step leaves the file at
+ * version 2 without the new columns. */
+TEST(store_failed_upgrade_from_version_2_leaves_the_file_as_it_was)
+{
+    const char *path = copy_fixture(V2_FIXTURE, "v2-fail.db");
+    sqlite3 *db = open_raw(path);
+    exec_raw(db, "CREATE TRIGGER refuse BEFORE UPDATE ON rockfall_schema"
+                 " BEGIN SELECT RAISE(ABORT, 'refused by a test'); END");
+    char *before = v2_dump(db);
+    sqlite3_close(db);
+    rf_store *s = NULL;
+    rf_error err = {0};
+    ENSURE(rf_store_open(path, &s, &err) != 0 && s == NULL);
+    ENSURE_MSG(strstr(err.message, "from schema version 2") &&
+                   strstr(err.message, "refused by a test"), "%s", err.message);
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 2);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 2);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_table_info('trajectories')"
+                       " WHERE name = 'rest_steep'") == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_table_info('checks')"
+                       " WHERE name = 'on_failure'") == 0);
+    char *after = v2_dump(db);
+    ENSURE(strcmp(before, after) == 0);
+    sqlite3_close(db);
+    free(before);
+    free(after);
 }

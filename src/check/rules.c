@@ -127,17 +127,7 @@ int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err)
 
 char *rf_rules_reach_kinds_sql(void)
 {
-    char *list = NULL;
-    for (int k = 0; k < RF_N_MEASURE_KINDS; k++) {
-        if (!rf_measure_kinds[k].reach_line)
-            continue;
-        char *more = sqlite3_mprintf("%s%s%Q", list ? list : "", list ? ", " : "",
-                                     rf_measure_kinds[k].name);
-        sqlite3_free(list);
-        if (!(list = more))
-            return NULL;
-    }
-    return list ? list : sqlite3_mprintf("NULL");
+    return rf_reach_kinds_sql(); /* the same list the integrity counts use */
 }
 
 void rf_rules_run_free(rf_rules_run *L)
@@ -352,8 +342,57 @@ static int write_layout_checks(sqlite3 *db, int64_t run, const rf_rules *r, sqli
     return 0;
 }
 
+int rf_rules_within_allowance(long count, long n, double allowance)
+{
+    /* count / n correctly rounded against the allowance as the file gives it: 5 of 500
+     * compares equal to 0.01, as the shares of the checks do */
+    return n <= 0 || (double)count / (double)n <= allowance;
+}
+
+/* The integrity checks: one row per kind of trajectory that cannot support a verdict,
+ * value the share of the run's trajectories (NULL when the run has none, or the file
+ * does not record the kind), passed when within the rule file's allowance; a failed
+ * one makes the verdict inconclusive (on_failure, from schema version 3; a file of an
+ * earlier version, which check does not upgrade, stores the row without it). */
+static int write_integrity_checks(sqlite3 *db, int64_t run, const rf_rules *r,
+                                  rf_rules_run *L, long *n_inconclusive, rf_error *err)
+{
+    if (rf_run_integrity_count(db, run, &L->integrity, err))
+        return -1;
+    sqlite3_stmt *ins;
+    if (prepare(db,
+                rf_db_has_column(db, "checks", "on_failure")
+                    ? "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed,"
+                      " on_failure) VALUES (?1, NULL, ?2, ?3, ?4, ?5, 'inconclusive')"
+                    : "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+                      " VALUES (?1, NULL, ?2, ?3, ?4, ?5)",
+                &ins, err))
+        return -1;
+    const rf_run_integrity *g = &L->integrity;
+    int status = 0;
+    for (int k = 0; status == 0 && k < RF_N_INTEGRITY; k++) {
+        int known = g->recorded[k] && g->n_trajectories > 0;
+        L->within[k] = !g->recorded[k] ||
+                       rf_rules_within_allowance(g->count[k], g->n_trajectories, r->allowance[k]);
+        *n_inconclusive += !L->within[k];
+        sqlite3_bind_int64(ins, 1, run);
+        sqlite3_bind_text(ins, 2, rf_integrity_rules[k], -1, SQLITE_STATIC);
+        if (known)
+            sqlite3_bind_double(ins, 3, (double)g->count[k] / (double)g->n_trajectories);
+        else
+            sqlite3_bind_null(ins, 3);
+        sqlite3_bind_double(ins, 4, r->allowance[k]);
+        sqlite3_bind_int(ins, 5, L->within[k]);
+        if (sqlite3_step(ins) != SQLITE_DONE)
+            status = db_error(db, "writing an integrity check", err);
+        sqlite3_reset(ins);
+    }
+    sqlite3_finalize(ins);
+    return status;
+}
+
 static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, rf_rules_run *L,
-                    long *n_failed, rf_error *err)
+                    long *n_failed, long *n_inconclusive, rf_error *err)
 {
     sqlite3_stmt *ins_class = NULL, *ins_check = NULL;
     long *n_within = calloc(r->nchecks + 1, sizeof *n_within);
@@ -389,7 +428,8 @@ static int evaluate(sqlite3 *db, int64_t run, const rf_rules *r, rf_rules_run *L
                          err))
             goto done;
     }
-    if (write_layout_checks(db, run, r, ins_check, L, n_failed, err))
+    if (write_layout_checks(db, run, r, ins_check, L, n_failed, err) ||
+        write_integrity_checks(db, run, r, L, n_inconclusive, err))
         goto done;
     status = 0;
 done:
@@ -424,26 +464,38 @@ static int store_rule_file(sqlite3 *db, int64_t run, const rf_rules *r, rf_error
 int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
                       rf_error *err)
 {
-    long failed = 0;
+    rf_rules_result res;
+    int status = rf_rules_evaluate_verdict(db, run, r, out, &res, err);
     if (n_failed)
-        *n_failed = 0;
+        *n_failed = status == 0 ? res.failed : 0;
+    return status;
+}
+
+int rf_rules_evaluate_verdict(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out,
+                              rf_rules_result *res, rf_error *err)
+{
+    long failed = 0, inconclusive = 0;
     if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
         return db_error(db, "evaluating the rules", err);
     /* the run's measures are read in the transaction that writes their checks */
     rf_rules_run L = {0};
     int status = read_run_measures(db, run, r, &L, err);
     if (status == 0)
-        status = evaluate(db, run, r, &L, &failed, err);
+        status = evaluate(db, run, r, &L, &failed, &inconclusive, err);
     if (status == 0)
         status = store_rule_file(db, run, r, err);
     if (status == 0 && sqlite3_exec(db, "COMMIT", NULL, NULL, NULL) != SQLITE_OK)
         status = db_error(db, "committing the checks", err);
     if (status != 0 && !sqlite3_get_autocommit(db))
         sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
+    rf_rules_result got = {.failed = failed, .inconclusive = inconclusive,
+                           .verdict = failed         ? RF_VERDICT_FAIL
+                                      : inconclusive ? RF_VERDICT_INCONCLUSIVE
+                                                     : RF_VERDICT_PASS};
     if (status == 0 && out)
-        status = rf_rules_print_run(db, run, r, &L, failed, out, err);
-    if (n_failed)
-        *n_failed = status == 0 ? failed : 0;
+        status = rf_rules_print_run(db, run, r, &L, &got, out, err);
+    if (res)
+        *res = status == 0 ? got : (rf_rules_result){0};
     rf_rules_run_free(&L);
     return status;
 }

@@ -22,6 +22,7 @@
 #include "input/measure_kinds.h" /* RF_N_MEASURE_KINDS */
 #include "rockfall/project.h"
 #include "rockfall/records.h"
+#include "results/integrity.h" /* rf_integrity_kind */
 
 /* Where a structure kind's capacity for one limit state comes from. */
 typedef enum rf_capacity_source {
@@ -71,7 +72,29 @@ typedef struct rf_rules {
     rf_rule_check *layout_checks; /* of the run's layout as a whole */
     size_t nlayout;
     int empty_passes;            /* a measure without interceptions passes its checks */
+    /* by rf_integrity_kind: the largest share of the run's trajectories of that kind
+     * with which the run still supports a verdict (`allowance:`, docs/rules.md) */
+    double allowance[RF_N_INTEGRITY];
 } rf_rules;
+
+/* The defaults of `allowance:`: no trajectory ended by max_time or put to rest on a
+ * steep face, 1 % of the trajectories leaving the terrain before any control line. */
+#define RF_ALLOWANCE_MAX_TIME 0.0
+#define RF_ALLOWANCE_LEFT_TERRAIN 0.01
+#define RF_ALLOWANCE_REST_STEEP 0.0
+
+/* By rf_integrity_kind: the key of `allowance:` and the rule of its checks row. */
+extern const char *const rf_allowance_keys[RF_N_INTEGRITY + 1];
+extern const char *const rf_integrity_rules[RF_N_INTEGRITY + 1];
+
+/* A checked run's verdict.  FAIL wins over INCONCLUSIVE (docs/rules.md). */
+typedef enum rf_verdict { RF_VERDICT_PASS, RF_VERDICT_FAIL, RF_VERDICT_INCONCLUSIVE } rf_verdict;
+
+typedef struct rf_rules_result {
+    long failed;        /* design checks failed */
+    long inconclusive;  /* integrity checks beyond their allowance */
+    rf_verdict verdict;
+} rf_rules_result;
 
 /* Loads and validates a rule file.  On error fills err with file:line:column and
  * returns nonzero; r is then left empty. */
@@ -104,6 +127,9 @@ int rf_rules_required(const rf_rules *r, int action_level, rf_importance importa
 int rf_rules_meets(const rf_rules *r, int reached, int required);
 /* Whether a check's value passes its threshold. */
 int rf_rules_check_passes(const rf_rule_check *c, double value);
+/* Whether `count` of n trajectories is within a share `allowance` (count / n <=
+ * allowance; nothing is beyond an allowance in a run without trajectories). */
+int rf_rules_within_allowance(long count, long n, double allowance);
 
 /* ---- against the database ----------------------------------------------------- */
 
@@ -120,5 +146,11 @@ int rf_rules_path_of_run(sqlite3 *db, int64_t run, char **path, rf_error *err);
  * then the overall verdict.  *n_failed (may be NULL) gets the number of failed checks. */
 int rf_rules_evaluate(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out, long *n_failed,
                       rf_error *err);
+/* The same, with the integrity checks' outcome and the verdict in *res (may be NULL):
+ * every evaluation also writes one checks row per rf_integrity_kind (measure_id NULL,
+ * rule rf_integrity_rules[k], value the share of the run's trajectories of the kind,
+ * threshold its allowance, on_failure 'inconclusive' where the file has the column). */
+int rf_rules_evaluate_verdict(sqlite3 *db, int64_t run, const rf_rules *r, FILE *out,
+                              rf_rules_result *res, rf_error *err);
 
 #endif

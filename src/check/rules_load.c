@@ -16,6 +16,11 @@ const char *const rf_rules_comparison_names[] = {">", ">=", NULL};
 static const char *const value_names[] = {"share_within", "share_meeting_required",
                                            "share_of_rockfalls_kept", NULL};
 static const char *const verdict_names[] = {"fail", "pass", NULL};
+const char *const rf_allowance_keys[RF_N_INTEGRITY + 1] = {"max_time", "left_terrain",
+                                                           "rest_on_steep_face", NULL};
+const char *const rf_integrity_rules[RF_N_INTEGRITY + 1] = {
+    "trajectories_max_time", "trajectories_left_terrain", "trajectories_rest_on_steep_face",
+    NULL};
 
 /* ---- loading ------------------------------------------------------------------ */
 
@@ -258,10 +263,16 @@ static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
         rf_ydoc_require(&L->d, n, "rule", what, &name, L->err) ||
         rf_ydoc_string(&L->d, name, "rule", &text, L->err))
         return -1;
-    /* rule names are unique over both lists: they name the rows of `checks` */
+    /* rule names are unique over both lists and the integrity checks: they name the
+     * rows of `checks` */
     if (check_named(L->r->checks, L->r->nchecks, text) ||
         check_named(L->r->layout_checks, L->r->nlayout, text))
         return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
+    for (int k = 0; k < RF_N_INTEGRITY; k++)
+        if (!strcmp(text, rf_integrity_rules[k]))
+            return rf_ydoc_error(&L->d, name, L->err,
+                                 "'%s' names the check of allowance '%s'; choose another "
+                                 "name", text, rf_allowance_keys[k]);
     if (!(c->name = strdup(text)))
         return out_of_memory(L);
     if (rf_ydoc_require(&L->d, n, "value", what, &value, L->err) ||
@@ -325,11 +336,31 @@ static int read_checks(loader *L, rf_ynode *root, const char *key, int layout)
     return 0;
 }
 
+/* `allowance:`, optional, each key optional: the share of the trajectories of each
+ * kind that leaves the verdict standing (defaults in rules.h). */
+static int read_allowance(loader *L, rf_ynode *root)
+{
+    L->r->allowance[RF_INTEGRITY_MAX_TIME] = RF_ALLOWANCE_MAX_TIME;
+    L->r->allowance[RF_INTEGRITY_LEFT_TERRAIN] = RF_ALLOWANCE_LEFT_TERRAIN;
+    L->r->allowance[RF_INTEGRITY_REST_STEEP] = RF_ALLOWANCE_REST_STEEP;
+    rf_ynode *map = rf_ydoc_get(&L->d, root, "allowance");
+    if (!map)
+        return 0;
+    if (rf_ydoc_mapping_of(&L->d, map, rf_allowance_keys, "allowance", L->err))
+        return -1;
+    for (int k = 0; k < RF_N_INTEGRITY; k++)
+        if (rf_ydoc_opt_number(&L->d, map, rf_allowance_keys[k], RF_YR_UNIT,
+                               &L->r->allowance[k], L->err))
+            return -1;
+    return 0;
+}
+
 static int read_rules(loader *L)
 {
     static const char *const keys[] = {"name",       "limit_states",  "beyond_last",
                                        "required_state", "capacities", "checks",
-                                       "layout_checks", "no_interceptions", NULL};
+                                       "layout_checks", "no_interceptions", "allowance",
+                                       NULL};
     rf_ynode *root = rf_ydoc_root(&L->d);
     if (!root)
         return rf_ydoc_error(&L->d, NULL, L->err, "the rule file is empty");
@@ -344,6 +375,7 @@ static int read_rules(loader *L)
         return out_of_memory(L);
     if (read_limit_states(L, root) || read_required(L, root) || read_capacities(L, root) ||
         read_checks(L, root, "checks", 0) || read_checks(L, root, "layout_checks", 1) ||
+        read_allowance(L, root) ||
         rf_ydoc_opt_enum(&L->d, root, "no_interceptions", verdict_names, &verdict, L->err))
         return -1;
     L->r->empty_passes = verdict;

@@ -69,7 +69,16 @@ static int print_states(sqlite3 *db, const rf_rules *r, const rf_rules_measure *
     return 0;
 }
 
-/* The checks of measure m, or with m NULL the layout's checks of the run. */
+static int is_integrity_rule(const char *rule)
+{
+    for (int k = 0; rule && k < RF_N_INTEGRITY; k++)
+        if (!strcmp(rule, rf_integrity_rules[k]))
+            return 1;
+    return 0;
+}
+
+/* The checks of measure m, or with m NULL the layout's checks of the run (the
+ * integrity checks, also run-wide, are print_integrity's). */
 static int print_checks(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rules_measure *m,
                         FILE *out, rf_error *err)
 {
@@ -86,6 +95,8 @@ static int print_checks(sqlite3 *db, int64_t run, const rf_rules *r, const rf_ru
     size_t nlist = m ? r->nchecks : r->nlayout;
     while (sqlite3_step(st) == SQLITE_ROW) {
         const char *rule = (const char *)sqlite3_column_text(st, 0);
+        if (!m && is_integrity_rule(rule))
+            continue;
         const char *cmp = ">=";
         for (size_t c = 0; c < nlist; c++)
             if (rule && !strcmp(rule, list[c].name))
@@ -102,10 +113,67 @@ static int print_checks(sqlite3 *db, int64_t run, const rf_rules *r, const rf_ru
     return 0;
 }
 
-/* The run's measures, their limit states and checks, and the verdict (failed of the
- * checks evaluate has just written, nchecks per measure). */
+/* By rf_integrity_kind: what the trajectories counted did, and what to change so that
+ * the run can support a verdict. */
+static const char *const integrity_what[RF_N_INTEGRITY] = {
+    "ended by max_time", "left the terrain before any control line",
+    "came to rest on a face steeper than their friction holds"};
+static const char *const integrity_remedy[RF_N_INTEGRITY] = {
+    "raise simulation.max_time until no rock is cut short",
+    "extend the terrain past the protected line and draw that line as a control line",
+    "use the exact engine or a smaller time step"};
+
+/* The integrity checks: for each kind, the count, its share and the allowance. */
+static void print_integrity(const rf_rules *r, const rf_rules_run *L, FILE *out)
+{
+    const rf_run_integrity *g = &L->integrity;
+    fprintf(out, "\ntrajectories that cannot support a verdict (of %ld):\n", g->n_trajectories);
+    for (int k = 0; k < RF_N_INTEGRITY; k++) {
+        const char *tag = L->within[k] ? "PASS" : "INCONCLUSIVE";
+        if (!g->recorded[k])
+            fprintf(out, "  %s %-31s not recorded (trajectories written before schema "
+                         "version 3)\n", tag, rf_integrity_rules[k]);
+        else
+            fprintf(out, "  %s %-31s %ld %s (%.4f %s allowance %g)\n", tag,
+                    rf_integrity_rules[k], g->count[k], integrity_what[k],
+                    g->n_trajectories > 0 ? (double)g->count[k] / (double)g->n_trajectories
+                                          : 0.0,
+                    L->within[k] ? "<=" : ">", r->allowance[k]);
+    }
+}
+
+/* The kinds beyond their allowance, each with its remedy. */
+static void print_reasons(const rf_rules_run *L, FILE *out)
+{
+    const rf_run_integrity *g = &L->integrity;
+    for (int k = 0; k < RF_N_INTEGRITY; k++)
+        if (!L->within[k])
+            fprintf(out, "  %ld of %ld trajectories %s: %s\n", g->count[k], g->n_trajectories,
+                    integrity_what[k], integrity_remedy[k]);
+}
+
+/* The verdict line: FAIL wins over INCONCLUSIVE (a failed design check stands however
+ * the unsupported trajectories would have ended), and the reasons of an inconclusive
+ * run are printed under either. */
+static void print_verdict(const rf_rules_run *L, const rf_rules_result *res, long nc, FILE *out)
+{
+    if (res->failed)
+        fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", res->failed, nc);
+    else if (res->inconclusive)
+        fprintf(out, "\nverdict: INCONCLUSIVE (all %ld checks passed, but the trajectories "
+                     "cannot support a PASS)\n", nc);
+    else
+        fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
+    if (res->failed && res->inconclusive)
+        fprintf(out, "the run is also inconclusive (the FAIL stands):\n");
+    if (res->inconclusive)
+        print_reasons(L, out);
+}
+
+/* The run's measures, their limit states and checks, the trajectories that cannot
+ * support a verdict, and the verdict (nchecks per measure). */
 int rf_rules_print_run(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rules_run *L,
-                     long failed, FILE *out, rf_error *err)
+                     const rf_rules_result *res, FILE *out, rf_error *err)
 {
     if (!L->project)
         return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
@@ -158,11 +226,8 @@ int rf_rules_print_run(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rul
         if (print_checks(db, run, r, NULL, out, err))
             return -1;
     }
-    long nc = (long)(L->n * r->nchecks + r->nlayout);
-    if (failed)
-        fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", failed, nc);
-    else
-        fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
+    print_integrity(r, L, out);
+    print_verdict(L, res, (long)(L->n * r->nchecks + r->nlayout), out);
     return 0;
 }
 

@@ -30,6 +30,8 @@ typedef struct rf_rules_run {
     size_t n;
     long n_rockfalls;  /* the run's trajectories, when the rules have layout checks */
     long *kept;        /* those each layout check kept */
+    rf_run_integrity integrity;    /* the trajectories that cannot support a verdict */
+    int within[RF_N_INTEGRITY];    /* each kind within its allowance */
 } rf_rules_run;
 
 void rf_rules_run_free(rf_rules_run *L);
@@ -45,8 +47,8 @@ long rf_rules_query_count(sqlite3 *db, const char *sql, int64_t run, const char 
  * ('control'), or NULL when memory runs out; sqlite3_free it. */
 char *rf_rules_reach_kinds_sql(void);
 
-/* Prints the evaluated run: failed of the checks just written. */
+/* Prints the evaluated run: the checks just written, their outcome in res. */
 int rf_rules_print_run(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rules_run *L,
-                       long failed, FILE *out, rf_error *err);
+                       const rf_rules_result *res, FILE *out, rf_error *err);
 
 #endif

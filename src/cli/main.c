@@ -1,6 +1,6 @@
 /* main.c - the rockfall command line: run, check, report, empirical.
- * Exit status: 0 success (all checks pass), 1 a design check fails, 2 bad usage or
- * bad input. */
+ * Exit status: 0 success (all checks pass), 1 a design check fails or the run cannot
+ * support a verdict (INCONCLUSIVE), 2 bad usage or bad input. */
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -16,6 +16,7 @@
 #include "results/run_view.h"
 #include "report/report.h"
 #include "check/rules.h"
+#include "results/integrity.h"
 #include "results/schema.h"
 #include "results/store.h"
 
@@ -39,7 +40,8 @@ static const char USAGE[] =
     "  rockfall COMMAND --help   help on one command\n"
     "  rockfall --version\n"
     "\n"
-    "exit status: 0 success, 1 a design check fails, 2 bad usage or input\n";
+    "exit status: 0 success, 1 a design check fails or the verdict is inconclusive,\n"
+    "2 bad usage or input\n";
 
 static const char RUN_HELP[] =
     "usage: rockfall run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
@@ -62,13 +64,16 @@ static const char CHECK_HELP[] =
     "checks into the database (replacing an earlier check of the run) and prints per\n"
     "measure: the number of interceptions, energy at the 50th, 90th, 95th and 99th\n"
     "percentiles and maximum, the 95th-percentile passing height, the share per limit\n"
-    "state and each check's verdict.\n"
+    "state and each check's verdict, then the trajectories that cannot support a\n"
+    "verdict (ended by max_time, left the terrain before any control line, at rest on\n"
+    "a face steeper than their friction holds) against the rule file's allowance.\n"
     "\n"
     "  --run ID       the run to check\n"
     "  --rules FILE   rule file (default: the 'rules:' of the run's project),\n"
     "                 e.g. rules/table3.yaml\n"
     "\n"
-    "exit status: 0 every check passes, 1 a check fails, 2 bad usage or input\n";
+    "exit status: 0 every check passes (PASS), 1 a check fails (FAIL) or the\n"
+    "trajectories cannot support a verdict (INCONCLUSIVE), 2 bad usage or input\n";
 
 static const char REPORT_HELP[] =
     "usage: rockfall report results.db [--run ID] --out DIR\n"
@@ -137,17 +142,35 @@ static int wants_help(int argc, char **argv)
 
 /* ---- checks ---------------------------------------------------------------------- */
 
-/* Classifies the run's interceptions, writes and prints its checks: EXIT_OK when all
- * pass, EXIT_CHECK_FAILED when one fails, EXIT_BAD_INPUT on an error. */
+/* Classifies the run's interceptions, writes and prints its checks: EXIT_OK for a
+ * PASS, EXIT_CHECK_FAILED for a FAIL or an INCONCLUSIVE verdict, EXIT_BAD_INPUT on an
+ * error. */
 static int check_run(sqlite3 *db, int64_t run, const rf_rules *rules, int print)
 {
     rf_error err;
-    long failed = 0;
-    if (rf_rules_evaluate(db, run, rules, print ? stdout : NULL, &failed, &err)) {
+    rf_rules_result res;
+    if (rf_rules_evaluate_verdict(db, run, rules, print ? stdout : NULL, &res, &err)) {
         rf_error_print(&err, stderr);
         return EXIT_BAD_INPUT;
     }
-    return failed ? EXIT_CHECK_FAILED : EXIT_OK;
+    return res.verdict == RF_VERDICT_PASS ? EXIT_OK : EXIT_CHECK_FAILED;
+}
+
+/* After a run: its trajectories that cannot support a verdict, counted as check counts
+ * them (the allowances are the rule file's, applied by check). */
+static int print_run_integrity(sqlite3 *db, int64_t run)
+{
+    rf_run_integrity g;
+    rf_error err;
+    if (rf_run_integrity_count(db, run, &g, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    printf("  ended by max_time %ld, left the terrain before any control line %ld, at rest on "
+           "a face steeper than its friction holds %ld\n",
+           g.count[RF_INTEGRITY_MAX_TIME], g.count[RF_INTEGRITY_LEFT_TERRAIN],
+           g.count[RF_INTEGRITY_REST_STEEP]);
+    return EXIT_OK;
 }
 
 /* ---- run ---------------------------------------------------------------------- */
@@ -223,6 +246,7 @@ static int cmd_run(int argc, char **argv)
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
                sum.by_reason[RF_END_MAX_TIME]);
+        rc = print_run_integrity(rf_store_db(s), sum.run_id);
     }
     int status = rc ? EXIT_BAD_INPUT : EXIT_OK;
     if (rc == 0 && p.rules_path) {

@@ -93,6 +93,16 @@
     "  checked_at TEXT NOT NULL\n" \
     ");\n"
 
+/* The columns version 3 adds: whether the fixed-step engine put a trajectory to rest
+ * on a face steeper than its friction holds (NULL: not recorded, a trajectory written
+ * before version 3; every writer of version 3 writes 0 or 1), and what a failed check
+ * makes of the run's verdict (a design check fails it; an integrity check, which says
+ * whether the trajectories can support a verdict at all, makes it inconclusive:
+ * docs/rules.md). */
+#define TRAJECTORIES_V3_COLUMN "rest_steep INTEGER CHECK (rest_steep IN (0, 1))"
+#define CHECKS_V3_COLUMN \
+    "on_failure TEXT NOT NULL DEFAULT 'fail' CHECK (on_failure IN ('fail', 'inconclusive'))"
+
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
     "INSERT INTO rockfall_schema VALUES (" RF_STR(RF_SCHEMA_VERSION) ", 'rockfall');\n"
@@ -133,7 +143,8 @@ static const char schema_sql[] =
     "  stop_reason TEXT NOT NULL\n"
     "    CHECK (stop_reason IN ('rest', 'exited', 'stopped', 'max_time')),\n"
     "  duration_s REAL, path_length_m REAL, max_energy_kj REAL,\n"
-    "  n_impacts INTEGER, n_tree_hits INTEGER\n"
+    "  n_impacts INTEGER, n_tree_hits INTEGER,\n"
+    "  " TRAJECTORIES_V3_COLUMN "\n"
     ");\n"
     "CREATE UNIQUE INDEX trajectories_run ON trajectories(run_id, release_id, idx);\n"
     "CREATE INDEX trajectories_release ON trajectories(release_id);\n"
@@ -167,7 +178,8 @@ static const char schema_sql[] =
     "  rule TEXT NOT NULL,\n"
     "  value REAL,\n"
     "  threshold REAL,\n"
-    "  passed INTEGER CHECK (passed IN (0, 1))\n"
+    "  passed INTEGER CHECK (passed IN (0, 1)),\n"
+    "  " CHECKS_V3_COLUMN "\n"
     ");\n"
     "CREATE INDEX checks_run ON checks(run_id);\n"
     "CREATE TABLE hazard_cells (\n"
@@ -245,16 +257,20 @@ static const char views_sql[] =
     "CREATE VIEW IF NOT EXISTS check_results AS\n"
     "SELECT k.run_id, k.id AS check_id, k.measure_id, m.name AS measure, m.kind, k.rule,\n"
     "  k.value, k.threshold, k.passed,\n"
-    "  CASE k.passed WHEN 1 THEN 'pass' ELSE 'fail' END AS verdict\n"
+    "  CASE k.passed WHEN 1 THEN 'pass' ELSE k.on_failure END AS verdict\n"
     "FROM checks k LEFT JOIN measures m ON m.id = k.measure_id;\n"
     "CREATE VIEW IF NOT EXISTS run_verdicts AS\n"
     "SELECT run_id, project, status, started_at, checks, checks_failed,\n"
+    "  checks_inconclusive,\n"
     "  CASE WHEN checks = 0 THEN 'unchecked' WHEN checks_failed > 0 THEN 'fail'\n"
-    "       ELSE 'pass' END AS verdict\n"
+    "       WHEN checks_inconclusive > 0 THEN 'inconclusive' ELSE 'pass' END AS verdict\n"
     "FROM (SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
-    "        coalesce(k.n, 0) AS checks, coalesce(k.failed, 0) AS checks_failed\n"
+    "        coalesce(k.n, 0) AS checks, coalesce(k.failed, 0) AS checks_failed,\n"
+    "        coalesce(k.inconclusive, 0) AS checks_inconclusive\n"
     "      FROM runs r\n"
-    "      LEFT JOIN (SELECT run_id, count(*) AS n, sum(passed = 0) AS failed\n"
+    "      LEFT JOIN (SELECT run_id, count(*) AS n,\n"
+    "                   sum(passed = 0 AND on_failure = 'fail') AS failed,\n"
+    "                   sum(passed = 0 AND on_failure = 'inconclusive') AS inconclusive\n"
     "                 FROM checks GROUP BY run_id) k ON k.run_id = r.id);\n";
 
 
@@ -466,6 +482,21 @@ static int upgrade_1_to_2(sqlite3 *db, const char *path, rf_error *err)
     return 0;
 }
 
+/* Version 2 to 3, within the caller's transaction: the two new columns (the earlier
+ * trajectories' rest_steep NULL, not recorded: a fixed-step run of an earlier rockfall
+ * may have rested on a steep face unseen; every earlier check a design check, on_failure
+ * 'fail'); the views follow in refresh_views. */
+static int upgrade_2_to_3(sqlite3 *db, const char *path, rf_error *err)
+{
+    static const char sql[] =
+        "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V3_COLUMN ";\n"
+        "ALTER TABLE checks ADD COLUMN " CHECKS_V3_COLUMN ";\n"
+        "UPDATE rockfall_schema SET version = 3;\n"
+        "PRAGMA user_version = 3;\n";
+    return exec_sql(db, path, sql, "upgrading the results database from schema version 2",
+                    err);
+}
+
 /* Switches the file to the WAL journal.  The switch needs the file to itself, and
  * SQLite returns "locked" at once, without waiting, when another connection opening
  * the file at the same moment holds it too: tried again until the busy timeout has
@@ -513,7 +544,9 @@ int rf_schema_prepare(sqlite3 *db, const char *path, rf_error *err)
                      ? -1
                      : 0;
     else if (status == 0 && version == 1)
-        status = upgrade_1_to_2(db, path, err);
+        status = upgrade_1_to_2(db, path, err) || upgrade_2_to_3(db, path, err) ? -1 : 0;
+    else if (status == 0 && version == 2)
+        status = upgrade_2_to_3(db, path, err);
     if (status == 0)
         status = refresh_views(db, path, err);
     return end_transaction(db, path, status, doing, err);
@@ -600,6 +633,20 @@ int rf_db_has_table(sqlite3 *db, const char *table)
     if (sqlite3_prepare_v2(db, "SELECT 1 FROM sqlite_master WHERE type = 'table' AND name = ?1",
                            -1, &st, NULL) == SQLITE_OK) {
         sqlite3_bind_text(st, 1, table, -1, SQLITE_STATIC);
+        has = sqlite3_step(st) == SQLITE_ROW;
+    }
+    sqlite3_finalize(st);
+    return has;
+}
+
+int rf_db_has_column(sqlite3 *db, const char *table, const char *column)
+{
+    sqlite3_stmt *st = NULL;
+    int has = 0;
+    if (sqlite3_prepare_v2(db, "SELECT 1 FROM pragma_table_info(?1) WHERE name = ?2", -1, &st,
+                           NULL) == SQLITE_OK) {
+        sqlite3_bind_text(st, 1, table, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 2, column, -1, SQLITE_STATIC);
         has = sqlite3_step(st) == SQLITE_ROW;
     }
     sqlite3_finalize(st);

@@ -17,7 +17,7 @@
 #include "rockfall/error.h"
 
 /* The schema this build writes; it reads every version from 1 up to it. */
-#define RF_SCHEMA_VERSION 2
+#define RF_SCHEMA_VERSION 3
 
 /* The one place SQLite's return codes become the rf_error convention: 0 for success
  * (SQLITE_OK, SQLITE_ROW, SQLITE_DONE), otherwise -1 with "doing: sqlite's message"
@@ -43,5 +43,7 @@ int rf_db_open(const char *path, rf_db_mode mode, sqlite3 **db, int *version, rf
 
 /* Whether the file has the table (one a later schema version added). */
 int rf_db_has_table(sqlite3 *db, const char *table);
+/* Whether the file's table has the column (one a later schema version added). */
+int rf_db_has_column(sqlite3 *db, const char *table, const char *column);
 
 #endif

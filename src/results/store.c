@@ -61,8 +61,8 @@ static const char *const statement_sql[ST_COUNT] = {
                   " n_trajectories = coalesce(?2, n_trajectories) WHERE id = ?3",
     [ST_TRAJECTORY] = "INSERT INTO trajectories (run_id, release_id, idx, stop_x, stop_y,"
                       " stop_z, stop_reason, duration_s, path_length_m, max_energy_kj,"
-                      " n_impacts, n_tree_hits)"
-                      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
+                      " n_impacts, n_tree_hits, rest_steep)"
+                      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
     [ST_PATH_POINT] = "INSERT INTO path_points (trajectory_id, seq, t_s, x, y, z,"
                       " speed_ms, energy_kj) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
     [ST_INTERCEPTION] = "INSERT INTO interceptions (run_id, trajectory_id, measure_id,"
@@ -480,6 +480,7 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     bind_real(st, 10, r->max_energy_kj);
     bind_int(st, 11, r->n_impacts);
     bind_int(st, 12, r->n_tree_hits);
+    bind_int(st, 13, r->rest_on_steep_face != 0);
     if (step_in_batch(s, ST_TRAJECTORY, "writing a trajectory", err))
         return -1;
     if (trajectory_id)
