@@ -44,14 +44,16 @@ static int32_t scale_bins(const rf_qsum_scale *sc)
     return (sc->hi_exp - sc->lo_exp) * RF_QSUM_PER_OCTAVE;
 }
 
-/* The bin of v: 0 below the scale (and -0, negatives, -NaN), 1 + k on it, one past
- * the scale's bins above it (and +inf, NaN). */
+/* The bin of v: 0 for zero and below (-0, negatives, -NaN), 1 between zero and the
+ * scale, 2 + k on it, one past the scale's bins above it (and +inf, NaN). */
 static int32_t bin_of(float v, const rf_qsum_scale *sc)
 {
-    if (key(v) < key(ldexpf(1.0f, sc->lo_exp)))
+    if (key(v) <= key(0.0f))
         return 0;
+    if (v < ldexpf(1.0f, sc->lo_exp))
+        return 1;
     if (!(v < ldexpf(1.0f, sc->hi_exp)))
-        return scale_bins(sc) + 1;
+        return scale_bins(sc) + 2;
     int e;
     float mant = 2.0f * frexpf(v, &e); /* exact: v = mant 2^(e-1), mant in [1, 2) */
     int lo = 0, hi = RF_QSUM_PER_OCTAVE; /* the last edge <= mant */
@@ -62,7 +64,7 @@ static int32_t bin_of(float v, const rf_qsum_scale *sc)
         else
             hi = mid;
     }
-    return 1 + (e - 1 - sc->lo_exp) * RF_QSUM_PER_OCTAVE + lo;
+    return 2 + (e - 1 - sc->lo_exp) * RF_QSUM_PER_OCTAVE + lo;
 }
 
 /* Widens the bins to hold bins lo .. hi-1 (their counts kept). */
@@ -86,19 +88,20 @@ static int cover(rf_qsum *s, int32_t lo, int32_t hi)
     return 0;
 }
 
-/* Counts v in its bin (the bins cover it); the bin below the scale keeps its largest. */
+/* Counts v in its bin (the bins cover it); the two bins below the scale keep their
+ * largest values. */
 static void bin_count(rf_qsum *s, int32_t b, float v)
 {
     uint64_t *c = &s->bins[b - s->b0];
-    if (b == 0)
-        s->under_max = *c == 0 ? v : maxf(s->under_max, v);
+    if (b <= 1)
+        s->low_max[b] = *c == 0 ? v : maxf(s->low_max[b], v);
     (*c)++;
 }
 
 /* From the values to the bins, which cover them already. */
 static void to_bins(rf_qsum *s, const rf_qsum_scale *sc)
 {
-    s->under_max = -INFINITY;
+    s->low_max[0] = s->low_max[1] = -INFINITY;
     for (uint64_t i = 0; i < s->n; i++)
         bin_count(s, bin_of(s->v[i], sc), s->v[i]);
     free(s->v);
@@ -179,9 +182,11 @@ int rf_qsum_merge(rf_qsum *into, const rf_qsum *from, const rf_qsum_scale *sc)
     if (from->n > RF_QSUM_EXACT) {
         if (cover(into, from->b0, from->b0 + (int32_t)from->nb))
             return -1;
-        uint64_t under = into->b0 == 0 ? into->bins[0] : 0;
-        if (from->b0 == 0 && from->bins[0] > 0)
-            into->under_max = under == 0 ? from->under_max : maxf(into->under_max, from->under_max);
+        for (int32_t b = from->b0; b <= 1 && b < from->b0 + (int32_t)from->nb; b++)
+            if (from->bins[b - from->b0] > 0)
+                into->low_max[b] = into->bins[b - into->b0] == 0
+                                       ? from->low_max[b]
+                                       : maxf(into->low_max[b], from->low_max[b]);
         for (uint32_t i = 0; i < from->nb; i++)
             into->bins[from->b0 - into->b0 + (int32_t)i] += from->bins[i];
     } else {
@@ -207,11 +212,11 @@ double rf_qsum_quantile(const rf_qsum *s, const rf_qsum_scale *sc, double q)
     while (i + 1 < s->nb && cum + s->bins[i] < rank)
         cum += s->bins[i++];
     int32_t b = s->b0 + (int32_t)i;
-    if (b == 0)
-        return s->under_max;
-    if (b > scale_bins(sc))
+    if (b <= 1)
+        return s->low_max[b];
+    if (b > scale_bins(sc) + 1)
         return s->max;
-    int32_t k = b - 1;
+    int32_t k = b - 2;
     double mid = ldexp(MID[k % RF_QSUM_PER_OCTAVE], sc->lo_exp + k / RF_QSUM_PER_OCTAVE);
     return mid > s->max ? s->max : mid;
 }
@@ -242,7 +247,8 @@ size_t rf_qsum_encode(const rf_qsum *s, unsigned char *buf, size_t cap)
             at = put(buf, cap, at, bits(s->v[i]), 4);
         return at;
     }
-    at = put(buf, cap, at, bits(s->under_max), 4);
+    at = put(buf, cap, at, bits(s->low_max[0]), 4);
+    at = put(buf, cap, at, bits(s->low_max[1]), 4);
     at = put(buf, cap, at, (uint32_t)s->b0, 4);
     at = put(buf, cap, at, s->nb, 4);
     for (uint32_t i = 0; i < s->nb; i++)

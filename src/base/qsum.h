@@ -1,8 +1,9 @@
 /* qsum.h - a bounded summary of a multiset of values, for quantiles: the values
  * themselves up to RF_QSUM_EXACT of them (kept sorted), then counts in fixed
  * logarithmic bins (RF_QSUM_PER_OCTAVE per octave, edges 2^(k/32) that do not depend on
- * the data) over a scale [2^lo_exp, 2^hi_exp), with one bin below the scale (its
- * largest value kept) and one above it.  The largest value and the count are exact.
+ * the data) over a scale [2^lo_exp, 2^hi_exp), with a bin for zero and below, one
+ * between zero and the scale (each keeps its largest value) and one above the scale.
+ * The largest value and the count are exact.
  *
  * The summary is a function of the multiset alone: adding the values in any order, or
  * merging summaries of any partition of them in any order, gives the same summary, to
@@ -11,7 +12,7 @@
  *
  * Quantiles are nearest-rank: exact while the summary holds the values; from the bins,
  * within a relative 2^(1/64) - 1 (1.09 %) of the exact nearest-rank value on the scale,
- * within 2^lo_exp absolutely below it, and the largest value above it. */
+ * within 2^lo_exp absolutely below it (exact for zero), and the largest value above it. */
 #ifndef ROCKFALL_QSUM_H
 #define ROCKFALL_QSUM_H
 
@@ -29,11 +30,11 @@ typedef struct rf_qsum_scale {
 typedef struct rf_qsum {
     uint64_t n;       /* values in all */
     float max;        /* the largest (total order); meaningless while n == 0 */
-    float under_max;  /* binned: the largest value below the scale (-inf: none) */
+    float low_max[2]; /* binned: the largest value <= 0, and in (0, 2^lo_exp) (-inf: none) */
     float *v;         /* exact (n <= RF_QSUM_EXACT): the values, ascending */
     uint32_t cap;     /* room in v */
-    uint32_t nb;      /* binned: counts of the bins b0 .. b0 + nb - 1, where 0 is the */
-    int32_t b0;       /* bin below the scale, 1 .. the scale's bins, then the one above */
+    uint32_t nb;      /* binned: counts of the bins b0 .. b0 + nb - 1: 0 zero and below, */
+    int32_t b0;       /* 1 below the scale, 2 .. the scale's bins, then the one above */
     uint64_t *bins;   /* NULL while exact */
 } rf_qsum;
 
