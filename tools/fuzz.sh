@@ -32,10 +32,15 @@ for t in $targets; do
     done
     log=$build/logs/$t.log
     echo "fuzz_$t: $secs s on $(ls "$corpus" | wc -l) inputs (log $log)"
+    # the target's scratch folder, removed here even when libFuzzer exits without
+    # running the target's atexit (a crash, an out-of-memory)
+    RF_FUZZ_DIR=$(mktemp -d /dev/shm/rf_fuzz.XXXXXX 2>/dev/null || mktemp -d)
+    export RF_FUZZ_DIR
     "$bin" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
         -print_final_stats=1 -artifact_prefix="$crashes/$t-" ${FUZZ_FLAGS:-} "$corpus" \
         >"$log" 2>&1
     rc=$?
+    rm -rf "$RF_FUZZ_DIR"
     execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
     speed=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
     if [ $rc -eq 0 ]; then

@@ -37,6 +37,11 @@ static inline void fuzz_rm(void)
 /* The scratch folder, made on first use. */
 static inline const char *fuzz_scratch(void)
 {
+    const char *given = getenv("RF_FUZZ_DIR"); /* tools/fuzz.sh's, removed by it */
+    if (!fuzz_dir[0] && given && strlen(given) < sizeof fuzz_dir) {
+        snprintf(fuzz_dir, sizeof fuzz_dir, "%s", given);
+        return fuzz_dir;
+    }
     if (!fuzz_dir[0]) {
         snprintf(fuzz_dir, sizeof fuzz_dir, "/dev/shm/rf_fuzz.XXXXXX");
         if (!mkdtemp(fuzz_dir)) {
