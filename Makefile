@@ -8,6 +8,8 @@
 #   make validate   the engine against the Authume quarry's measured stop points
 #   make report-check   the demo report rendered by headless chromium (a PNG to look at)
 #   make layers     the layer rule of src/ (docs/architecture.md), on sources and objects
+#   make bench-memory   peak memory of a run at 2 000 and 200 000 trajectories (flat)
+#   make fuzz       libFuzzer on every loader (clang, installed when missing), FUZZ_SECONDS each
 #   make install    PREFIX=/usr/local
 
 # ---- settings ---------------------------------------------------------------
@@ -26,6 +28,15 @@ BUILD    := build/san
 CFLAGS   += -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
 LDFLAGS  += -fsanitize=address,undefined
 endif
+# The libFuzzer build (`make fuzz`): clang, every object instrumented for coverage and
+# under ASan and UBSan.  The default build needs none of it.
+ifeq ($(FUZZ),1)
+CC       := clang
+BUILD    := build/fuzz
+CFLAGS   += -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer \
+            -fno-sanitize-recover=undefined
+LDFLAGS  += -fsanitize=address,undefined
+endif
 
 # ---- objects ----------------------------------------------------------------
 # src/ is one folder per layer (docs/architecture.md); tests/fixtures/ holds the scenes
@@ -40,7 +51,7 @@ TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.o)
 TOOL_SRC := $(wildcard tools/*.c)
 TOOLS    := $(TOOL_SRC:tools/%.c=$(BUILD)/tools/%)
 
-.PHONY: all demo test bench validate install clean deps report-check layers
+.PHONY: all demo test bench validate install clean deps report-check layers bench-memory fuzz fuzz-deps
 all: $(BUILD)/rockfall $(TOOLS)
 
 $(BUILD)/src/%.o: src/%.c
@@ -102,6 +113,36 @@ FAST := OPT="-O3 -march=native -flto=auto -fno-math-errno" AR=gcc-ar
 bench:
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench
 	build/bench/tools/bench
+
+# Peak memory of a run (a child process's ru_maxrss) at two counts: within 10 % of each
+# other, since nothing a run keeps grows with its trajectories (docs/database.md).
+bench-memory:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/tools/bench_memory
+	$(BUILD)/tools/bench_memory $(BUILD)/rockfall
+
+# libFuzzer on every loader (tests/fuzz/README.md): FUZZ_SECONDS each, one after the
+# other, clang and its fuzzer runtime installed when missing.
+FUZZ_SECONDS ?= 300
+FUZZ_TARGETS ?= yaml project rules grid stl obj points
+FUZZ_BINS := $(FUZZ_TARGETS:%=build/fuzz/fuzz/fuzz_%)
+build/fuzz/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_util.h build/fuzz/librockfall.a
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -Itests/fuzz -DRF_FUZZ_DATA='"$(abspath tests/data/project)"' \
+	  -fsanitize=fuzzer $< build/fuzz/librockfall.a $(LDFLAGS) $(LDLIBS) -o $@
+fuzz-deps:
+	@printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n)\n{ (void)d; (void)n; return 0; }\n' \
+	  > /tmp/rf_fuzz_probe.c; \
+	clang -fsanitize=fuzzer /tmp/rf_fuzz_probe.c -o /tmp/rf_fuzz_probe 2>/dev/null || { \
+	  echo "installing clang and its fuzzer runtime"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+	  $(SUDO) apt-get install -y -qq clang libclang-rt-dev; }; \
+	rm -f /tmp/rf_fuzz_probe /tmp/rf_fuzz_probe.c
+fuzz:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory fuzz-deps
+	@$(MAKE) --no-print-directory FUZZ=1 $(FUZZ_BINS)
+	FUZZ_FLAGS='$(FUZZ_FLAGS)' sh tools/fuzz.sh build/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 # The engine against real rockfalls (../shared/validation/authume, docs/validation.md).
 validate:

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/stats.h"
 #include "run/hazard.h"
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
@@ -28,17 +29,31 @@ static void grid4(rf_hazard *h)
     ENSURE(h->nx == 4 && h->ny == 4);
 }
 
-static const rf_hazard_cell *cell(const rf_hazard *h, int ix, int iy)
+/* Trajectories that passed cell (ix, iy). */
+static long passes(const rf_hazard *h, int ix, int iy)
 {
-    return &h->cells[(size_t)iy * h->nx + (size_t)ix];
+    const rf_hazard_cell *c = rf_hazard_at(h, (size_t)ix, (size_t)iy);
+    return c ? (long)c->energy_kj.n : 0;
+}
+
+/* The k-th smallest energy and height of a cell that holds its values exactly. */
+static double energy(const rf_hazard *h, int ix, int iy, int k)
+{
+    const rf_hazard_cell *c = rf_hazard_at(h, (size_t)ix, (size_t)iy);
+    ENSURE(c && (uint64_t)k < c->energy_kj.n && c->energy_kj.n <= RF_QSUM_EXACT);
+    return c->energy_kj.v[k];
+}
+
+static double height(const rf_hazard *h, int ix, int iy, int k)
+{
+    const rf_hazard_cell *c = rf_hazard_at(h, (size_t)ix, (size_t)iy);
+    ENSURE(c && (uint64_t)k < c->height_m.n && c->height_m.n <= RF_QSUM_EXACT);
+    return c->height_m.v[k];
 }
 
 static int reached_cells(const rf_hazard *h)
 {
-    int reached = 0;
-    for (size_t i = 0; i < h->nx * h->ny; i++)
-        reached += h->cells[i].n != 0;
-    return reached;
+    return (int)h->ncells;
 }
 
 TEST(hazard_cell_clipped_between_two_samples_is_reached)
@@ -51,15 +66,15 @@ TEST(hazard_cell_clipped_between_two_samples_is_reached)
     rf_hazard_sample(&h, 0.95, 0.5, 10.0, 1.0);
     rf_hazard_sample(&h, 1.5, 1.05, 21.0, 3.2);
     ENSURE(rf_hazard_end(&h) == 0);
-    ENSURE(cell(&h, 0, 0)->n == 1 && cell(&h, 1, 0)->n == 1 && cell(&h, 1, 1)->n == 1);
-    ENSURE(cell(&h, 0, 1)->n == 0 && cell(&h, 2, 1)->n == 0);
+    ENSURE(passes(&h, 0, 0) == 1 && passes(&h, 1, 0) == 1 && passes(&h, 1, 1) == 1);
+    ENSURE(passes(&h, 0, 1) == 0 && passes(&h, 2, 1) == 0);
     ENSURE(reached_cells(&h) == 3);
     /* each cell the largest value over its stretch, linear between the samples */
-    ENSURE_REL(cell(&h, 0, 0)->energy_kj[0], 11.0, 1e-6);
-    ENSURE_REL(cell(&h, 1, 0)->energy_kj[0], 20.0, 1e-6);
-    ENSURE_REL(cell(&h, 1, 0)->height_m[0], 3.0, 1e-6);
-    ENSURE_REL(cell(&h, 1, 1)->energy_kj[0], 21.0, 1e-6);
-    ENSURE_REL(cell(&h, 0, 0)->height_m[0], 1.2, 1e-6);
+    ENSURE_REL(energy(&h, 0, 0, 0), 11.0, 1e-6);
+    ENSURE_REL(energy(&h, 1, 0, 0), 20.0, 1e-6);
+    ENSURE_REL(height(&h, 1, 0, 0), 3.0, 1e-6);
+    ENSURE_REL(energy(&h, 1, 1, 0), 21.0, 1e-6);
+    ENSURE_REL(height(&h, 0, 0, 0), 1.2, 1e-6);
     rf_hazard_free(&h);
 }
 
@@ -70,14 +85,14 @@ TEST(hazard_point_on_the_far_edge_is_in_the_last_cell)
     rf_hazard_begin(&h);
     rf_hazard_sample(&h, 4.0, 4.0, 5.0, 0.0); /* the terrain's far corner */
     ENSURE(rf_hazard_end(&h) == 0);
-    ENSURE(cell(&h, 3, 3)->n == 1);
+    ENSURE(passes(&h, 3, 3) == 1);
     /* beyond the terrain: nothing; a walk there from inside reaches the cells inside */
     rf_hazard_begin(&h);
     rf_hazard_sample(&h, 3.5, 0.5, 1.0, 0.0);
     rf_hazard_sample(&h, 4.5, 0.5, 1.0, 0.0);
     rf_hazard_sample(&h, 5.5, 0.5, 1.0, 0.0);
     ENSURE(rf_hazard_end(&h) == 0);
-    ENSURE(cell(&h, 3, 0)->n == 1);
+    ENSURE(passes(&h, 3, 0) == 1);
     ENSURE(reached_cells(&h) == 2);
     rf_hazard_free(&h);
 }
@@ -96,9 +111,9 @@ TEST(hazard_samples_of_one_trajectory_count_once_per_cell)
         ENSURE(rf_hazard_end(&h) == 0);
     }
     for (int ix = 0; ix < 4; ix++)
-        ENSURE(cell(&h, ix, 2)->n == 2);
-    ENSURE_REL(cell(&h, 0, 2)->energy_kj[1], 7.0, 1e-6);
-    ENSURE_REL(cell(&h, 3, 2)->energy_kj[1], 4.5, 1e-6); /* back to x = 3 at 4.5 */
+        ENSURE(passes(&h, ix, 2) == 2);
+    ENSURE_REL(energy(&h, 0, 2, 1), 7.0, 1e-6);
+    ENSURE_REL(energy(&h, 3, 2, 1), 4.5, 1e-6); /* back to x = 3 at 4.5 */
     rf_hazard_free(&h);
 }
 
@@ -115,7 +130,7 @@ TEST(hazard_walk_corner_nan_and_far_samples)
     ENSURE(rf_hazard_end(&h) == 0);
     ENSURE(reached_cells(&h) == 3);
     for (int i = 0; i < 3; i++)
-        ENSURE(cell(&h, i, i)->n == 1);
+        ENSURE(passes(&h, i, i) == 1);
     rf_hazard_free(&h);
 
     grid4(&h);
@@ -127,7 +142,7 @@ TEST(hazard_walk_corner_nan_and_far_samples)
     rf_hazard_sample(&h, 2.5, 3.5, 1.0, 0.0); /* the walk goes on from (0.5, 3.5) */
     ENSURE(rf_hazard_end(&h) == 0);
     ENSURE(reached_cells(&h) == 3);
-    ENSURE(cell(&h, 1, 3)->n == 1);
+    ENSURE(passes(&h, 1, 3) == 1);
     rf_hazard_free(&h);
 
     /* a grid of 1000 x 1 cells: 900 cells between two samples is beyond the walk */
@@ -136,7 +151,7 @@ TEST(hazard_walk_corner_nan_and_far_samples)
     rf_hazard_sample(&h, 0.5, 0.5, 1.0, 0.0);
     rf_hazard_sample(&h, 900.5, 0.5, 1.0, 0.0);
     ENSURE(rf_hazard_end(&h) == 0);
-    ENSURE(reached_cells(&h) == 2 && h.cells[900].n == 1);
+    ENSURE(reached_cells(&h) == 2 && passes(&h, 900, 0) == 1);
     rf_hazard_free(&h);
 }
 
@@ -164,7 +179,7 @@ TEST(hazard_far_edge_of_inexact_grids)
     rf_hazard_begin(&h);
     rf_hazard_sample(&h, 1172.95, 0.5, 1.0, 0.0);
     ENSURE(rf_hazard_end(&h) == 0);
-    ENSURE(h.cells[h.nx - 1].n == 1);
+    ENSURE(passes(&h, (int)h.nx - 1, 0) == 1);
     rf_hazard_free(&h);
 }
 
@@ -237,4 +252,188 @@ TEST(hazard_cells_of_a_trajectory_are_an_unbroken_chain)
     ENSURE(stops_checked >= nruns / 2);
     ENSURE_MSG(broken_total == 0, "%ld cells apart from their trajectory's chain", broken_total);
     sqlite3_close(h);
+}
+
+/* ---- the cells' bounded summaries ------------------------------------------------- */
+
+static uint64_t lcg(uint64_t *st)
+{
+    *st = *st * 6364136223846793005ull + 1442695040888963407ull;
+    return *st >> 33;
+}
+
+/* A value as a run gives them: mostly spread over decades, some zeros, some below
+ * the scale, a few ties. */
+static float draw_value(uint64_t *st)
+{
+    uint64_t r = lcg(st) % 100;
+    if (r < 5)
+        return 0.0f;
+    if (r < 8)
+        return (float)(lcg(st) % 1000) * 1e-7f; /* below 2^-10 */
+    if (r < 12)
+        return 42.0f;
+    return (float)pow(10.0, -2.0 + 6.0 * (double)(lcg(st) % 1000003) / 1000003.0);
+}
+
+/* The canonical bytes of a summary, in `buf` (at most 64 KiB); their length. */
+static size_t encode(const rf_qsum *s, unsigned char *buf)
+{
+    size_t n = rf_qsum_encode(s, buf, 65536);
+    ENSURE(n <= 65536);
+    return n;
+}
+
+/* n values added one by one in the given order, or cut into `parts` parts (each
+ * added in its own order) merged in a shuffled order. */
+static void summarise(rf_qsum *out, const float *v, size_t n, int parts, uint64_t *st)
+{
+    size_t *perm = malloc((n ? n : 1) * sizeof *perm);
+    int *part_of = malloc((n ? n : 1) * sizeof *part_of);
+    ENSURE(perm && part_of);
+    for (size_t i = 0; i < n; i++) {
+        perm[i] = i;
+        part_of[i] = (int)(lcg(st) % (uint64_t)parts);
+    }
+    for (size_t i = n; i > 1; i--) { /* Fisher-Yates */
+        size_t j = lcg(st) % i, t = perm[i - 1];
+        perm[i - 1] = perm[j], perm[j] = t;
+    }
+    rf_qsum part[8];
+    memset(part, 0, sizeof part);
+    for (size_t i = 0; i < n; i++)
+        ENSURE(rf_qsum_add(&part[part_of[perm[i]]], &RF_HAZARD_ENERGY_SCALE, v[perm[i]]) == 0);
+    memset(out, 0, sizeof *out);
+    int order[8];
+    for (int k = 0; k < parts; k++)
+        order[k] = k;
+    for (int k = parts; k > 1; k--) {
+        int j = (int)(lcg(st) % (uint64_t)k), t = order[k - 1];
+        order[k - 1] = order[j], order[j] = t;
+    }
+    /* half the parts merged pairwise first, as threads and then machines would */
+    if (parts >= 4)
+        ENSURE(rf_qsum_merge(&part[order[0]], &part[order[1]], &RF_HAZARD_ENERGY_SCALE) == 0);
+    for (int k = 0; k < parts; k++)
+        if (!(parts >= 4 && k == 1))
+            ENSURE(rf_qsum_merge(out, &part[order[k]], &RF_HAZARD_ENERGY_SCALE) == 0);
+    for (int k = 0; k < parts; k++)
+        rf_qsum_free(&part[k]);
+    free(perm);
+    free(part_of);
+}
+
+/* The same values give the same summary, to the byte, whatever their order and however
+ * they are split and merged: below the exact limit, at it, just past it, far past it. */
+TEST(hazard_summary_same_bytes_any_order_and_split)
+{
+    static unsigned char a[65536], b[65536];
+    size_t sizes[] = {0, 1, 7, RF_QSUM_EXACT - 1, RF_QSUM_EXACT, RF_QSUM_EXACT + 1, 300, 20000};
+    uint64_t st = 12345;
+    for (size_t k = 0; k < sizeof sizes / sizeof *sizes; k++) {
+        size_t n = sizes[k];
+        float *v = malloc((n ? n : 1) * sizeof *v);
+        ENSURE(v);
+        for (size_t i = 0; i < n; i++)
+            v[i] = draw_value(&st);
+        if (n > 10)
+            v[3] = -0.0f, v[4] = 1e30f; /* a signed zero, a value above the scale */
+        rf_qsum ref;
+        summarise(&ref, v, n, 1, &st);
+        size_t la = encode(&ref, a);
+        for (int trial = 0; trial < 12; trial++) {
+            rf_qsum s;
+            summarise(&s, v, n, 1 + trial % 8, &st);
+            size_t lb = encode(&s, b);
+            ENSURE_MSG(la == lb && memcmp(a, b, la) == 0,
+                       "%zu values, %d parts: the summary differs", n, 1 + trial % 8);
+            rf_qsum_free(&s);
+        }
+        rf_qsum_free(&ref);
+        free(v);
+    }
+}
+
+/* Up to RF_QSUM_EXACT values the quantiles are the nearest-rank ones, to the bit;
+ * beyond, within 2^(1/64) - 1 of them on the scale (docs/database.md), the largest
+ * value exact, a cell of zeros exactly zero. */
+TEST(hazard_summary_exact_below_k_then_within_the_stated_error)
+{
+    const double tol = pow(2.0, 1.0 / 64.0) - 1.0 + 1e-6;
+    const double qs[] = {0.05, 0.5, 0.95, 0.99, 1.0};
+    uint64_t st = 777;
+    size_t sizes[] = {1, 20, RF_QSUM_EXACT, RF_QSUM_EXACT + 1, 1000, 50000};
+    double worst = 0;
+    for (size_t k = 0; k < sizeof sizes / sizeof *sizes; k++) {
+        size_t n = sizes[k];
+        float *v = malloc(n * sizeof *v);
+        ENSURE(v);
+        rf_qsum s = {0};
+        for (size_t i = 0; i < n; i++) {
+            v[i] = (float)pow(10.0, -1.0 + 5.0 * (double)(lcg(&st) % 1000003) / 1000003.0);
+            ENSURE(rf_qsum_add(&s, &RF_HAZARD_ENERGY_SCALE, v[i]) == 0);
+        }
+        for (size_t j = 0; j < sizeof qs / sizeof *qs; j++) {
+            double want = rf_percentile_nearest_rank(v, n, qs[j]);
+            double got = rf_qsum_quantile(&s, &RF_HAZARD_ENERGY_SCALE, qs[j]);
+            if (n <= RF_QSUM_EXACT)
+                ENSURE_MSG(got == want, "n %zu q %g: %.9g, exact %.9g", n, qs[j], got, want);
+            else
+                ENSURE_MSG(fabs(got / want - 1.0) <= tol, "n %zu q %g: %.9g, exact %.9g", n,
+                           qs[j], got, want);
+            worst = fmax(worst, fabs(got / want - 1.0));
+        }
+        ENSURE(s.max == v[n - 1]); /* sorted by the percentile */
+        rf_qsum_free(&s);
+        free(v);
+    }
+    ENSURE(worst > 1e-4); /* the bins were used */
+    /* below the scale: the largest value there; a cell of zeros: zero */
+    rf_qsum z = {0};
+    for (int i = 0; i < 1000; i++)
+        ENSURE(rf_qsum_add(&z, &RF_HAZARD_HEIGHT_SCALE, i < 990 ? 0.0f : 5e-4f) == 0);
+    ENSURE(rf_qsum_quantile(&z, &RF_HAZARD_HEIGHT_SCALE, 0.95) == 0.0);
+    ENSURE(rf_qsum_quantile(&z, &RF_HAZARD_HEIGHT_SCALE, 1.0) == (double)5e-4f);
+    rf_qsum_free(&z);
+}
+
+/* Trajectories down the columns of a 10 x 10 grid, each with its energy (spread over
+ * three decades) and height.  The memory is bounded by the cells reached, whatever the
+ * count: a summary holds at most the bins of its scale (it grows only while the values
+ * reach bins not reached before); and from 1 000 passes a cell to 10 000, ten times
+ * the trajectories take no more than 10 % more (the values were once kept one per
+ * pass: ten times as much). */
+TEST(hazard_memory_flat_in_the_trajectories)
+{
+    rf_hazard h;
+    grid_over(&h, 0, 10, 10, 1.0);
+    uint64_t st = 99;
+    size_t bytes_at[2] = {0, 0};
+    for (long traj = 0; traj < 100000; traj++) {
+        double x = 0.5 + (double)(traj % 10);
+        double e = pow(10.0, 3.0 * (double)(lcg(&st) % 10007) / 10007.0);
+        double hgt = 0.5 + 0.01 * (double)(lcg(&st) % 100);
+        rf_hazard_begin(&h);
+        for (int k = 0; k <= 40; k++)
+            rf_hazard_sample(&h, x, 10.0 - 0.25 * k, e, hgt);
+        ENSURE(rf_hazard_end(&h) == 0);
+        if (traj + 1 == 10000)
+            bytes_at[0] = rf_hazard_bytes(&h);
+    }
+    bytes_at[1] = rf_hazard_bytes(&h);
+    ENSURE(rf_hazard_at(&h, 0, 0)->energy_kj.n == 10000);
+    ENSURE_MSG((double)bytes_at[1] <= 1.10 * (double)bytes_at[0],
+               "hazard map: %zu bytes at 10 000 trajectories, %zu at 100 000", bytes_at[0],
+               bytes_at[1]);
+    /* the bound: every summary within its scale's bins (and the four beside them) */
+    size_t bound = h.cap_cells * sizeof *h.cells + h.cap_touched * sizeof *h.touched +
+                   (h.where.cap + h.slot.cap) * 3 * sizeof(uint32_t) +
+                   h.ncells * sizeof(uint64_t) *
+                       (size_t)(4 + 4 + RF_QSUM_PER_OCTAVE *
+                                        (RF_HAZARD_ENERGY_SCALE.hi_exp - RF_HAZARD_ENERGY_SCALE.lo_exp +
+                                         RF_HAZARD_HEIGHT_SCALE.hi_exp - RF_HAZARD_HEIGHT_SCALE.lo_exp));
+    ENSURE(bytes_at[1] <= bound);
+    printf("    hazard map: %zu bytes at 10 000 trajectories, %zu at 100 000 (bound %zu)\n",
+           bytes_at[0], bytes_at[1], bound);
+    rf_hazard_free(&h);
 }

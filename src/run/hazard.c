@@ -6,8 +6,83 @@
 #include <string.h>
 
 #include "results/store.h"
-#include "base/stats.h"
 #include "base/util.h"
+
+const rf_qsum_scale RF_HAZARD_ENERGY_SCALE = {-10, 30}, RF_HAZARD_HEIGHT_SCALE = {-10, 14};
+
+/* ---- cell number -> position ----------------------------------------------------- */
+
+static size_t map_home(const rf_hazard_map *m, uint32_t key)
+{
+    return (size_t)((key * 0x9E3779B1u) ^ (key >> 15)) & (m->cap - 1);
+}
+
+/* The entry of key, or the empty slot where it would go (cap > n). */
+static size_t map_slot(const rf_hazard_map *m, uint32_t key)
+{
+    size_t i = map_home(m, key);
+    while (m->epoch[i] == m->cur && m->key[i] != key)
+        i = (i + 1) & (m->cap - 1);
+    return i;
+}
+
+static const uint32_t *map_get(const rf_hazard_map *m, uint32_t key)
+{
+    if (m->cap == 0)
+        return NULL;
+    size_t i = map_slot(m, key);
+    return m->epoch[i] == m->cur ? &m->val[i] : NULL;
+}
+
+static int map_put(rf_hazard_map *m, uint32_t key, uint32_t val)
+{
+    if (2 * (m->n + 1) > m->cap) { /* at most half full */
+        rf_hazard_map g = {0};
+        g.cap = m->cap ? 2 * m->cap : 64;
+        g.cur = 1;
+        g.key = malloc(g.cap * sizeof *g.key);
+        g.val = malloc(g.cap * sizeof *g.val);
+        g.epoch = calloc(g.cap, sizeof *g.epoch);
+        if (!g.key || !g.val || !g.epoch) {
+            free(g.key), free(g.val), free(g.epoch);
+            return -1;
+        }
+        for (size_t i = 0; i < m->cap; i++)
+            if (m->epoch[i] == m->cur) {
+                size_t j = map_slot(&g, m->key[i]);
+                g.key[j] = m->key[i], g.val[j] = m->val[i], g.epoch[j] = g.cur;
+                g.n++;
+            }
+        free(m->key), free(m->val), free(m->epoch);
+        *m = g;
+    }
+    size_t i = map_slot(m, key);
+    m->n += m->epoch[i] != m->cur;
+    m->key[i] = key, m->val[i] = val, m->epoch[i] = m->cur;
+    return 0;
+}
+
+static void map_clear(rf_hazard_map *m)
+{
+    m->n = 0;
+    if (m->cap && ++m->cur == 0) { /* wrapped: forget every old mark */
+        memset(m->epoch, 0, m->cap * sizeof *m->epoch);
+        m->cur = 1;
+    }
+}
+
+static void map_free(rf_hazard_map *m)
+{
+    free(m->key), free(m->val), free(m->epoch);
+    memset(m, 0, sizeof *m);
+}
+
+static size_t map_bytes(const rf_hazard_map *m)
+{
+    return m->cap * (sizeof *m->key + sizeof *m->val + sizeof *m->epoch);
+}
+
+/* ---- the map ------------------------------------------------------------------------ */
 
 int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell)
 {
@@ -19,27 +94,19 @@ int rf_hazard_init(rf_hazard *h, const rf_terrain *t, double cell)
     rf_hazard_grid(t, cell, &nx, &ny);
     h->nx = (size_t)nx;
     h->ny = (size_t)ny;
-    size_t n = h->nx * h->ny;
-    h->cells = calloc(n, sizeof *h->cells);
-    h->slot_epoch = calloc(n, sizeof *h->slot_epoch);
-    h->slot = calloc(n, sizeof *h->slot);
-    if (!h->cells || !h->slot_epoch || !h->slot) {
-        rf_hazard_free(h);
-        return -1;
-    }
+    h->last[0] = NAN;
     return 0;
 }
 
 void rf_hazard_free(rf_hazard *h)
 {
-    if (h->cells)
-        for (size_t i = 0; i < h->nx * h->ny; i++) {
-            free(h->cells[i].energy_kj);
-            free(h->cells[i].height_m);
-        }
+    for (size_t i = 0; i < h->ncells; i++) {
+        rf_qsum_free(&h->cells[i].energy_kj);
+        rf_qsum_free(&h->cells[i].height_m);
+    }
     free(h->cells);
-    free(h->slot_epoch);
-    free(h->slot);
+    map_free(&h->where);
+    map_free(&h->slot);
     free(h->touched);
     memset(h, 0, sizeof *h);
 }
@@ -48,10 +115,7 @@ void rf_hazard_begin(rf_hazard *h)
 {
     h->ntouched = 0;
     h->last[0] = NAN;
-    if (++h->epoch == 0) { /* wrapped: forget every old mark */
-        memset(h->slot_epoch, 0, h->nx * h->ny * sizeof *h->slot_epoch);
-        h->epoch = 1;
-    }
+    map_clear(&h->slot);
 }
 
 /* The cell index along one axis of a point at x (floor), a point on the grid's far
@@ -71,20 +135,20 @@ static void touch(rf_hazard *h, double fx, double fy, double energy_kj, double h
     if (!(fx >= 0 && fy >= 0 && fx < (double)h->nx && fy < (double)h->ny))
         return;
     uint32_t c = (uint32_t)((size_t)fy * h->nx + (size_t)fx);
-    if (h->slot_epoch[c] == h->epoch) {
-        rf_hazard_touch *tc = &h->touched[h->slot[c]];
+    const uint32_t *at = map_get(&h->slot, c);
+    if (at) {
+        rf_hazard_touch *tc = &h->touched[*at];
         if (energy_kj > tc->energy_kj)
             tc->energy_kj = (float)energy_kj;
         if (height_m > tc->height_m)
             tc->height_m = (float)height_m;
         return;
     }
-    if (rf_grow((void **)&h->touched, &h->cap_touched, h->ntouched + 1, sizeof *h->touched)) {
+    if (rf_grow((void **)&h->touched, &h->cap_touched, h->ntouched + 1, sizeof *h->touched) ||
+        map_put(&h->slot, c, (uint32_t)h->ntouched)) {
         h->oom = 1;
         return;
     }
-    h->slot_epoch[c] = h->epoch;
-    h->slot[c] = (uint32_t)h->ntouched;
     h->touched[h->ntouched++] = (rf_hazard_touch){c, (float)energy_kj, (float)height_m};
 }
 
@@ -143,67 +207,94 @@ void rf_hazard_sample(rf_hazard *h, double x, double y, double energy_kj, double
     h->last_fx = gx, h->last_fy = gy;
 }
 
-static int cell_push(rf_hazard_cell *c, float e, float hgt)
+/* Cell c's summaries, added when no trajectory reached it before; NULL: no memory. */
+static rf_hazard_cell *cell_of(rf_hazard *h, uint32_t c)
 {
-    if (c->n == c->cap) {
-        uint32_t nc = c->cap ? 2 * c->cap : 16;
-        float *ne = realloc(c->energy_kj, nc * sizeof *ne);
-        if (!ne)
-            return -1;
-        c->energy_kj = ne;
-        float *nh = realloc(c->height_m, nc * sizeof *nh);
-        if (!nh)
-            return -1;
-        c->height_m = nh;
-        c->cap = nc;
-    }
-    c->energy_kj[c->n] = e;
-    c->height_m[c->n] = hgt;
-    c->n++;
-    return 0;
+    const uint32_t *at = map_get(&h->where, c);
+    if (at)
+        return &h->cells[*at];
+    if (rf_grow((void **)&h->cells, &h->cap_cells, h->ncells + 1, sizeof *h->cells) ||
+        map_put(&h->where, c, (uint32_t)h->ncells))
+        return NULL;
+    rf_hazard_cell *nc = &h->cells[h->ncells++];
+    memset(nc, 0, sizeof *nc);
+    nc->cell = c;
+    return nc;
 }
 
 int rf_hazard_end(rf_hazard *h)
 {
     for (size_t i = 0; i < h->ntouched; i++) {
         const rf_hazard_touch *tc = &h->touched[i];
-        if (cell_push(&h->cells[tc->cell], tc->energy_kj, tc->height_m))
+        rf_hazard_cell *c = cell_of(h, tc->cell);
+        if (!c || rf_qsum_add(&c->energy_kj, &RF_HAZARD_ENERGY_SCALE, tc->energy_kj) ||
+            rf_qsum_add(&c->height_m, &RF_HAZARD_HEIGHT_SCALE, tc->height_m))
             h->oom = 1;
     }
     h->ntouched = 0;
+    map_clear(&h->slot);
     return h->oom ? -1 : 0;
 }
 
 int rf_hazard_merge(rf_hazard *into, const rf_hazard *from)
 {
-    for (size_t i = 0; i < into->nx * into->ny; i++)
-        for (uint32_t k = 0; k < from->cells[i].n; k++)
-            if (cell_push(&into->cells[i], from->cells[i].energy_kj[k], from->cells[i].height_m[k]))
-                return -1;
+    for (size_t i = 0; i < from->ncells; i++) {
+        const rf_hazard_cell *f = &from->cells[i];
+        rf_hazard_cell *c = cell_of(into, f->cell);
+        if (!c || rf_qsum_merge(&c->energy_kj, &f->energy_kj, &RF_HAZARD_ENERGY_SCALE) ||
+            rf_qsum_merge(&c->height_m, &f->height_m, &RF_HAZARD_HEIGHT_SCALE))
+            return -1;
+    }
     return 0;
+}
+
+const rf_hazard_cell *rf_hazard_at(const rf_hazard *h, size_t ix, size_t iy)
+{
+    if (ix >= h->nx || iy >= h->ny)
+        return NULL;
+    const uint32_t *at = map_get(&h->where, (uint32_t)(iy * h->nx + ix));
+    return at ? &h->cells[*at] : NULL;
+}
+
+size_t rf_hazard_bytes(const rf_hazard *h)
+{
+    size_t b = h->cap_cells * sizeof *h->cells + h->cap_touched * sizeof *h->touched +
+               map_bytes(&h->where) + map_bytes(&h->slot);
+    for (size_t i = 0; i < h->ncells; i++)
+        b += rf_qsum_bytes(&h->cells[i].energy_kj) + rf_qsum_bytes(&h->cells[i].height_m);
+    return b;
+}
+
+static int by_cell(const void *a, const void *b)
+{
+    uint32_t x = (*(rf_hazard_cell *const *)a)->cell, y = (*(rf_hazard_cell *const *)b)->cell;
+    return (x > y) - (x < y);
 }
 
 int rf_hazard_write(rf_hazard *h, long n_trajectories, rf_store *s, rf_error *err)
 {
-    if (rf_store_batch_begin(s, err))
-        return -1;
-    for (size_t iy = 0; iy < h->ny; iy++)
-        for (size_t ix = 0; ix < h->nx; ix++) {
-            rf_hazard_cell *c = &h->cells[iy * h->nx + ix];
-            if (c->n == 0)
-                continue;
-            rf_hazard_cell_record r;
-            r.ix = (long)ix;
-            r.iy = (long)iy;
-            r.x = h->x0 + ((double)ix + 0.5) * h->cell;
-            r.y = h->y0 + ((double)iy + 0.5) * h->cell;
-            r.passes = c->n;
-            r.reach_probability = (double)c->n / (double)n_trajectories;
-            r.energy_p95_kj = rf_percentile_nearest_rank(c->energy_kj, c->n, 0.95);
-            r.energy_max_kj = c->energy_kj[c->n - 1]; /* sorted by the percentile */
-            r.height_p95_m = rf_percentile_nearest_rank(c->height_m, c->n, 0.95);
-            if (rf_store_add_hazard_cell(s, &r, err))
-                return -1; /* the batch rolled back: all cells or none */
-        }
-    return rf_store_batch_commit(s, err);
+    rf_hazard_cell **order = malloc((h->ncells ? h->ncells : 1) * sizeof *order);
+    if (!order)
+        return rf_error_set(err, "", 0, 0, "out of memory writing the hazard map");
+    for (size_t i = 0; i < h->ncells; i++)
+        order[i] = &h->cells[i];
+    qsort(order, h->ncells, sizeof *order, by_cell); /* iy, then ix */
+    int status = rf_store_batch_begin(s, err);
+    for (size_t i = 0; status == 0 && i < h->ncells; i++) {
+        const rf_hazard_cell *c = order[i];
+        size_t ix = c->cell % h->nx, iy = c->cell / h->nx;
+        rf_hazard_cell_record r;
+        r.ix = (long)ix;
+        r.iy = (long)iy;
+        r.x = h->x0 + ((double)ix + 0.5) * h->cell;
+        r.y = h->y0 + ((double)iy + 0.5) * h->cell;
+        r.passes = (long)c->energy_kj.n;
+        r.reach_probability = (double)c->energy_kj.n / (double)n_trajectories;
+        r.energy_p95_kj = rf_qsum_quantile(&c->energy_kj, &RF_HAZARD_ENERGY_SCALE, 0.95);
+        r.energy_max_kj = c->energy_kj.max;
+        r.height_p95_m = rf_qsum_quantile(&c->height_m, &RF_HAZARD_HEIGHT_SCALE, 0.95);
+        status = rf_store_add_hazard_cell(s, &r, err); /* a failure rolls the batch back */
+    }
+    free(order);
+    return status ? -1 : rf_store_batch_commit(s, err);
 }

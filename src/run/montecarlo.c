@@ -1,6 +1,8 @@
 /* montecarlo.c - runs a project's trajectories on worker threads and writes them in
  * a deterministic order: work is cut into chunks of consecutive trajectories, workers
- * fill chunks, and the calling thread writes finished chunks in order. */
+ * fill chunks, and the calling thread writes finished chunks in order.  The chunks in
+ * flight live in a ring of `ahead` slots (chunk i in slot i mod ahead), so the memory
+ * depends on the threads, not on the number of trajectories. */
 #include "rockfall/montecarlo.h"
 
 #include <math.h>
@@ -133,14 +135,14 @@ typedef struct run_ctx {
     size_t total;          /* trajectories in all */
     size_t *release_start; /* global number of each release's first trajectory */
     size_t nchunks;
-    chunk *chunks;
+    chunk *ring;           /* `ahead` slots: the chunks claimed and not yet written */
     rf_hazard *hazard;     /* per worker */
 
     pthread_mutex_t mu;
     pthread_cond_t cv;
     size_t next_chunk;     /* next chunk to claim */
     size_t written;        /* chunks written so far */
-    size_t ahead;          /* how far workers may run ahead of the writer */
+    size_t ahead;          /* how far workers may run ahead of the writer: the ring's size */
     int abort;
 } run_ctx;
 
@@ -243,7 +245,11 @@ static void *worker_main(void *vw)
             pthread_mutex_unlock(&ctx->mu);
             return NULL;
         }
-        chunk *c = &ctx->chunks[ctx->next_chunk++];
+        /* the slot's last chunk was written and cleared: no other thread holds it */
+        size_t ci = ctx->next_chunk++;
+        chunk *c = &ctx->ring[ci % ctx->ahead];
+        c->first = ci * CHUNK_SIZE;
+        c->n = ci + 1 < ctx->nchunks ? CHUNK_SIZE : ctx->total - ci * CHUNK_SIZE;
         pthread_mutex_unlock(&ctx->mu);
         run_chunk(w, c);
         pthread_mutex_lock(&ctx->mu);
@@ -320,16 +326,17 @@ static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o
     }
     double t0 = rf_now_s(), last_report = t0;
     for (size_t ci = 0; status == 0 && ci < ctx->nchunks; ci++) {
+        chunk *c = &ctx->ring[ci % ctx->ahead];
         pthread_mutex_lock(&ctx->mu);
-        while (!ctx->chunks[ci].done && started > 0)
+        while (!c->done && started > 0)
             pthread_cond_wait(&ctx->cv, &ctx->mu);
         pthread_mutex_unlock(&ctx->mu);
-        if (!ctx->chunks[ci].done) {
+        if (!c->done) {
             status = rf_error_set(err, "", 0, 0, "no worker thread could be started");
             break;
         }
-        status = write_chunk(s, &ctx->chunks[ci], sum->by_reason, err);
-        chunk_clear(&ctx->chunks[ci]);
+        status = write_chunk(s, c, sum->by_reason, err);
+        chunk_clear(c);
         pthread_mutex_lock(&ctx->mu);
         ctx->written = ci + 1;
         pthread_cond_broadcast(&ctx->cv);
@@ -385,16 +392,12 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
         ctx.release_start[i + 1] = ctx.release_start[i] + (size_t)p->releases[i].count;
     ctx.total = ctx.release_start ? ctx.release_start[p->nreleases] : 0;
     ctx.nchunks = (ctx.total + CHUNK_SIZE - 1) / CHUNK_SIZE;
-    ctx.chunks = calloc(ctx.nchunks ? ctx.nchunks : 1, sizeof *ctx.chunks);
+    ctx.ring = calloc(ctx.ahead, sizeof *ctx.ring);
     ctx.hazard = calloc((size_t)nthreads, sizeof *ctx.hazard);
     int status = 0;
-    if (!ctx.release_start || !ctx.chunks || !ctx.hazard) {
+    if (!ctx.release_start || !ctx.ring || !ctx.hazard) {
         status = rf_error_set(err, "", 0, 0, "out of memory");
         goto cleanup;
-    }
-    for (size_t ci = 0; ci < ctx.nchunks; ci++) {
-        ctx.chunks[ci].first = ci * CHUNK_SIZE;
-        ctx.chunks[ci].n = ci + 1 < ctx.nchunks ? CHUNK_SIZE : ctx.total - ci * CHUNK_SIZE;
     }
     for (int i = 0; i < nthreads; i++)
         if (rf_hazard_init(&ctx.hazard[i], &p->terrain, p->hazard_cell)) {
@@ -409,9 +412,13 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
         goto cleanup_sync;
     }
     status = simulate_and_write(&ctx, s, o, sum, err);
-    for (int i = 1; status == 0 && i < nthreads; i++)
+    /* any order of merging gives the same cells (hazard.h); each worker's map is freed
+     * once merged */
+    for (int i = 1; status == 0 && i < nthreads; i++) {
         if (rf_hazard_merge(&ctx.hazard[0], &ctx.hazard[i]))
             status = rf_error_set(err, "", 0, 0, "out of memory merging the hazard grid");
+        rf_hazard_free(&ctx.hazard[i]);
+    }
     if (status == 0)
         status = rf_hazard_write(&ctx.hazard[0], (long)ctx.total, s, err);
     sum->n_trajectories = (long)ctx.total;
@@ -430,9 +437,9 @@ cleanup:
     if (ctx.hazard)
         for (int i = 0; i < nthreads; i++)
             rf_hazard_free(&ctx.hazard[i]);
-    for (size_t ci = 0; ctx.chunks && ci < ctx.nchunks; ci++)
-        chunk_clear(&ctx.chunks[ci]);
-    free(ctx.chunks);
+    for (size_t ci = 0; ctx.ring && ci < ctx.ahead; ci++)
+        chunk_clear(&ctx.ring[ci]);
+    free(ctx.ring);
     free(ctx.hazard);
     free(ctx.release_start);
     return status;
