@@ -376,7 +376,7 @@ int rf_simulate_fixed_step(rf_motion *m)
     double budget = ceil((m->cfg.t_end - m->rock.s.t) / dt) + RF_MAX_EVENTS;
     long cap = budget < RF_FIXED_MAX_STEPS ? (long)budget : (long)RF_FIXED_MAX_STEPS;
     for (;;) {
-        if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap)
+        if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap || m->scn.trees_given_up)
             return RF_END_MAX_TIME;
         /* a slow rock's creep counts the steps that ended at an event, as the exact
          * engine counts its events (rf_progress) */

@@ -111,7 +111,8 @@ static int run_exact(rf_motion *m)
     if (end >= 0)
         return end;
     for (;;) {
-        if (++m->book.events > RF_MAX_EVENTS)
+        /* every pass is an event: the events bound the loop */
+        if (++m->book.events > RF_MAX_EVENTS || m->scn.trees_given_up)
             return RF_END_MAX_TIME;
         end = rf_progress(m, 1);
         if (end >= 0)
@@ -173,6 +174,8 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     int end = sim->engine == RF_ENGINE_FIXED_STEP ? rf_simulate_fixed_step(&m) : run_exact(&m);
     if (end == RF_END_EXITED && rf_scene_at_once(&m) == RF_END_STOPPED)
         end = RF_END_STOPPED;
+    if (m.scn.trees_given_up) /* the tree process was not sampled to the end */
+        end = RF_END_MAX_TIME;
 
     out->reason = (rf_stop_reason)end;
     if (end == RF_END_REST) {
