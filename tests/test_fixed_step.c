@@ -334,3 +334,57 @@ TEST(hard_replay_fixed_step_over_a_steep_face_at_the_top_rests)
     REPLAY_EACH(replay_fixed_step_rests_rescued, {10, 2, 270}, {27, 12, 285}, {30, 35, 232},
                 {29, 28, 14});
 }
+
+/* ---- rest on a face steeper than friction holds ------------------------------------ */
+
+/* A rough slope of theta on a 1 m grid: heights (60 - i) tan(theta) plus 0, 0.37, ...
+ * 1.48 m in a pattern of period 5, whose pits centre contact holds rocks in. */
+static double rough_z(int i, int j, void *ctx)
+{
+    return (60 - i) * *(const double *)ctx + 0.37 * ((i * 7 + j * 3) % 5);
+}
+
+/* A sphere of 11 t released 3 m above the rough slope at (x, y); engine 0 exact
+ * (centre contact), else fixed step dt. */
+static rf_trajectory_record rough_run(double theta_deg, double x, double y, double dt,
+                                      unsigned long seed)
+{
+    double tn = tan(theta_deg * M_PI / 180.0);
+    rf_terrain t;
+    mt_grid_terrain(&t, 0, 61, 41, 1.0, rough_z, &tn,
+                    (rf_surface){{0.15, 0.0}, {0.3, 0.0}, {0.3, 0.0}});
+    rf_body b = rf_body_make(11000.0, 2650.0, RF_MODEL_SPHERE);
+    rf_state s = mt_state(rf_v3(x, y, (60 - x) * tn + 3.0 + b.radius), rf_v3(0, 0, 0));
+    rf_simulation sim = mt_sim(RF_MODEL_SPHERE, RF_CONTACT_CENTRE, 60.0);
+    if (dt > 0) {
+        sim.engine = RF_ENGINE_FIXED_STEP;
+        sim.dt = dt;
+    }
+    static mt_scene_run run;
+    mt_run_scene(&t, &sim, &b, NULL, 0, &s, seed, &run);
+    rf_terrain_free(&t);
+    return run.rec;
+}
+
+/* At dt 0.1 s and 0.01 s the fixed step brings a sphere rolling along a column edge of
+ * a 65 degree face (mu_r 0.3) exactly onto the column's vertex, where the two walls of
+ * centre contact stop it in their corner (gravity pressing it in): it rests after
+ * 0.75 s, where the exact engine leaves the wall before the vertex and goes on to leave
+ * the terrain with 8 000 kJ.  Such a rest is marked rest_on_steep_face, for the check
+ * to count; a rest on a face that holds the rock, and every rest of the exact engine
+ * (whose walls and corners of centre contact are its model's), are not. */
+TEST(motion_fixed_step_rest_on_a_steep_face_is_marked)
+{
+    const double x = 5.3 + 15 * 0.77, y = 20.0;
+    rf_trajectory_record e = rough_run(65.0, x, y, 0.0, 18), f = rough_run(65.0, x, y, 0.1, 18);
+    ENSURE_MSG(e.reason == RF_END_EXITED && !e.rest_on_steep_face, "exact: reason %d", e.reason);
+    ENSURE_MSG(f.reason == RF_END_REST && f.rest_on_steep_face, "fixed: reason %d, marked %d",
+               f.reason, f.rest_on_steep_face);
+    f = rough_run(65.0, x, y, 0.001, 18);
+    ENSURE_MSG(f.reason == RF_END_EXITED && !f.rest_on_steep_face, "dt 0.001: reason %d",
+               f.reason);
+    /* the exact engine held in a pit of the 45 degree face (its walls): not marked */
+    e = rough_run(45.0, 5.3, 20.0, 0.0, 3);
+    ENSURE_MSG(e.reason == RF_END_REST && !e.rest_on_steep_face, "exact at 45: reason %d, marked %d",
+               e.reason, e.rest_on_steep_face);
+}

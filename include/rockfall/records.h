@@ -20,6 +20,10 @@ typedef struct rf_trajectory_record {
     double max_energy_kj;    /* largest total kinetic energy along the path */
     long n_impacts;
     long n_tree_hits;
+    int rest_on_steep_face;  /* 1: the fixed-step engine put the rock to rest on a face
+                              * steeper than its friction holds (tan theta > mu), which
+                              * the exact engine would not; 0 otherwise (the exact engine
+                              * never sets it); trajectories.rest_steep */
 } rf_trajectory_record;
 
 typedef struct rf_interception_record {

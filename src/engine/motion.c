@@ -23,6 +23,7 @@
 #include "engine/scene_events.h"
 #include "engine/state.h"
 #include "engine/surface.h"
+#include "engine/surface_law.h"
 #include "engine/tables.h"
 
 rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt)
@@ -178,6 +179,10 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
         end = RF_END_MAX_TIME;
 
     out->reason = (rf_stop_reason)end;
+    /* the exact engine's rests are its model's: at rest on a steep face only where a
+     * wall or a corner of centre contact holds it */
+    out->rest_on_steep_face = end == RF_END_REST && sim->engine == RF_ENGINE_FIXED_STEP &&
+                              rf_support_steep(&m);
     if (end == RF_END_REST) {
         m.rock.s.v = rf_v3(0, 0, 0);
         m.rock.s.w = rf_v3(0, 0, 0);
