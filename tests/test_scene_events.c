@@ -388,3 +388,90 @@ TEST(scene_events_fast_flight_crosses_each_line_at_its_exact_time)
     free(run);
     rf_terrain_free(&t);
 }
+
+/* ---- the tree process ends: bounded draws ----------------------------------------- */
+
+/* One trajectory of a sphere through the forest f (engine 0: exact, 1: fixed step at
+ * dt 0.01) down a 30 degree incline from speed v0; returns its record. */
+static rf_trajectory_record through_forest(const rf_forest *f, int engine, rf_vec3 v0)
+{
+    rf_terrain t;
+    const double theta = 30.0 * M_PI / 180.0;
+    mt_incline(&t, theta, 100.0, 40.0, surface(0.3, 0.5, 0.5));
+    rf_simulation sim = mt_sim(RF_MODEL_SPHERE, RF_CONTACT_FULL, 60.0);
+    sim.paths = 0;
+    if (engine) {
+        sim.engine = RF_ENGINE_FIXED_STEP;
+        sim.dt = 0.01;
+    }
+    rf_body b = rf_body_make(1500.0, 2650.0, RF_MODEL_SPHERE);
+    rf_state s = mt_incline_state(theta, 100.0, 10.0, 20.0, b.radius + 0.5, v0);
+    rf_scene sc = {&t, &sim, f, 1, NULL, 0};
+    rf_workspace *ws = rf_workspace_alloc(&t);
+    ENSURE(ws);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 38);
+    rf_trajectory_record rec;
+    rf_simulate(&sc, &b, &s, rng, ws, NULL, &rec);
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+    rf_terrain_free(&t);
+    return rec;
+}
+
+/* A forest on a patch off the rock's way (every candidate is rejected), of this
+ * density and stem diameter. */
+static rf_forest patch_forest(double density, double diameter, double *xy)
+{
+    rf_forest f;
+    memset(&f, 0, sizeof f);
+    f.name = "patch";
+    xy[0] = 90.0, xy[1] = 0.0, xy[2] = 99.0, xy[3] = 0.0, xy[4] = 99.0, xy[5] = 1.0;
+    f.polygon.xy = xy;
+    f.polygon.n = 3;
+    f.density = density;
+    f.height = (rf_dist){20.0, 0.0};
+    f.diameter = diameter;
+    f.restitution = (rf_dist){0.2, 0.0};
+    f.friction = (rf_dist){0.3, 0.0};
+    return f;
+}
+
+/* Candidate gaps of 1e-24 m (density 1e12) or 1e-10 m (stem diameter 1e12): the
+ * odometer's candidates no longer passed the end of a piece (below its rounding, or
+ * after 1e10 draws per metre) and the run never ended.  The draws are bounded: the
+ * trajectory is given up, as one that runs out of time. */
+TEST(scene_events_absurd_forest_density_or_diameter_ends_the_trajectory)
+{
+    double xy[6];
+    const rf_forest fs[2] = {patch_forest(1e12, 0.3, xy), patch_forest(0.01, 1e12, xy)};
+    for (int k = 0; k < 4; k++) {
+        rf_trajectory_record rec = through_forest(&fs[k % 2], k / 2, rf_v3(1.0, 0.0, 0.0));
+        ENSURE_MSG(rec.reason == RF_END_MAX_TIME, "case %d: reason %d", k, rec.reason);
+        ENSURE_MSG(isfinite(rec.duration_s) && rec.duration_s < 60.0, "case %d: %g s", k,
+                   rec.duration_s);
+    }
+}
+
+/* Released at 1e300 m/s through an ordinary forest: the horizontal length of its first
+ * piece overflows to infinity and no candidate passed it.  It ends, and the same forest
+ * at an ordinary speed is sampled as before (no bound is met). */
+TEST(scene_events_release_at_1e300_through_a_forest_ends)
+{
+    rf_forest f;
+    memset(&f, 0, sizeof f);
+    f.name = "forest";
+    f.density = 0.05;
+    f.height = (rf_dist){20.0, 5.0};
+    f.diameter = 0.3;
+    f.restitution = (rf_dist){0.2, 0.0};
+    f.friction = (rf_dist){0.3, 0.0};
+    for (int engine = 0; engine < 2; engine++) {
+        rf_trajectory_record rec = through_forest(&f, engine, rf_v3(1e300, 0.0, 0.0));
+        ENSURE_MSG(rec.reason >= RF_END_REST && rec.reason <= RF_END_MAX_TIME, "reason %d",
+                   rec.reason);
+        rec = through_forest(&f, engine, rf_v3(1.0, 0.0, 0.0));
+        ENSURE_MSG(rec.reason != RF_END_MAX_TIME && rec.n_tree_hits > 0,
+                   "engine %d: reason %d, %ld tree hits", engine, rec.reason, rec.n_tree_hits);
+    }
+}

@@ -93,6 +93,8 @@
                                       taken (clamped) */
 #define RF_MAX_ARC_SAMPLES 10000000 /* samples of one arc at most */
 #define RF_FIXED_MAX_STEPS 1e15    /* steps of one fixed-step trajectory at most */
+#define RF_MAX_SEARCH_PIECES 1000000L /* pieces a contact or gap search splits an arc into at
+                                      most (a longer arc's pieces are longer) */
 
 /* ---- polynomials and arcs (arc.c) ---------------------------------------------------- */
 #define RF_QUAD_ZERO 1e-300        /* a squared acceleration below this is none: the arc is a
@@ -129,6 +131,9 @@
 #define RF_ODOMETER_REL 1e-15      /* the time at which a flight has travelled a distance in
                                       plan: relative precision (of max(1, T)) */
 #define RF_ODOMETER_MAX_ITER 100   /* Newton steps of that search at most */
+#define RF_TREE_MAX_DRAWS 1000000L /* candidate tree events one trajectory draws at most; then
+                                      it is given up (max_time): 400 km of travel at a rate
+                                      bound of 2.5 per m (1 stem per m^2 of 0.5 m, a 2 m rock) */
 
 /* ---- statistics and figures --------------------------------------------------------- */
 #define RF_HULL_TOL 1e-9           /* (m) a point this close outside a hull is inside it */

@@ -417,7 +417,7 @@ static void walk_grid(rf_search *s, double T)
         double ty = sy > 0   ? (t->y0 + (fj + 1) * c - py) / vy
                     : sy < 0 ? (t->y0 + fj * c - py) / vy
                              : INFINITY;
-        double t1 = k > steps ? tb : dmin(dmax(dmin(tx, ty), t0), tb);
+        double t1 = !(k <= steps) ? tb : dmin(dmax(dmin(tx, ty), t0), tb);
         double xa = px + vx * t0, xb = px + vx * t1, ya = py + vy * t0, yb = py + vy * t1;
         size_t n = gather_grid(s->m, dmin(xa, xb) - hr, dmin(ya, yb) - hr, dmax(xa, xb) + hr,
                                dmax(ya, yb) + hr);
@@ -513,11 +513,8 @@ static void search_pieces(rf_search *s, double T)
         /* pieces of about a few cells of horizontal travel */
         piece = dmax(4.0 * cell, 2.0 * m->cfg.rho);
     }
-    long npieces = (long)ceil(hlen / piece);
-    if (npieces < 1)
-        npieces = 1;
-    if (npieces > 1000000)
-        npieces = 1000000;
+    double np = ceil(hlen / piece);
+    long npieces = np >= 1.0 ? (np < RF_MAX_SEARCH_PIECES ? (long)np : RF_MAX_SEARCH_PIECES) : 1;
     for (long i = 0; i < npieces; i++) {
         double ta = T * (double)i / (double)npieces;
         double tb = i + 1 == npieces ? T : T * (double)(i + 1) / (double)npieces;

@@ -183,9 +183,8 @@ double rf_terrain_exit_time(rf_motion *m, const rf_arc *arc, double T)
         return 0.0;
     /* the gaps along the path, a few cells at a time */
     double cell = t->is_grid ? t->cell : t->bsize;
-    long npieces = (long)ceil(vh * te / (8.0 * cell));
-    if (npieces < 1)
-        npieces = 1;
+    double np = ceil(vh * te / (8.0 * cell));
+    long npieces = np >= 1.0 ? (np < RF_MAX_SEARCH_PIECES ? (long)np : RF_MAX_SEARCH_PIECES) : 1;
     for (long i = 0; i < npieces; i++) {
         double ta = te * (double)i / (double)npieces, tb = te * (double)(i + 1) / (double)npieces;
         double best = t->is_grid ? grid_gap_entry(t, arc, ta, tb, te)

@@ -179,6 +179,24 @@ typedef struct face_run {
     rf_vec3 dir;
 } face_run;
 
+/* The velocity v + h a at the end of a step on a face.  Friction stops the rock, it
+ * does not push it back: where it would reverse the motion within the step (a rock
+ * that does not slip), the step ends where the speed along the rock's way vanishes (*h
+ * cut to that time, *zero set), and the next starts from rest - rest where the face
+ * holds the rock, else down the fall line. */
+static rf_vec3 step_velocity(const rf_motion *m, rf_vec3 a, int slide, double *h, int *zero)
+{
+    rf_vec3 v = m->rock.s.v;
+    double speed = rf_v3_norm(v);
+    rf_vec3 v1 = rf_v3_madd(v, *h, a);
+    if (!slide && speed > 0 && rf_v3_dot(v1, v) < 0) {
+        *h = speed / -(rf_v3_dot(a, v) / speed);
+        v1 = rf_v3_madd(v, *h, a);
+        *zero = 1;
+    }
+    return v1;
+}
+
 static int face_step(rf_motion *m, double h, face_run *run)
 {
     int seg_start = run->fresh;
@@ -231,12 +249,8 @@ static int face_step(rf_motion *m, double h, face_run *run)
             slip_end = 1;
         }
     }
-    rf_vec3 v1 = rf_v3_madd(m->rock.s.v, hs, a);
     int zero = 0;
-    if (!slide && speed > 0 && rf_v3_dot(v1, m->rock.s.v) < 0) {
-        v1 = rf_v3(0, 0, 0); /* friction stops the rock, it does not push it back */
-        zero = 1;
-    }
+    rf_vec3 v1 = step_velocity(m, a, slide, &hs, &zero);
     rf_vec3 ve = rf_in_plane(v1, n);
     rf_vec3 u1 = rf_v3(0, 0, 0);
     if (slide && !slip_end) {
@@ -314,6 +328,8 @@ static int crease_step(rf_motion *m, double h)
     double s1 = cr.s + h * cr.as;
     int zero = 0;
     if (s1 < 0) {
+        /* friction stops it within the step: the step ends there (as on a face) */
+        h = cr.s / -cr.as;
         s1 = 0.0;
         zero = 1;
     }
@@ -376,7 +392,7 @@ int rf_simulate_fixed_step(rf_motion *m)
     double budget = ceil((m->cfg.t_end - m->rock.s.t) / dt) + RF_MAX_EVENTS;
     long cap = budget < RF_FIXED_MAX_STEPS ? (long)budget : (long)RF_FIXED_MAX_STEPS;
     for (;;) {
-        if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap)
+        if (m->rock.s.t >= m->cfg.t_end || ++m->book.events > cap || m->scn.trees_given_up)
             return RF_END_MAX_TIME;
         /* a slow rock's creep counts the steps that ended at an event, as the exact
          * engine counts its events (rf_progress) */

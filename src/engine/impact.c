@@ -259,7 +259,8 @@ int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
     m->book.rec->path_length_m += m->cfg.rho * ang;
     const rf_sink *sk = m->book.sink;
     if (sk && sk->sample && sk->sample_spacing > 0 && ang > 0) {
-        int steps = (int)ceil(m->cfg.rho * ang / sk->sample_spacing);
+        double ns = ceil(m->cfg.rho * ang / sk->sample_spacing);
+        int steps = ns < RF_MAX_ARC_SAMPLES ? (int)ns : RF_MAX_ARC_SAMPLES;
         double ekj = rf_motion_energy(m) / 1000.0;
         for (int k = 0; k <= steps; k++) {
             double f = (double)k / steps;

@@ -23,6 +23,7 @@
 #include "engine/scene_events.h"
 #include "engine/state.h"
 #include "engine/surface.h"
+#include "engine/surface_law.h"
 #include "engine/tables.h"
 
 rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt)
@@ -111,7 +112,8 @@ static int run_exact(rf_motion *m)
     if (end >= 0)
         return end;
     for (;;) {
-        if (++m->book.events > RF_MAX_EVENTS)
+        /* every pass is an event: the events bound the loop */
+        if (++m->book.events > RF_MAX_EVENTS || m->scn.trees_given_up)
             return RF_END_MAX_TIME;
         end = rf_progress(m, 1);
         if (end >= 0)
@@ -173,8 +175,14 @@ int rf_simulate(const rf_scene *scene, const rf_body *body, const rf_state *star
     int end = sim->engine == RF_ENGINE_FIXED_STEP ? rf_simulate_fixed_step(&m) : run_exact(&m);
     if (end == RF_END_EXITED && rf_scene_at_once(&m) == RF_END_STOPPED)
         end = RF_END_STOPPED;
+    if (m.scn.trees_given_up) /* the tree process was not sampled to the end */
+        end = RF_END_MAX_TIME;
 
     out->reason = (rf_stop_reason)end;
+    /* the exact engine's rests are its model's: at rest on a steep face only where a
+     * wall or a corner of centre contact holds it */
+    out->rest_on_steep_face = end == RF_END_REST && sim->engine == RF_ENGINE_FIXED_STEP &&
+                              rf_support_steep(&m);
     if (end == RF_END_REST) {
         m.rock.s.v = rf_v3(0, 0, 0);
         m.rock.s.w = rf_v3(0, 0, 0);

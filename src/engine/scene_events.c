@@ -24,7 +24,19 @@
 #include "engine/travel.h"
 #include "scene/vegetation.h"
 
-static double draw_gap(rf_motion *m) { return gsl_ran_exponential(m->rng, 1.0 / m->scn.tree_bound); }
+/* The next candidate tree event: its gap from `from` on the odometer and its
+ * acceptance draw.  Every draw counts towards RF_TREE_MAX_DRAWS: when they run out the
+ * process is no longer sampled (a forest too dense, or a piece too long, for the
+ * odometer's precision or for bounded work) and the trajectory is given up. */
+static void draw_candidate(rf_motion *m, double from)
+{
+    m->scn.tree_next = from + gsl_ran_exponential(m->rng, 1.0 / m->scn.tree_bound);
+    m->scn.tree_u = gsl_rng_uniform(m->rng);
+    if (++m->scn.tree_draws >= RF_TREE_MAX_DRAWS) {
+        m->scn.tree_bound = 0.0;
+        m->scn.trees_given_up = 1;
+    }
+}
 
 void rf_scene_begin(rf_motion *m)
 {
@@ -36,20 +48,22 @@ void rf_scene_begin(rf_motion *m)
     /* forests that cover no part of the terrain cost nothing */
     int any = rf_vegetation_touches(sc->forests, sc->nforests, t->xmin, t->ymin, t->xmax, t->ymax);
     m->scn.tree_bound = any ? rf_vegetation_rate_bound(sc->forests, sc->nforests, m->scn.phi_r) : 0.0;
-    if (m->scn.tree_bound > 0.0) {
-        m->scn.tree_next = draw_gap(m);
-        m->scn.tree_u = gsl_rng_uniform(m->rng);
-    }
+    m->scn.tree_draws = 0;
+    m->scn.trees_given_up = 0;
+    if (m->scn.tree_bound > 0.0)
+        draw_candidate(m, 0.0);
 }
 
 
 /* The earliest tree collision over [0, T] of the arc, or T.  Rejected candidates on
- * the way are used up. */
+ * the way are used up.  Each pass draws a candidate, and the draws are bounded
+ * (draw_candidate): the loop ends although a gap below the rounding of the odometer,
+ * or an infinite L, does not move the candidate past the piece's end. */
 static double tree_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
     const rf_scene *sc = m->cfg.scene;
     double L = rf_horizontal_length(arc->v, arc->a, T);
-    while (m->scn.tree_next - m->scn.odo <= L) {
+    while (m->scn.tree_bound > 0.0 && m->scn.tree_next - m->scn.odo <= L) {
         double s = fmax(m->scn.tree_next - m->scn.odo, 0.0);
         double t = rf_horizontal_time_at(arc->v, arc->a, s, T);
         rf_vec3 p = rf_arc_pos(arc, t);
@@ -63,8 +77,7 @@ static double tree_horizon(rf_motion *m, const rf_arc *arc, double T)
                 return t;
             }
         }
-        m->scn.tree_next += draw_gap(m);
-        m->scn.tree_u = gsl_rng_uniform(m->rng);
+        draw_candidate(m, m->scn.tree_next);
     }
     return T;
 }
@@ -95,7 +108,9 @@ static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
         m->scn.ncrossings = kept;
         if (kept > 0 || k == 0)
             return;
-        after = t0 + RF_CROSSING_EPS;
+        /* strictly later (the eps alone rounds away beyond 1e4 s): each pass passes
+         * over roots of the lines' quadratics, of which there are finitely many */
+        after = fmax(t0 + RF_CROSSING_EPS, nextafter(t0, INFINITY));
     }
 }
 
@@ -174,8 +189,7 @@ static int measure_event(rf_motion *m)
  * friction applied by the impact law, rotation included. */
 static int tree_event(rf_motion *m, int32_t *onto)
 {
-    m->scn.tree_next = m->scn.odo + draw_gap(m);
-    m->scn.tree_u = gsl_rng_uniform(m->rng);
+    draw_candidate(m, m->scn.odo);
     rf_vec3 vh = rf_v3(m->rock.s.v.x, m->rock.s.v.y, 0.0);
     if (!(rf_v3_norm(vh) > 0.0))
         return -1;

@@ -162,6 +162,8 @@ typedef struct rf_scene_state {
     double odo;              /* horizontal distance travelled */
     double tree_next;        /* odometer of the next candidate tree event (thinning) */
     double tree_u;           /* its uniform acceptance draw */
+    long tree_draws;         /* candidate tree events drawn so far (RF_TREE_MAX_DRAWS) */
+    int trees_given_up;      /* the draws ran out: the trajectory ends (max_time) */
 } rf_scene_state;
 
 /* One rock's trajectory under way. */

@@ -123,6 +123,24 @@ int rf_surface_holds(const rf_motion *m)
     return 0;
 }
 
+int rf_support_steep(const rf_motion *m)
+{
+    const rf_terrain *t = m->cfg.terrain;
+    double c = m->cfg.point ? m->rock.sup.mu : m->rock.sup.mu_r;
+    if (m->rock.sup.n == 1) {
+        rf_vec3 n = t->tri[m->rock.sup.tri[0]].n;
+        return RF_GRAVITY * sqrt(rf_fmax(0.0, 1.0 - n.z * n.z)) > c * RF_GRAVITY * n.z;
+    }
+    if (m->rock.sup.n == 2) {
+        double xA = 0.0, xB = 0.0;
+        rf_vec3 l;
+        if (rf_crease_forces(t->tri[m->rock.sup.tri[0]].n, t->tri[m->rock.sup.tri[1]].n, &xA, &xB, &l))
+            return 0;
+        return fabs(RF_GRAVITY * l.z) > c * (xA + xB);
+    }
+    return 0;
+}
+
 int rf_roll_holds(const rf_motion *m, rf_vec3 n)
 {
     rf_face_dyn f;

@@ -60,6 +60,13 @@ rf_vec3 rf_crease_centre(const rf_triangle *A, const rf_triangle *B, double rho,
 rf_spin_law rf_crease_roll(const rf_motion *m);
 /* 1 when the rock at rest on its support would stay there. */
 int rf_surface_holds(const rf_motion *m);
+/* 1 when the rock's support (a face or a crease; not a flight) is steeper than the
+ * friction that holds a rock at rest there: on a face tan theta > c, in a crease the
+ * gravity along its line above c times the normal forces, c being mu for a point mass
+ * and mu_r for a sphere (at rest it rolls off unless rolling resistance holds it), as
+ * drawn for the support.  A rock at rest there is held by something else (a wall, a
+ * corner) or was put to rest by the integration. */
+int rf_support_steep(const rf_motion *m);
 /* 1 when friction (mu) can keep the sphere on face n rolling without slip: the contact
  * force rolling needs, 2/7 m g_t with the rolling resistance, is at most mu m g_n
  * (a rock at rest where it stays needs none). */
