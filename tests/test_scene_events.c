@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "motion_test_util.h"
+#include "rockfall/montecarlo.h"
 #include "scene_test_util.h"
 #include "test.h"
 
@@ -474,4 +475,51 @@ TEST(scene_events_release_at_1e300_through_a_forest_ends)
         ENSURE_MSG(rec.reason != RF_END_MAX_TIME && rec.n_tree_hits > 0,
                    "engine %d: reason %d, %ld tree hits", engine, rec.reason, rec.n_tree_hits);
     }
+}
+
+/* ---- lines crossed by a move in no time ------------------------------------------- */
+
+typedef struct line_count {
+    int n;
+    double y;
+} line_count;
+
+static void count_line(void *ctx, const rf_interception_record *r)
+{
+    line_count *c = ctx;
+    c->n++;
+    c->y = r->p.y;
+}
+
+/* Three rocks of the Noto 3.2 run roll over an edge of the slope (the centre turns about
+ * the edge in no time) from one side of the road's control line (y = 22) to the other:
+ * each crossing is recorded, once, within a radius of the line. */
+TEST(scene_events_roll_over_an_edge_across_a_line_is_recorded)
+{
+    rf_project p;
+    rf_error err;
+    ENSURE_MSG(rf_project_load("projects/noto/noto-3.2.yaml", &p, &err) == 0, "%s", err.message);
+    ENSURE(p.nmeasures == 1 && p.measures[0].line.n == 2 && p.measures[0].line.xy[1] == 22.0);
+    rf_scene scene = {&p.terrain, &p.sim, p.forests, p.nforests, p.measures, p.nmeasures};
+    rf_workspace *ws = rf_workspace_alloc(&p.terrain);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    const struct {
+        size_t release;
+        long idx;
+    } rocks[3] = {{0, 54}, {1, 21}, {2, 7}};
+    for (int k = 0; k < 3; k++) {
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, rocks[k].release, rocks[k].idx));
+        rf_body b = rf_release_body(&p, rocks[k].release, p.sim.model);
+        rf_state s = rf_release_start(&p, rocks[k].release, &b, rng);
+        line_count c = {0, NAN};
+        rf_sink sink = {.ctx = &c, .interception = count_line};
+        rf_trajectory_record rec;
+        ENSURE(rf_simulate(&scene, &b, &s, rng, ws, &sink, &rec) == 0);
+        ENSURE_MSG(rec.stop.y < 22.0, "rock %d stops at y %.3f", k, rec.stop.y);
+        ENSURE_MSG(c.n == 1, "rock %d: %d crossings of the road", k, c.n);
+        ENSURE_MSG(fabs(c.y - 22.0) <= b.radius, "rock %d crossed at y %.4f, r %.3f", k, c.y, b.radius);
+    }
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+    rf_project_free(&p);
 }

@@ -42,6 +42,7 @@ void rf_scene_begin(rf_motion *m)
 {
     const rf_scene *sc = m->cfg.scene;
     m->scn.pending = RF_SCENE_NONE;
+    m->scn.seen = m->rock.s.p;
     m->scn.odo = 0.0;
     m->scn.phi_r = 2.0 * m->cfg.body->radius;
     const rf_terrain *t = m->cfg.terrain;
@@ -114,9 +115,31 @@ static void measure_horizon(rf_motion *m, const rf_arc *arc, double T)
     }
 }
 
+/* The measures' lines crossed by a move in no time: the centre was last seen at
+ * m->scn.seen and the next piece starts at p.  The straight move in plan is searched
+ * (a roll over an edge turns the centre about the edge by an angle under pi, on an
+ * arc of radius r at most); 1 when it crossed a line (m->scn.crossings).  Otherwise the
+ * move is taken as seen. */
+static int jump_crossings(rf_motion *m, rf_vec3 p)
+{
+    rf_vec3 from = m->scn.seen;
+    if (m->cfg.scene->nmeasures == 0 || (from.x == p.x && from.y == p.y))
+        return 0;
+    rf_arc move = {from, rf_v3_sub(p, from), rf_v3(0, 0, 0)};
+    measure_horizon(m, &move, 1.0);
+    if (m->scn.ncrossings > 0)
+        return 1;
+    m->scn.seen = p;
+    return 0;
+}
+
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
     m->scn.pending = RF_SCENE_NONE;
+    if (jump_crossings(m, arc->p)) {
+        m->scn.pending = RF_SCENE_MEASURE;
+        return 0.0;
+    }
     double best = T;
     measure_horizon(m, arc, T);
     if (m->scn.ncrossings > 0) {
@@ -175,6 +198,7 @@ static int cross_measure(rf_motion *m, int which)
  * is never seen by the next. */
 static int measure_event(rf_motion *m)
 {
+    m->scn.seen = m->rock.s.p;
     for (int i = 0; i < m->scn.ncrossings; i++) {
         rf_passage_start(m, &m->scn.crossings[i]);
         if (cross_measure(m, m->scn.crossings[i].measure) >= 0)

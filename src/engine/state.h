@@ -152,6 +152,9 @@ typedef struct rf_motion_book {
  * tree collisions. */
 typedef struct rf_scene_state {
     int pending;             /* what rf_scene_horizon found: RF_SCENE_NONE, _MEASURE or _TREE */
+    rf_vec3 seen;            /* where the measures last saw the centre: the end of the last
+                                piece of motion or scene event (a move in no time since, a
+                                roll over an edge or a lift, is checked for crossings) */
     rf_crossing crossings[RF_MAX_COINCIDENT_CROSSINGS]; /* the measures crossed, at once */
     int ncrossings;
     rf_passage passing[RF_MAX_COINCIDENT_CROSSINGS]; /* lines being passed (travel.c) */

@@ -64,6 +64,7 @@ void rf_scene_travel(rf_motion *m, const rf_arc *arc, double T)
             i++;
         }
     }
+    m->scn.seen = rf_arc_pos(arc, T);
     if (m->scn.tree_bound > 0.0)
         m->scn.odo += rf_horizontal_length(arc->v, arc->a, T);
 }
