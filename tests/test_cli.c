@@ -280,3 +280,47 @@ TEST(cli_report_keeps_the_terrain_of_the_run)
     }
     free(first);
 }
+
+/* ---- files named on the command line --------------------------------------------- */
+
+/* A sparse file of `size` bytes (its blocks are never written). */
+static const char *sparse_file(const char *name, long size)
+{
+    const char *path = rf_test_write(name, "");
+    ENSURE(truncate(path, size) == 0);
+    return path;
+}
+
+/* `rockfall run /dev/zero` read the device until memory ran out (22 GB): a project
+ * named on the command line must be a regular file, of at most 16 MiB. */
+TEST(cli_run_refuses_dev_zero_and_a_huge_project_at_once)
+{
+    char args[2048], out[8192];
+    ENSURE_MSG(rf_test_rockfall("run /dev/zero -o /nonexistent/x.db", out, sizeof out) == 2,
+               "%s", out);
+    ENSURE_MSG(strstr(out, "/dev/zero") && strstr(out, "not a regular file"), "%s", out);
+    ENSURE_MSG(rf_test_rockfall("run /tmp -o /nonexistent/x.db", out, sizeof out) == 2, "%s",
+               out);
+    ENSURE_MSG(strstr(out, "Is a directory"), "%s", out);
+    const char *big = sparse_file("big.yaml", (16L << 20) + 1);
+    snprintf(args, sizeof args, "run %s -o /nonexistent/x.db", big);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "at most 16777216"), "%s", out);
+}
+
+/* `rockfall check DB --rules /dev/zero` likewise grew to 22.7 GB. */
+TEST(cli_check_refuses_dev_zero_rules_at_once)
+{
+    char dir[512], db[600], args[2048], out[16384];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    snprintf(db, sizeof db, "%s/r.db", dir);
+    snprintf(args, sizeof args, "run projects/noto/noto-3.3.yaml --count 1 --quiet -o %s", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) <= 1, "%s", out);
+    snprintf(args, sizeof args, "check %s --rules /dev/zero", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "/dev/zero") && strstr(out, "not a regular file"), "%s", out);
+    const char *big = sparse_file("big-rules.yaml", (16L << 20) + 1);
+    snprintf(args, sizeof args, "check %s --rules %s", db, big);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "at most 16777216"), "%s", out);
+}

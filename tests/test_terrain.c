@@ -868,3 +868,118 @@ TEST(terrain_mesh_highest_and_bucket_memory)
     ENSURE(rf_terrain_locate(&t, 20.0, 20.0) == -1);
     rf_terrain_free(&t);
 }
+
+/* ---- bounds on the files ----------------------------------------------------------- */
+
+#include "input/terrain_io.h"
+
+/* A terrain file must be a regular file: /dev/zero was read until memory ran out. */
+TEST(terrain_device_and_directory_refused_at_once)
+{
+    ensure_build_error("/dev/zero", RF_TERRAIN_DEM, 0, 0, "not a regular file");
+    ensure_build_error("/dev/zero", RF_TERRAIN_MESH, 0, 0, "not a regular file");
+    ensure_build_error("/tmp", RF_TERRAIN_MESH, 0, 0, "Is a directory");
+    rf_points p;
+    rf_error err = {0};
+    ENSURE(rf_points_read("/dev/zero", 3, &p, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "not a regular file"), "%s", err.message);
+}
+
+/* The in-memory readers parse what the file readers parse. */
+TEST(terrain_readers_from_memory)
+{
+    static const char grid[] = "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 1\n"
+                               "1 2\n3 4\n";
+    rf_asc_grid g;
+    rf_error err = {0};
+    ENSURE(rf_asc_read_from_memory(grid, sizeof grid - 1, "g.asc", &g, &err) == 0);
+    ENSURE(g.ncols == 2 && g.nrows == 2 && g.z[0] == 3 && g.z[3] == 2);
+    rf_asc_free(&g);
+    ENSURE(rf_asc_read_from_memory(grid, 20, "g.asc", &g, &err) != 0);
+    ENSURE(strcmp(err.file, "g.asc") == 0 && g.z == NULL);
+
+    static const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    rf_tri_list l = {0};
+    ENSURE(rf_mesh_read_from_memory(obj, sizeof obj - 1, "m.obj", 1, 'z', &l, &err) == 0);
+    ENSURE(l.n == 1 && l.v[1].x == 1);
+    static const char stl[] = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                              "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
+    ENSURE(rf_mesh_read_from_memory(stl, sizeof stl - 1, "m.stl", 0, 'z', &l, &err) == 0);
+    ENSURE(l.n == 2);
+    rf_tri_list_free(&l);
+
+    static const char rows[] = "# x y z\n1 2 3\n4 5 6\n";
+    rf_points p;
+    ENSURE(rf_points_read_from_memory(rows, sizeof rows - 1, "p.txt", 3, &p, &err) == 0);
+    ENSURE(p.n == 2 && p.v[5] == 6);
+    rf_points_free(&p);
+}
+
+static void ensure_asc_error(const char *name, const char *text, int line, int column,
+                             const char *needle)
+{
+    ensure_build_error(rf_test_write(name, text), RF_TERRAIN_DEM, line, column, needle);
+}
+
+#define GRID_HEAD(ncols, nrows, cell) \
+    "ncols " ncols "\nnrows " nrows "\nxllcenter 0\nyllcenter 0\ncellsize " cell "\n"
+
+/* `ncols 1000000000` said "must be at least 2": the message gives the real bounds. */
+TEST(terrain_asc_ncols_beyond_the_limit_says_the_limit)
+{
+    ensure_asc_error("wide.asc", GRID_HEAD("1000000000", "2", "1") "1 2\n3 4\n", 1, 1,
+                     "from 2 to 50000000, got 1e+09");
+    ensure_asc_error("square.asc", GRID_HEAD("20000", "20000", "1") "1 2\n3 4\n", 2, 1,
+                     "ncols x nrows is 400000000 nodes; at most 100000000");
+    /* a grid the file cannot hold is refused before its nodes are allocated */
+    ensure_asc_error("claims.asc", GRID_HEAD("10000", "10000", "1") "1 2\n3 4\n", 6, 1,
+                     "needs 100000000 values");
+}
+
+/* `cellsize 1e-300` said "no cell without nodata". */
+TEST(terrain_asc_tiny_cellsize_refused_with_its_bounds)
+{
+    ensure_asc_error("tiny.asc", GRID_HEAD("2", "2", "1e-300") "1 2\n3 4\n", 5, 1,
+                     "cellsize must be from 0.001 to 100000 m, got 1e-300");
+}
+
+/* A node of 1e300 made a release on it "in a nodata hole". */
+TEST(terrain_asc_absurd_elevation_refused_at_its_node)
+{
+    ensure_asc_error("high.asc", GRID_HEAD("2", "2", "1") "1 2\n3 1e300\n", 7, 3,
+                     "an elevation must be from -100000 to 100000 m");
+    /* the NODATA_value may be anything */
+    const char *ok = rf_test_write("nodata.asc", GRID_HEAD("2", "2", "1")
+                                   "NODATA_value -3.4e38\n1 2\n3 -3.4e38\n");
+    rf_asc_grid g;
+    rf_error err = {0};
+    ENSURE_MSG(rf_asc_read(ok, &g, &err) == 0, "%s", err.message);
+    rf_asc_free(&g);
+}
+
+/* A truncated binary STL was parsed as ascii ("unexpected ... at 1:1"). */
+TEST(terrain_truncated_binary_stl_says_truncated)
+{
+    unsigned char b[84 + 50 + 20] = {0};
+    memcpy(b, "binary", 6);
+    b[80] = 2; /* two triangles: 184 bytes */
+    rf_tri_list l = {0};
+    rf_error err = {0};
+    ENSURE(rf_mesh_read_from_memory((const char *)b, sizeof b, "cut.stl", 0, 'z', &l, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "binary STL of 2 triangles needs 184 bytes, the file has "
+                                   "154 (truncated)"),
+               "%s", err.message);
+    ENSURE(rf_mesh_read_from_memory((const char *)b, 50, "cut.stl", 0, 'z', &l, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "truncated"), "%s", err.message);
+    ENSURE(l.n == 0);
+}
+
+/* Mesh vertices far beyond any terrain are refused at their line. */
+TEST(terrain_mesh_vertex_out_of_bounds)
+{
+    ensure_build_error(rf_test_write("far.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n"),
+                       RF_TERRAIN_MESH, 2, 1, "out of bounds");
+    ensure_build_error(rf_test_write("deep.stl", "solid x\nfacet normal 0 0 1\nouter loop\n"
+                                                 "vertex 0 0 0\n vertex 1 0 -1e6\n"),
+                       RF_TERRAIN_MESH, 5, 2, "out of bounds");
+}

@@ -7,6 +7,7 @@
 
 #include "base/util.h"
 #include "check/rules_private.h"
+#include "input/bounds.h"
 #include "input/measure_kinds.h"
 #include "input/yamldoc.h"
 
@@ -364,16 +365,13 @@ static int finish_load(loader *L, const char *path)
 int rf_rules_load(const char *path, rf_rules *r, rf_error *err)
 {
     memset(r, 0, sizeof *r);
-    loader L = {.r = r, .err = err};
-    if (rf_ydoc_load_file(&L.d, path, err) || finish_load(&L, path))
-        return -1;
-    /* the text as read, stored with the checks (check_rules) */
+    char *text;
     size_t len;
-    if (rf_read_file(path, &r->text, &len, err)) {
-        rf_rules_free(r);
+    if (rf_read_file(path, RF_TEXT_FILE_MAX, &text, &len, err))
         return -1;
-    }
-    return 0;
+    int rc = rf_rules_load_text(path, text, len, r, err);
+    free(text);
+    return rc;
 }
 
 int rf_rules_load_text(const char *file, const char *text, size_t len, rf_rules *r,

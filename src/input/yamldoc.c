@@ -1,6 +1,7 @@
 /* yamldoc.c - strict, typed access to a YAML document with file:line:column errors. */
 #include "input/yamldoc.h"
 #include "base/util.h"
+#include "input/bounds.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -237,7 +238,7 @@ int rf_ydoc_load_file(rf_ydoc *d, const char *path, rf_error *err)
     memset(d, 0, sizeof *d);
     char *text;
     size_t len;
-    if (rf_read_file(path, &text, &len, err))
+    if (rf_read_file(path, RF_TEXT_FILE_MAX, &text, &len, err))
         return -1;
     return load_owned(d, path, text, len, err);
 }
