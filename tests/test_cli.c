@@ -324,3 +324,77 @@ TEST(cli_check_refuses_dev_zero_rules_at_once)
     ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
     ENSURE_MSG(strstr(out, "at most 16777216"), "%s", out);
 }
+
+/* ---- text from files reaches the terminal escaped ---------------------------------- */
+
+#include <limits.h>
+
+#include "base/term.h"
+
+TEST(term_escape_controls_bidi_and_bad_utf8)
+{
+    char buf[256];
+    ENSURE(!strcmp(rf_term_escape("B1 Ü 東 ok", buf, sizeof buf), "B1 Ü 東 ok"));
+    ENSURE(!strcmp(rf_term_escape("a\nb\tc\rd\x1b[8m\x7f", buf, sizeof buf),
+                   "a\\nb\\tc\\rd\\x1B[8m\\x7F"));
+    /* C1 controls (U+009B is CSI) and the bidirectional controls */
+    ENSURE(!strcmp(rf_term_escape("\xc2\x9b" "2J", buf, sizeof buf), "\\u009B2J"));
+    ENSURE(!strcmp(rf_term_escape("x\xe2\x80\xae" "y\xe2\x81\xa6z\xe2\x80\x8f\xd8\x9c", buf,
+                                  sizeof buf),
+                   "x\\u202Ey\\u2066z\\u200F\\u061C"));
+    /* not UTF-8: a stray continuation, an overlong '/', a surrogate, a cut sequence */
+    ENSURE(!strcmp(rf_term_escape("\x80\xc0\xaf\xed\xa0\x80\xe6\x9d", buf, sizeof buf),
+                   "\\x80\\xC0\\xAF\\xED\\xA0\\x80\\xE6\\x9D"));
+    /* too long: cut, marked, never inside an escape */
+    ENSURE(!strcmp(rf_term_escape("abcdefgh", buf, 8), "abcd..."));
+    ENSURE(!strcmp(rf_term_escape("\n\n\n\n", buf, 8), "\\n\\n..."));
+    ENSURE(!strcmp(rf_term_escape("abc", buf, 4), "abc"));
+}
+
+/* A measure named with a newline and ESC [ 8 m printed a forged line on the terminal
+ * and hid what followed; its name is now printed escaped by run, check and the errors. */
+TEST(cli_measure_name_with_newline_and_escape_prints_escaped)
+{
+    char here[1024], yaml[8192], args[4096], out[65536];
+    ENSURE(getcwd(here, sizeof here));
+    snprintf(yaml, sizeof yaml,
+             "name: \"forged\\e[8m\"\nseed: 1\nterrain:\n  dem: %s/projects/noto/terrain.asc\n"
+             "rocks:\n  - {name: r, mass: 1000}\n"
+             "releases:\n  - {name: C, point: [110, 202], rock: r, count: 1}\n"
+             "measures:\n"
+             "  - {name: \"B1\\n\\e[8mverdict: FORGED PASS\", kind: barrier,\n"
+             "     line: [[130, 185], [210, 185]], height: 5, mel: 8000}\n"
+             "rules: %s/rules/table3.yaml\n",
+             here, here);
+    const char *path = rf_test_write("forged.yaml", yaml);
+    const char *db = rf_test_path("forged.db");
+    char dbcopy[1024];
+    snprintf(dbcopy, sizeof dbcopy, "%s", db);
+    snprintf(args, sizeof args, "run %s -o %s", path, dbcopy);
+    int rc = rf_test_rockfall(args, out, sizeof out);
+    ENSURE_MSG(rc == 0 || rc == 1, "%s", out);
+    const char *cmds[2] = {"run", "check"};
+    for (int k = 0; k < 2; k++) {
+        if (k == 1) {
+            snprintf(args, sizeof args, "check %s", dbcopy);
+            rc = rf_test_rockfall(args, out, sizeof out);
+            ENSURE_MSG(rc == 0 || rc == 1, "%s", out);
+        }
+        ENSURE_MSG(!strchr(out, '\x1b'), "%s prints a raw ESC: %s", cmds[k], out);
+        ENSURE_MSG(!strstr(out, "\nverdict: FORGED"), "%s prints a forged line: %s", cmds[k], out);
+        ENSURE_MSG(strstr(out, "B1\\n\\x1B[8mverdict: FORGED PASS"), "%s: %s", cmds[k], out);
+        ENSURE_MSG(strstr(out, "forged\\x1B[8m"), "%s: %s", cmds[k], out);
+    }
+    /* an error quoting the name */
+    char *dup = strstr(yaml, "rules:");
+    ENSURE(dup);
+    snprintf(dup, sizeof yaml - (size_t)(dup - yaml),
+             "  - {name: \"B1\\n\\e[8mverdict: FORGED PASS\", kind: control,\n"
+             "     line: [[130, 185], [210, 185]]}\n");
+    path = rf_test_write("forged2.yaml", yaml);
+    snprintf(args, sizeof args, "run %s -o %s", path, dbcopy);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "duplicate measure name 'B1\\n\\x1B[8mverdict: FORGED PASS'"), "%s",
+               out);
+    ENSURE_MSG(!strchr(out, '\x1b') && !strstr(out, "\nverdict: FORGED"), "%s", out);
+}

@@ -13,6 +13,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/version.h"
+#include "base/term.h"
 #include "results/run_view.h"
 #include "report/report.h"
 #include "check/rules.h"
@@ -217,8 +218,10 @@ static int cmd_run(int argc, char **argv)
     if (rc) {
         rf_error_print(&err, stderr);
     } else if (!quiet) {
+        char name[256], db[1024];
         printf("run %lld of '%s' into %s: %ld trajectories in %.2f s (%.0f per second)\n",
-               (long long)sum.run_id, p.name, out, sum.n_trajectories, sum.seconds,
+               (long long)sum.run_id, rf_term_escape(p.name, name, sizeof name),
+               rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds,
                sum.seconds > 0 ? (double)sum.n_trajectories / sum.seconds : 0.0);
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
