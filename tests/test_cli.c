@@ -398,3 +398,24 @@ TEST(cli_measure_name_with_newline_and_escape_prints_escaped)
                out);
     ENSURE_MSG(!strchr(out, '\x1b') && !strstr(out, "\nverdict: FORGED"), "%s", out);
 }
+
+/* run without a rule file prints its measures' table: the names escaped there too. */
+TEST(cli_run_without_rules_prints_measure_names_escaped)
+{
+    char here[1024], yaml[4096], args[4096], out[65536];
+    ENSURE(getcwd(here, sizeof here));
+    snprintf(yaml, sizeof yaml,
+             "name: plain\nterrain:\n  dem: %s/projects/noto/terrain.asc\n"
+             "rocks:\n  - {name: r, mass: 1000}\n"
+             "releases:\n  - {name: C, point: [110, 202], rock: r, count: 1}\n"
+             "measures:\n  - {name: \"road\\n\\e[8mFORGED\", kind: control,\n"
+             "     line: [[0, 22], [300, 22]]}\n",
+             here);
+    const char *path = rf_test_write("plain.yaml", yaml);
+    char db[1024];
+    snprintf(db, sizeof db, "%s", rf_test_path("plain.db"));
+    snprintf(args, sizeof args, "run %s -o %s", path, db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(strstr(out, "road\\n\\x1B[8mFORGED"), "%s", out);
+    ENSURE_MSG(!strchr(out, '\x1b') && !strstr(out, "\nFORGED"), "%s", out);
+}
