@@ -31,6 +31,8 @@
 
 /* ---- rocks and releases --------------------------------------------------------- */
 #define RF_ROCK_MASS_MAX 1e9        /* kg */
+#define RF_ROCK_RADIUS_MIN 1e-3     /* the radius mass and density give (m) */
+#define RF_ROCK_RADIUS_MAX 100.0    /* the radius mass and density give (m) */
 #define RF_ROCK_DENSITY_MIN 100.0   /* kg/m^3 */
 #define RF_ROCK_DENSITY_MAX 20000.0 /* kg/m^3 */
 #define RF_RELEASE_SPEED_MAX 200.0  /* |velocity| of a release (m/s) */
