@@ -983,3 +983,100 @@ TEST(terrain_mesh_vertex_out_of_bounds)
                                                  "vertex 0 0 0\n vertex 1 0 -1e6\n"),
                        RF_TERRAIN_MESH, 5, 2, "out of bounds");
 }
+
+/* ---- polygons through an index of their edges --------------------------------------- */
+
+#include "base/polygon.h"
+
+/* A wavy ring of n vertices around (cx, cy): radius 40 +- 15, folding in and out. */
+static double *wavy_polygon(size_t n, double cx, double cy)
+{
+    double *xy = malloc(2 * n * sizeof *xy);
+    ENSURE(xy);
+    for (size_t k = 0; k < n; k++) {
+        double a = 2 * PI * (double)k / (double)n, r = 40 + 15 * sin(37 * a) * cos(5 * a);
+        xy[2 * k] = cx + r * cos(a);
+        xy[2 * k + 1] = cy + r * sin(a);
+    }
+    return xy;
+}
+
+/* The index answers as the plain test does, to the bit, on vertices, on edges' midpoints,
+ * on a lattice and beyond the polygon, with few edges per point. */
+TEST(polygon_index_answers_as_the_plain_test_with_few_edges)
+{
+    const size_t n = 30000;
+    double *xy = wavy_polygon(n, 50, 50);
+    rf_polygon_index ix;
+    ENSURE(rf_polygon_index_build(&ix, xy, n) == 0);
+    size_t queries = 0;
+    for (size_t k = 0; k < n; k += 7) {
+        size_t j = (k + 1) % n;
+        double pts[3][2] = {{xy[2 * k], xy[2 * k + 1]},
+                            {0.5 * (xy[2 * k] + xy[2 * j]), 0.5 * (xy[2 * k + 1] + xy[2 * j + 1])},
+                            {xy[2 * k] + 1e-9, xy[2 * k + 1]}};
+        for (int q = 0; q < 3; q++, queries++)
+            ENSURE_MSG(rf_polygon_index_contains(&ix, pts[q][0], pts[q][1]) ==
+                           rf_point_in_polygon(xy, n, pts[q][0], pts[q][1]),
+                       "vertex %zu point %d", k, q);
+    }
+    for (double y = -5; y <= 105; y += 1.7)
+        for (double x = -5; x <= 105; x += 2.3, queries++)
+            ENSURE_MSG(rf_polygon_index_contains(&ix, x, y) == rf_point_in_polygon(xy, n, x, y),
+                       "(%g, %g)", x, y);
+    ENSURE_MSG(ix.tests <= 64 * queries, "%zu edges tested for %zu points", ix.tests, queries);
+    rf_polygon_index_free(&ix);
+    /* long edges only: a zigzag whose every edge spans the whole height */
+    double zig[2 * 1000];
+    for (size_t k = 0; k < 1000; k++) {
+        zig[2 * k] = (double)k;
+        zig[2 * k + 1] = k % 2 ? 100.0 : 0.0;
+    }
+    ENSURE(rf_polygon_index_build(&ix, zig, 1000) == 0);
+    ENSURE(ix.start[ix.nstrips] <= 8 * 1000); /* the entries stay linear */
+    for (double y = 0; y <= 100; y += 3.3)
+        ENSURE(rf_polygon_index_contains(&ix, 500.5, y) == rf_point_in_polygon(zig, 1000, 500.5, y));
+    rf_polygon_index_free(&ix);
+    free(xy);
+}
+
+/* One 30 000-vertex zone polygon over a grid took 102 s: every triangle was tested
+ * against every edge.  The zones are those the plain test gives. */
+TEST(terrain_30000_vertex_zone_polygon_zones_as_the_plain_test)
+{
+    const size_t n = 30000, side = 201;
+    size_t cap = 128 + side * side * 8, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap,
+                             "ncols %zu\nnrows %zu\nxllcenter 0\nyllcenter 0\ncellsize 0.5\n",
+                             side, side);
+    for (size_t j = 0; j < side; j++)
+        for (size_t i = 0; i < side; i++)
+            used += (size_t)snprintf(text + used, cap - used, "%zu%c", (i + j) % 7,
+                                     i + 1 == side ? '\n' : ' ');
+    const char *path = rf_test_write("zones.asc", text);
+    free(text);
+    double *xy = wavy_polygon(n, 50, 50);
+    char *files[1] = {(char *)path};
+    rf_zone_spec zones[1] = {
+        {.name = (char *)"wavy", .poly_xy = xy, .npoly = n, .surface = SURF_OTHER}};
+    rf_terrain_spec spec = {.source = RF_TERRAIN_DEM, .files = files, .nfiles = 1, .up = 'z',
+                            .surface = SURF_DEFAULT, .zones = zones, .nzones = 1};
+    rf_terrain t;
+    build_ok(&spec, &t);
+    ENSURE(t.ntri == 2 * (side - 1) * (side - 1));
+    size_t inside = 0;
+    for (size_t k = 0; k < t.ntri; k++) {
+        const rf_triangle *tri = &t.tri[k];
+        inside += tri->zone == 1;
+        if (k % 53)
+            continue;
+        double cx = (tri->a.x + tri->b.x + tri->c.x) / 3.0;
+        double cy = (tri->a.y + tri->b.y + tri->c.y) / 3.0;
+        ENSURE(tri->zone == (rf_point_in_polygon(xy, n, cx, cy) ? 1 : 0));
+    }
+    ENSURE(inside > t.ntri / 4 && inside < t.ntri);
+    rf_terrain_free(&t);
+    free(xy);
+}
