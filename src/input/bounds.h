@@ -13,7 +13,9 @@
 /* ---- files ---------------------------------------------------------------------- */
 #define RF_TEXT_FILE_MAX ((size_t)16 << 20) /* bytes of a project or rule file */
 #define RF_TERRAIN_FILE_MAX ((uint64_t)4 << 30) /* bytes of a terrain or points file */
-#define RF_YAML_EXPANSION_MAX 16.0  /* nodes seen through aliases per byte of the YAML text */
+#define RF_YAML_EXPANSION_MAX 10.0  /* a YAML document's nodes with its aliases expanded, per
+                                     * node it writes out */
+#define RF_YAML_EXPANSION_FLOOR 1e5 /* ... and in any case (small files may alias freely) */
 #define RF_GRID_NODES_MAX 1e8       /* nodes of an ASCII grid, ncols x nrows (800 MB) */
 #define RF_MESH_TRIANGLES_MAX 5e7   /* triangles of all mesh files together */
 

@@ -166,6 +166,88 @@ static int check_depth(const rf_ydoc *d, rf_error *err)
     return rc ? -1 : 0;
 }
 
+/* The children of node n (1-based ids): the items of a sequence, the keys and values of
+ * a mapping, in order; *count of them. */
+static yaml_node_item_t child_of(const yaml_node_t *n, size_t k)
+{
+    if (n->type == YAML_SEQUENCE_NODE)
+        return n->data.sequence.items.start[k];
+    const yaml_node_pair_t *pair = &n->data.mapping.pairs.start[k / 2];
+    return k % 2 ? pair->value : pair->key;
+}
+
+static size_t child_count(const yaml_node_t *n)
+{
+    if (n->type == YAML_SEQUENCE_NODE)
+        return (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
+    if (n->type == YAML_MAPPING_NODE)
+        return 2 * (size_t)(n->data.mapping.pairs.top - n->data.mapping.pairs.start);
+    return 0;
+}
+
+/* The document as the readers see it, every alias replaced by the node it names, may
+ * hold at most RF_YAML_EXPANSION_MAX times the nodes the file writes out (and
+ * RF_YAML_EXPANSION_FLOOR in any case): one 30 000-point line aliased by 1 000 measures
+ * was read as 30 million points.  An alias inside the node it names (&a [*a]) expands
+ * without end and is refused too.  Counted depth first without recursion, each node's
+ * expanded size once. */
+static int check_expansion(rf_ydoc *d, rf_error *err)
+{
+    yaml_node_t *nodes = d->doc.nodes.start;
+    size_t n = (size_t)(d->doc.nodes.top - nodes);
+    if (n == 0)
+        return 0;
+    double budget = fmax(RF_YAML_EXPANSION_MAX * (double)n, RF_YAML_EXPANSION_FLOOR);
+    double *size = calloc(n, sizeof *size);
+    unsigned char *state = calloc(n, 1); /* 0 not seen, 1 open, 2 counted */
+    size_t *stack = malloc(n * sizeof *stack), *next = malloc(n * sizeof *next);
+    int rc = 0;
+    if (!size || !state || !stack || !next) {
+        rc = rf_error_set(err, d->file, 0, 0, "out of memory while reading YAML");
+        goto done;
+    }
+    size_t top = 0;
+    stack[top] = 0; /* the root is node 1 */
+    next[top++] = 0;
+    state[0] = 1;
+    size[0] = 1;
+    while (top && rc == 0) {
+        size_t i = stack[top - 1];
+        if (next[top - 1] < child_count(&nodes[i])) {
+            size_t c = (size_t)child_of(&nodes[i], next[top - 1]++) - 1;
+            if (state[c] == 2) {
+                size[i] += size[c];
+            } else if (state[c] == 1) {
+                rf_mark m = rf_ydoc_mark(&nodes[c]);
+                rc = rf_error_set(err, d->file, m.line, m.column,
+                                  "a YAML alias refers to this node from inside it");
+            } else {
+                state[c] = 1;
+                size[c] = 1;
+                stack[top] = c;
+                next[top++] = 0;
+            }
+            continue;
+        }
+        state[i] = 2;
+        if (size[i] > budget) {
+            rf_mark m = rf_ydoc_mark(&nodes[i]);
+            rc = rf_error_set(err, d->file, m.line, m.column,
+                              "through its YAML aliases this expands to %.3g nodes; the file "
+                              "writes out %zu, and may expand to at most %g times as many",
+                              size[i], n, RF_YAML_EXPANSION_MAX);
+        }
+        if (--top)
+            size[stack[top - 1]] += size[i];
+    }
+done:
+    free(size);
+    free(state);
+    free(stack);
+    free(next);
+    return rc ? -1 : 0;
+}
+
 static int parse_text(rf_ydoc *d, rf_error *err)
 {
     if (check_depth(d, err))
@@ -180,6 +262,10 @@ static int parse_text(rf_ydoc *d, rf_error *err)
         return -1;
     }
     d->loaded = 1;
+    if (check_expansion(d, err)) {
+        yaml_parser_delete(&parser);
+        return -1;
+    }
     quote_tagged_strings(d);
     if (yaml_document_get_root_node(&d->doc)) {
         yaml_document_t next;
