@@ -419,3 +419,45 @@ TEST(cli_run_without_rules_prints_measure_names_escaped)
     ENSURE_MSG(strstr(out, "road\\n\\x1B[8mFORGED"), "%s", out);
     ENSURE_MSG(!strchr(out, '\x1b') && !strstr(out, "\nFORGED"), "%s", out);
 }
+
+/* ---- rule files load in linear work ------------------------------------------------ */
+
+#include "base/names.h"
+#include "check/rules.h"
+
+/* Each check's name was compared with every earlier one: a rule file of many checks
+ * loaded in time growing with their square.  The names are found in a hash. */
+TEST(rules_many_checks_load_in_linear_work)
+{
+    char *head = rf_test_read_text("rules/table3.yaml");
+    ENSURE(head);
+    char *cut = strstr(head, "\nchecks:");
+    ENSURE(cut);
+    cut[1] = '\0';
+    const size_t n = 50000;
+    size_t cap = strlen(head) + 64 + n * 128, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap, "%schecks:\n", head);
+    for (size_t i = 0; i < n; i++)
+        used += (size_t)snprintf(text + used, cap - used,
+                                 "  - {rule: c%zu, value: share_within, state: serviceability, "
+                                 "comparison: '>=', threshold: 0.9}\n",
+                                 i);
+    rf_rules r;
+    rf_error err = {{0}};
+    unsigned long long before = rf_names_probes();
+    ENSURE_MSG(rf_rules_load_text("many.yaml", text, used, &r, &err) == 0, "%s", err.message);
+    unsigned long long probes = rf_names_probes() - before;
+    ENSURE(r.nchecks == n);
+    ENSURE_MSG(probes <= 6 * n, "%llu slots looked at for %zu names", probes, n);
+    rf_rules_free(&r);
+    /* a duplicate is still found */
+    used += (size_t)snprintf(text + used, cap - used,
+                             "  - {rule: c7, value: share_within, state: serviceability, "
+                             "comparison: '>=', threshold: 0.9}\n");
+    ENSURE(rf_rules_load_text("many.yaml", text, used, &r, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "two checks are named 'c7'"), "%s", err.message);
+    free(text);
+    free(head);
+}

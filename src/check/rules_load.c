@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/names.h"
 #include "base/util.h"
 #include "check/rules_private.h"
 #include "input/bounds.h"
@@ -24,6 +25,7 @@ typedef struct loader {
     rf_ydoc d;
     rf_rules *r;
     rf_error *err;
+    rf_names check_names; /* the names of the checks read so far, over both lists */
 } loader;
 
 static int out_of_memory(loader *L)
@@ -235,15 +237,6 @@ static int read_capacities(loader *L, rf_ynode *root)
     return 0;
 }
 
-/* 1 when one of the checks read so far (a NULL name ends them) is named `name`. */
-static int check_named(const rf_rule_check *c, size_t n, const char *name)
-{
-    for (size_t j = 0; j < n && c[j].name; j++)
-        if (!strcmp(c[j].name, name))
-            return 1;
-    return 0;
-}
-
 /* Check i of the measures' checks, or with `layout` set of the layout's. */
 static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
 {
@@ -259,11 +252,12 @@ static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
         rf_ydoc_require(&L->d, n, "rule", what, &name, L->err) ||
         rf_ydoc_string(&L->d, name, "rule", &text, L->err))
         return -1;
-    /* rule names are unique over both lists: they name the rows of `checks` */
-    if (check_named(L->r->checks, L->r->nchecks, text) ||
-        check_named(L->r->layout_checks, L->r->nlayout, text))
+    /* rule names are unique over both lists: they name the rows of `checks`; an index
+     * of them keeps a file of many checks linear */
+    if (rf_names_find(&L->check_names, text) != RF_NAMES_ABSENT)
         return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
-    if (!(c->name = strdup(text)))
+    int oom;
+    if (!(c->name = strdup(text)) || (rf_names_add(&L->check_names, c->name, i, &oom), oom))
         return out_of_memory(L);
     if (rf_ydoc_require(&L->d, n, "value", what, &value, L->err) ||
         rf_ydoc_enum(&L->d, value, "value", value_names, &v, L->err) ||
@@ -357,6 +351,7 @@ static int finish_load(loader *L, const char *path)
     if (rc == 0 && !(L->r->path = strdup(path)))
         rc = out_of_memory(L);
     rf_ydoc_free(&L->d);
+    rf_names_free(&L->check_names);
     if (rc)
         rf_rules_free(L->r);
     return rc;
