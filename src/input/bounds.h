@@ -41,6 +41,10 @@
 #define RF_RELEASE_HEIGHT_MAX 1e4   /* a release's height above the ground (m) */
 #define RF_RELEASE_JITTER_MAX 1e4   /* a release's jitter radius (m) */
 
+/* ---- measures ------------------------------------------------------------------ */
+#define RF_MEASURE_HEIGHT_MAX 1000.0 /* a barrier's or embankment's height (m) */
+#define RF_CAPACITY_MAX 1e9         /* an energy capacity, MEL or SEL (kJ) */
+
 /* ---- surfaces and the simulation ------------------------------------------------ */
 #define RF_FRICTION_MAX 100.0       /* friction and rolling coefficients, their mean and sd */
 #define RF_MAX_TIME_MAX 86400.0     /* simulation max_time (s) */
