@@ -320,3 +320,27 @@ TEST(yamldoc_nested_aliases_refused)
     else
         ENSURE_MSG(strstr(err.message, "alias") && err.line == 1, "%s", err.message);
 }
+
+/* An unclosed '[' was reported at the end of the file, lines below it; libyaml's context
+ * mark is where it opened. */
+TEST(yamldoc_unclosed_bracket_reported_where_it_opens)
+{
+    rf_ydoc d;
+    rf_error err = {{0}};
+    const char *text = "name: x\nline: [[0, 1], [2, 3]\nb: 3\nc: 4\n\n\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE_MSG(err.line == 2 && err.column == 7, "%d:%d %s", err.line, err.column, err.message);
+    ENSURE_MSG(strstr(err.message, "in the flow sequence that starts here") &&
+                   strstr(err.message, "(at line 3, column 1)"),
+               "%s", err.message);
+    text = "a: {x: 1\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && err.column == 4 && strstr(err.message, "flow mapping"));
+    text = "a: \"open\nb: 2\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && err.column == 4 && strstr(err.message, "quoted scalar"));
+    /* other errors stay where libyaml finds them */
+    text = "a: b: c\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && err.column == 5);
+}

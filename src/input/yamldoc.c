@@ -29,6 +29,17 @@ static rf_mark mark_of_offset(const char *text, size_t len, size_t offset)
     return m;
 }
 
+/* What libyaml's context names when it is a collection or scalar that must be closed
+ * ("while parsing a flow sequence" -> "flow sequence"), else NULL. */
+static const char *opened_here(const char *context)
+{
+    static const char *const openers[] = {"while parsing a flow ", "while scanning a quoted "};
+    for (size_t i = 0; i < sizeof openers / sizeof *openers; i++)
+        if (!strncmp(context, openers[i], strlen(openers[i])))
+            return strstr(context, " a ") + 3;
+    return NULL;
+}
+
 static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error *err)
 {
     const char *problem = parser->problem ? parser->problem : "unknown problem";
@@ -45,6 +56,16 @@ static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error 
                             problem);
     }
     default:
+        if (parser->context && opened_here(parser->context))
+            /* an unclosed '[', '{' or quote is found at the end of the file or of the
+             * next lines: the place to look is where it opened */
+            return rf_error_set(err, d->file, (int)parser->context_mark.line + 1,
+                                (int)parser->context_mark.column + 1,
+                                "YAML syntax error in the %s that starts here: %s (at line %d, "
+                                "column %d)",
+                                opened_here(parser->context), problem,
+                                (int)parser->problem_mark.line + 1,
+                                (int)parser->problem_mark.column + 1);
         if (parser->context)
             return rf_error_set(err, d->file, (int)parser->problem_mark.line + 1,
                                 (int)parser->problem_mark.column + 1,
