@@ -461,3 +461,24 @@ TEST(rules_many_checks_load_in_linear_work)
     free(text);
     free(head);
 }
+
+/* empirical took --height 0x10 (strtod reads hexadecimal, "inf" and "nan") and printed
+ * "inf m/s" for 1e308: numbers are decimal, results finite. */
+TEST(cli_empirical_decimal_numbers_and_finite_results_only)
+{
+    char out[8192];
+    const char *bad[] = {"0x10", "inf", "nan", "' 5'", "1e", "5e+", "1,5", "--"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char args[256];
+        snprintf(args, sizeof args, "empirical --height %s --slope 45 --mu 0.3", bad[i]);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s: %s", bad[i], out);
+    }
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --mu 0x0.3", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height 1e308 --slope 45 --mu 0.3", out, sizeof out) == 2);
+    ENSURE_MSG(!strstr(out, "inf") && strstr(out, "beyond what a double holds"), "%s", out);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --mu 0.3 --distance 1e308 "
+                            "--beta 89",
+                            out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height +1.75e2 --slope 45. --mu .35", out, sizeof out) == 0);
+    ENSURE_MSG(strstr(out, "47.2 m/s"), "%s", out);
+}

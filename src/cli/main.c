@@ -117,8 +117,36 @@ static int parse_long(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
+/* A plain decimal number: [+-]digits[.digits][e[+-]digits] (at least one digit before
+ * or after the point).  strtod alone takes "0x10", "inf", "nan" and leading blanks. */
+static int is_decimal(const char *s)
+{
+    const char *c = s + (*s == '+' || *s == '-');
+    size_t digits = strspn(c, "0123456789");
+    c += digits;
+    if (*c == '.') {
+        size_t frac = strspn(c + 1, "0123456789");
+        digits += frac;
+        c += 1 + frac;
+    }
+    if (digits == 0)
+        return 0;
+    if (*c == 'e' || *c == 'E') {
+        c++;
+        c += *c == '+' || *c == '-';
+        size_t exp = strspn(c, "0123456789");
+        if (exp == 0)
+            return 0;
+        c += exp;
+    }
+    return *c == '\0';
+}
+
+/* A finite decimal number (is_decimal); 0 on success. */
 static int parse_double(const char *s, double *out)
 {
+    if (!is_decimal(s))
+        return -1;
     char *end;
     errno = 0;
     double v = strtod(s, &end);
@@ -423,6 +451,13 @@ static int cmd_empirical(int argc, char **argv)
         distance = height / tan(theta);
     double alpha = rf_empirical_alpha(mu, theta);
     double v = rf_empirical_velocity(height, theta, mu);
+    double width = rf_empirical_attainment_width(distance, beta * M_PI / 180.0);
+    if (!isfinite(distance) || !isfinite(v) || !isfinite(width)) {
+        fprintf(stderr, "rockfall empirical: the velocity or the attainment width of --height "
+                        "%g is beyond what a double holds; give a smaller height or distance\n",
+                height);
+        return EXIT_BAD_INPUT;
+    }
     printf("height H            %.1f m\n", height);
     printf("gradient theta      %.1f deg\n", slope);
     if (cls)
@@ -432,7 +467,7 @@ static int cmd_empirical(int argc, char **argv)
     printf("alpha (Eq. 2)       %.4f\n", alpha);
     printf("velocity (Eq. 1)    %.1f m/s\n", v);
     printf("attainment width    %.1f m (beta %.0f deg to both sides over %.1f m, Fig. 1b)\n",
-           rf_empirical_attainment_width(distance, beta * M_PI / 180.0), beta, distance);
+           width, beta, distance);
     if (alpha == 0.0)
         printf("note: mu >= tan(theta): a sliding rock does not keep moving on this slope\n");
     return EXIT_OK;
