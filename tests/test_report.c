@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
 #include <sys/stat.h>
 
 #include "report/report.h"
@@ -437,5 +438,38 @@ TEST(report_of_an_empty_run)
     ENSURE(strstr(html, "No rock reached this line"));
     free(svg_ok(dir, "plan.svg", html));
     free(html);
+    rf_store_close(s);
+}
+
+/* `report --out DIR` wrote through symbolic links already in DIR: a link named
+ * index.html or plan.svg sent the report over any file its user may write. */
+#include <unistd.h>
+
+TEST(report_refuses_to_write_through_symlinks_in_the_folder)
+{
+    test_project t;
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "links.db");
+    int64_t run = write_run(s, &t, 1, 1);
+    const char *victim = rf_test_write("victim.txt", "keep me\n");
+    char victim_path[700], dir[700], link[800];
+    snprintf(victim_path, sizeof victim_path, "%s", victim);
+    snprintf(dir, sizeof dir, "%s", rf_test_path("out"));
+    ENSURE(mkdir(dir, 0777) == 0);
+    const char *names[2] = {"index.html", "plan.svg"};
+    for (int k = 0; k < 2; k++) {
+        snprintf(link, sizeof link, "%s/%s", dir, names[k]);
+        unlink(link); /* written by the round before, which failed at index.html */
+        ENSURE_MSG(symlink(victim_path, link) == 0, "symlink %s: %s", link, strerror(errno));
+        rf_error err = {0};
+        ENSURE_MSG(rf_report_write(rf_store_db(s), run, dir, &err) != 0, "%s written through",
+                   names[k]);
+        ENSURE_MSG(strstr(err.message, "symbolic link") && strstr(err.file, names[k]), "%s: %s",
+                   err.file, err.message);
+        char *text = read_text(victim_path);
+        ENSURE_MSG(!strcmp(text, "keep me\n"), "the link's target was written");
+        free(text);
+        ENSURE(unlink(link) == 0);
+    }
+    report_ok(s, run, dir); /* without links it writes */
     rf_store_close(s);
 }

@@ -133,6 +133,31 @@ void rf_unmap_file(rf_mapped *m)
     memset(m, 0, sizeof *m);
 }
 
+FILE *rf_create_file(const char *path, rf_error *err)
+{
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        struct stat st;
+        if (errno == ELOOP || (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)))
+            rf_error_set(err, path, 0, 0,
+                         "cannot write: it is a symbolic link, and no file is written through "
+                         "one");
+        else
+            rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
+        return NULL;
+    }
+    /* O_NONBLOCK kept the open of a FIFO without a reader from waiting; writes block */
+    int flags = fcntl(fd, F_GETFL);
+    if (flags != -1)
+        fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    FILE *f = fdopen(fd, "w");
+    if (!f) {
+        close(fd);
+        rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
+    }
+    return f;
+}
+
 int rf_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;

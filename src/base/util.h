@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "rockfall/error.h"
 
@@ -31,6 +32,11 @@ typedef struct rf_mapped {
 /* Maps a regular file of at most max_bytes, refused as rf_read_file refuses. */
 int rf_map_file(const char *path, uint64_t max_bytes, rf_mapped *m, rf_error *err);
 void rf_unmap_file(rf_mapped *m);
+
+/* Creates or truncates the file at path for writing.  A symbolic link there is refused,
+ * not followed (O_NOFOLLOW): an output folder may hold links planted to send the writes
+ * elsewhere.  NULL with err set ("cannot write: ..."). */
+FILE *rf_create_file(const char *path, rf_error *err);
 
 /* qsort comparison of doubles, ascending. */
 int rf_cmp_double(const void *a, const void *b);
