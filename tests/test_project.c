@@ -465,3 +465,25 @@ TEST(names_index_finds_duplicates_in_few_probes)
     ENSURE_MSG(probes <= 8ull * N, "%llu probes for %d names", probes, N);
     rf_names_free(&h);
 }
+
+/* The loader from memory (for fuzzing and embedding) reads what the file loader reads;
+ * the buffer needs no NUL and is bounded as a file is. */
+TEST(project_load_from_memory_reads_as_the_file_does)
+{
+    static const char text[] = "name: mem\nterrain:\n  profile: {points: [[0, 100], [100, 0]], "
+                               "width: 50}\nrocks:\n  - {name: r, mass: 100}\n"
+                               "releases:\n  - {name: A, point: [5, 25], rock: r, count: 3}\n"
+                               "TRAILING GARBAGE NOT PART OF THE BUFFER";
+    size_t len = strstr(text, "TRAILING") - text;
+    rf_project p;
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_project_load_from_memory(text, len, "mem/p.yaml", &p, &err) == 0, "%s",
+               err.message);
+    ENSURE(!strcmp(p.name, "mem") && p.nreleases == 1 && p.releases[0].count == 3);
+    ENSURE(!strcmp(p.dir, "mem") && strlen(p.yaml_text) == len);
+    rf_project_free(&p);
+    ENSURE(rf_project_load_from_memory(text, 20, "mem/p.yaml", &p, &err) != 0);
+    ENSURE(!strcmp(err.file, "mem/p.yaml"));
+    ENSURE(rf_project_load_from_memory(text, ((size_t)16 << 20) + 1, "big.yaml", &p, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "at most 16777216"), "%s", err.message);
+}

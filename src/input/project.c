@@ -647,7 +647,9 @@ static int check_hazard_grid(loader *L)
                         c, cells, RF_HAZARD_CELLS_MAX);
 }
 
-int rf_project_load(const char *path, rf_project *p, rf_error *err)
+/* Loads the project from `text` (len bytes, from the file `path`, or NULL to read the
+ * file). */
+static int load(const char *path, const char *text, size_t len, rf_project *p, rf_error *err)
 {
     memset(p, 0, sizeof *p);
     p->seed = 1;
@@ -660,7 +662,14 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err)
     memset(&L, 0, sizeof L);
     L.p = p;
     L.err = err;
-    int rc = rf_ydoc_load_file(&L.d, path, err);
+    int rc;
+    if (!text)
+        rc = rf_ydoc_load_file(&L.d, path, err);
+    else if (len > RF_TEXT_FILE_MAX)
+        rc = rf_error_set(err, path, 0, 0, "'%s' is %zu bytes; at most %zu are read", path, len,
+                          RF_TEXT_FILE_MAX);
+    else
+        rc = rf_ydoc_load_text(&L.d, path, text, len, err);
     if (rc == 0)
         rc = set_paths(&L, path);
     if (rc == 0)
@@ -681,6 +690,17 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err)
     if (rc)
         rf_project_free(p);
     return rc;
+}
+
+int rf_project_load(const char *path, rf_project *p, rf_error *err)
+{
+    return load(path, NULL, 0, p, err);
+}
+
+int rf_project_load_from_memory(const char *data, size_t len, const char *path, rf_project *p,
+                                rf_error *err)
+{
+    return load(path, data, len, p, err);
 }
 
 static void free_spec(rf_terrain_spec *s)
