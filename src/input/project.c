@@ -148,10 +148,7 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *wha
         z->file = rf_load_resolve(L->p->dir, path);
         if (!z->file)
             return rf_load_oom(L);
-        int found = 0;
-        for (size_t k = 0; k < s->nfiles && !found; k++)
-            found = !strcmp(s->files[k], z->file);
-        if (!found)
+        if (rf_names_find(&L->file_names, z->file) == RF_NAMES_ABSENT)
             return rf_ydoc_error(&L->d, file, L->err,
                                  "zone 'file' must be one of the terrain's 'mesh' files, got "
                                  "'%s'",
@@ -231,6 +228,12 @@ static int read_terrain(loader *L, const rf_ynode *n)
             return -1;
     }
 
+    /* the terrain's files by name, for the zones that name one */
+    int oom = rf_names_init(&L->file_names, s->nfiles) != 0;
+    for (size_t i = 0; i < s->nfiles && !oom; i++)
+        rf_names_add(&L->file_names, s->files[i], i, &oom);
+    if (oom)
+        return rf_load_oom(L);
     return rf_load_list(L, n, &zone_list, 0, (void **)&s->zones, &s->nzones, read_zone, NULL);
 }
 
@@ -686,6 +689,7 @@ static int load(const char *path, const char *text, size_t len, rf_project *p, r
     free(L.point_nodes);
     free(L.line_nodes);
     rf_names_free(&L.rock_names);
+    rf_names_free(&L.file_names);
     rf_ydoc_free(&L.d);
     if (rc)
         rf_project_free(p);

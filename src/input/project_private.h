@@ -20,6 +20,7 @@ typedef struct loader {
     rf_ynode *cell_node;     /* hazard: cell, when given */
     int rolling_given;       /* the terrain surface sets rolling explicitly */
     rf_names rock_names;     /* the rocks' names: a rock's index by its name */
+    rf_names file_names;     /* the terrain files' resolved paths: a file's index */
 } loader;
 
 /* Room for "LIST item N", which names a list item in messages. */

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "input/terrain_io.h"
+#include "base/names.h"
 #include "base/polygon.h"
 #include "base/tolerances.h"
 #include "base/util.h"
@@ -610,6 +611,16 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     rf_tri_list l = {NULL, 0, 0};
     int32_t *zone_of = NULL;
     size_t zone_cap = 0;
+    /* the zones that name a file, by its path (the first of them for each) */
+    rf_names by_file;
+    int oom = rf_names_init(&by_file, spec->nzones) != 0;
+    for (size_t z = 0; z < spec->nzones && !oom; z++)
+        if (spec->zones[z].file)
+            rf_names_add(&by_file, spec->zones[z].file, z, &oom);
+    if (oom) {
+        rf_names_free(&by_file);
+        return rf_error_set(err, NULL, 0, 0, "out of memory building the terrain");
+    }
     for (size_t f = 0; f < spec->nfiles; f++) {
         const char *path = spec->files[f];
         size_t before = l.n;
@@ -619,15 +630,14 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
         rf_surface surface = spec->surface;
         size_t len;
         const char *name = base_name(path, &len);
-        for (size_t z = 0; z < spec->nzones; z++)
-            if (spec->zones[z].file && strcmp(spec->zones[z].file, path) == 0) {
-                surface = spec->zones[z].surface;
-                if (spec->zones[z].name) {
-                    name = spec->zones[z].name;
-                    len = strlen(name);
-                }
-                break;
+        size_t z = rf_names_find(&by_file, path);
+        if (z != RF_NAMES_ABSENT) {
+            surface = spec->zones[z].surface;
+            if (spec->zones[z].name) {
+                name = spec->zones[z].name;
+                len = strlen(name);
             }
+        }
         int32_t zone = (int32_t)t->nzones;
         if (add_zone(t, name, len, surface)) {
             rf_error_set(err, path, 0, 0, "out of memory");
@@ -650,6 +660,7 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     }
     rf_tri_list_free(&l);
     free(zone_of);
+    rf_names_free(&by_file);
     if (t->ntri == 0)
         return rf_error_set(err, spec->nfiles ? spec->files[0] : "", 0, 0,
                             "the terrain mesh has no triangle with an area");
@@ -657,6 +668,7 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
 fail:
     rf_tri_list_free(&l);
     free(zone_of);
+    rf_names_free(&by_file);
     return -1;
 }
 
