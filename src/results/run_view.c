@@ -175,10 +175,10 @@ void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out)
             rf_error_print(&err, stderr);
             break;
         }
-        char name[256]; /* a name from the project file: escaped for the terminal */
+        char name[256], kind[64]; /* text from a file: escaped for the terminal */
         fprintf(out, "%-16s %-10s",
                 rf_term_escape((const char *)sqlite3_column_text(st, 1), name, sizeof name),
-                (const char *)sqlite3_column_text(st, 2));
+                rf_term_escape((const char *)sqlite3_column_text(st, 2), kind, sizeof kind));
         rf_query_print_stats(out, &s);
     }
     sqlite3_finalize(st);
