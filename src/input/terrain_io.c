@@ -481,6 +481,9 @@ static int obj_parse(scanner *s, char up, rf_tri_list *out, vert_list *vl, rf_er
             if (scan_number(s, 0, &x, err) || scan_number(s, 0, &y, err) ||
                 scan_number(s, 0, &z, err))
                 return -1;
+            if ((double)vl->n >= RF_MESH_VERTICES_MAX)
+                return rf_error_set(err, s->path, vline, vcol, "more than %.0f vertices",
+                                    RF_MESH_VERTICES_MAX);
             if (rf_grow((void **)&vl->v, &vl->cap, vl->n + 1, sizeof *vl->v))
                 return rf_error_set(err, s->path, 0, 0, "out of memory");
             rf_vec3 v = to_world(x, y, z, up);
@@ -571,6 +574,10 @@ int rf_points_read_from_memory(const char *data, size_t len, const char *name, s
         if (*s.p == '#') {
             scan_to_next_line(&s);
             continue;
+        }
+        if ((double)out->n >= RF_POINTS_ROWS_MAX) {
+            rc = rf_error_set(err, name, s.line, 1, "more than %.0f rows", RF_POINTS_ROWS_MAX);
+            break;
         }
         if (rf_grow((void **)&out->v, &cap, (out->n + 1) * ncol, sizeof *out->v)) {
             rc = rf_error_set(err, name, s.line, 0, "out of memory");
