@@ -493,8 +493,8 @@ static int build_buckets(rf_terrain *t)
 
 /* A triangle whose xy centroid lies in a polygon zone takes the first such zone.  Each
  * polygon is tested through an index of its edges (base/polygon.h): a triangle costs the
- * few edges near its centroid's y, not all of them (a 30 000-vertex polygon over a grid
- * took 102 s).  0, or -1 when memory runs out. */
+ * few edges near its centroid's y, not all of them, and gets the zone the plain test
+ * gives.  0, or -1 when memory runs out. */
 static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
                                const int32_t *poly_zone)
 {

@@ -208,10 +208,9 @@ static size_t child_count(const yaml_node_t *n)
 
 /* The document as the readers see it, every alias replaced by the node it names, may
  * hold at most RF_YAML_EXPANSION_MAX times the nodes the file writes out (and
- * RF_YAML_EXPANSION_FLOOR in any case): one 30 000-point line aliased by 1 000 measures
- * was read as 30 million points.  An alias inside the node it names (&a [*a]) expands
- * without end and is refused too.  Counted depth first without recursion, each node's
- * expanded size once. */
+ * RF_YAML_EXPANSION_FLOOR in any case), so that reading it costs time linear in the
+ * file.  An alias inside the node it names (&a [*a]) expands without end and is refused
+ * too.  Counted depth first without recursion, each node's expanded size once. */
 static int check_expansion(rf_ydoc *d, rf_error *err)
 {
     yaml_node_t *nodes = d->doc.nodes.start;
