@@ -364,3 +364,205 @@ TEST(cli_rocks_thrown_off_the_terrain_are_inconclusive)
     ENSURE_MSG(strstr(out, "40 of 40 trajectories left the terrain before any control line"),
                "%s", out);
 }
+
+/* ---- files named on the command line --------------------------------------------- */
+
+/* A sparse file of `size` bytes (its blocks are never written). */
+static const char *sparse_file(const char *name, long size)
+{
+    const char *path = rf_test_write(name, "");
+    ENSURE(truncate(path, size) == 0);
+    return path;
+}
+
+/* `rockfall run /dev/zero` read the device until memory ran out (22 GB): a project
+ * named on the command line must be a regular file, of at most 16 MiB. */
+TEST(cli_run_refuses_dev_zero_and_a_huge_project_at_once)
+{
+    char args[2048], out[8192];
+    ENSURE_MSG(rf_test_rockfall("run /dev/zero -o /nonexistent/x.db", out, sizeof out) == 2,
+               "%s", out);
+    ENSURE_MSG(strstr(out, "/dev/zero") && strstr(out, "not a regular file"), "%s", out);
+    ENSURE_MSG(rf_test_rockfall("run /tmp -o /nonexistent/x.db", out, sizeof out) == 2, "%s",
+               out);
+    ENSURE_MSG(strstr(out, "Is a directory"), "%s", out);
+    const char *big = sparse_file("big.yaml", (16L << 20) + 1);
+    snprintf(args, sizeof args, "run %s -o /nonexistent/x.db", big);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "at most 16777216"), "%s", out);
+}
+
+/* `rockfall check DB --rules /dev/zero` likewise grew to 22.7 GB. */
+TEST(cli_check_refuses_dev_zero_rules_at_once)
+{
+    char dir[512], db[600], args[2048], out[16384];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    snprintf(db, sizeof db, "%s/r.db", dir);
+    snprintf(args, sizeof args, "run projects/noto/noto-3.3.yaml --count 1 --quiet -o %s", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) <= 1, "%s", out);
+    snprintf(args, sizeof args, "check %s --rules /dev/zero", db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "/dev/zero") && strstr(out, "not a regular file"), "%s", out);
+    const char *big = sparse_file("big-rules.yaml", (16L << 20) + 1);
+    snprintf(args, sizeof args, "check %s --rules %s", db, big);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "at most 16777216"), "%s", out);
+}
+
+/* ---- text from files reaches the terminal escaped ---------------------------------- */
+
+#include <limits.h>
+
+#include "base/term.h"
+
+TEST(term_escape_controls_bidi_and_bad_utf8)
+{
+    char buf[256];
+    ENSURE(!strcmp(rf_term_escape("B1 Ü 東 ok", buf, sizeof buf), "B1 Ü 東 ok"));
+    ENSURE(!strcmp(rf_term_escape("a\nb\tc\rd\x1b[8m\x7f", buf, sizeof buf),
+                   "a\\nb\\tc\\rd\\x1B[8m\\x7F"));
+    /* C1 controls (U+009B is CSI) and the bidirectional controls */
+    ENSURE(!strcmp(rf_term_escape("\xc2\x9b" "2J", buf, sizeof buf), "\\u009B2J"));
+    ENSURE(!strcmp(rf_term_escape("x\xe2\x80\xae" "y\xe2\x81\xa6z\xe2\x80\x8f\xd8\x9c", buf,
+                                  sizeof buf),
+                   "x\\u202Ey\\u2066z\\u200F\\u061C"));
+    /* not UTF-8: a stray continuation, an overlong '/', a surrogate, a cut sequence */
+    ENSURE(!strcmp(rf_term_escape("\x80\xc0\xaf\xed\xa0\x80\xe6\x9d", buf, sizeof buf),
+                   "\\x80\\xC0\\xAF\\xED\\xA0\\x80\\xE6\\x9D"));
+    /* too long: cut, marked, never inside an escape */
+    ENSURE(!strcmp(rf_term_escape("abcdefgh", buf, 8), "abcd..."));
+    ENSURE(!strcmp(rf_term_escape("\n\n\n\n", buf, 8), "\\n\\n..."));
+    ENSURE(!strcmp(rf_term_escape("abc", buf, 4), "abc"));
+}
+
+/* A measure named with a newline and ESC [ 8 m printed a forged line on the terminal
+ * and hid what followed; its name is now printed escaped by run, check and the errors. */
+TEST(cli_measure_name_with_newline_and_escape_prints_escaped)
+{
+    char here[1024], yaml[8192], args[4096], out[65536];
+    ENSURE(getcwd(here, sizeof here));
+    snprintf(yaml, sizeof yaml,
+             "name: \"forged\\e[8m\"\nseed: 1\nterrain:\n  dem: %s/projects/noto/terrain.asc\n"
+             "rocks:\n  - {name: r, mass: 1000}\n"
+             "releases:\n  - {name: C, point: [110, 202], rock: r, count: 1}\n"
+             "measures:\n"
+             "  - {name: \"B1\\n\\e[8mverdict: FORGED PASS\", kind: barrier,\n"
+             "     line: [[130, 185], [210, 185]], height: 5, mel: 8000}\n"
+             "rules: %s/rules/table3.yaml\n",
+             here, here);
+    const char *path = rf_test_write("forged.yaml", yaml);
+    const char *db = rf_test_path("forged.db");
+    char dbcopy[1024];
+    snprintf(dbcopy, sizeof dbcopy, "%s", db);
+    snprintf(args, sizeof args, "run %s -o %s", path, dbcopy);
+    int rc = rf_test_rockfall(args, out, sizeof out);
+    ENSURE_MSG(rc == 0 || rc == 1, "%s", out);
+    const char *cmds[2] = {"run", "check"};
+    for (int k = 0; k < 2; k++) {
+        if (k == 1) {
+            snprintf(args, sizeof args, "check %s", dbcopy);
+            rc = rf_test_rockfall(args, out, sizeof out);
+            ENSURE_MSG(rc == 0 || rc == 1, "%s", out);
+        }
+        ENSURE_MSG(!strchr(out, '\x1b'), "%s prints a raw ESC: %s", cmds[k], out);
+        ENSURE_MSG(!strstr(out, "\nverdict: FORGED"), "%s prints a forged line: %s", cmds[k], out);
+        ENSURE_MSG(strstr(out, "B1\\n\\x1B[8mverdict: FORGED PASS"), "%s: %s", cmds[k], out);
+        ENSURE_MSG(strstr(out, "forged\\x1B[8m"), "%s: %s", cmds[k], out);
+    }
+    /* an error quoting the name */
+    char *dup = strstr(yaml, "rules:");
+    ENSURE(dup);
+    snprintf(dup, sizeof yaml - (size_t)(dup - yaml),
+             "  - {name: \"B1\\n\\e[8mverdict: FORGED PASS\", kind: control,\n"
+             "     line: [[130, 185], [210, 185]]}\n");
+    path = rf_test_write("forged2.yaml", yaml);
+    snprintf(args, sizeof args, "run %s -o %s", path, dbcopy);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s", out);
+    ENSURE_MSG(strstr(out, "duplicate measure name 'B1\\n\\x1B[8mverdict: FORGED PASS'"), "%s",
+               out);
+    ENSURE_MSG(!strchr(out, '\x1b') && !strstr(out, "\nverdict: FORGED"), "%s", out);
+}
+
+/* run without a rule file prints its measures' table: the names escaped there too. */
+TEST(cli_run_without_rules_prints_measure_names_escaped)
+{
+    char here[1024], yaml[4096], args[4096], out[65536];
+    ENSURE(getcwd(here, sizeof here));
+    snprintf(yaml, sizeof yaml,
+             "name: plain\nterrain:\n  dem: %s/projects/noto/terrain.asc\n"
+             "rocks:\n  - {name: r, mass: 1000}\n"
+             "releases:\n  - {name: C, point: [110, 202], rock: r, count: 1}\n"
+             "measures:\n  - {name: \"road\\n\\e[8mFORGED\", kind: control,\n"
+             "     line: [[0, 22], [300, 22]]}\n",
+             here);
+    const char *path = rf_test_write("plain.yaml", yaml);
+    char db[1024];
+    snprintf(db, sizeof db, "%s", rf_test_path("plain.db"));
+    snprintf(args, sizeof args, "run %s -o %s", path, db);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(strstr(out, "road\\n\\x1B[8mFORGED"), "%s", out);
+    ENSURE_MSG(!strchr(out, '\x1b') && !strstr(out, "\nFORGED"), "%s", out);
+}
+
+/* ---- rule files load in linear work ------------------------------------------------ */
+
+#include "base/names.h"
+#include "check/rules.h"
+
+/* Each check's name was compared with every earlier one: a rule file of many checks
+ * loaded in time growing with their square.  The names are found in a hash. */
+TEST(rules_many_checks_load_in_linear_work)
+{
+    char *head = rf_test_read_text("rules/table3.yaml");
+    ENSURE(head);
+    char *cut = strstr(head, "\nchecks:");
+    ENSURE(cut);
+    cut[1] = '\0';
+    const size_t n = 50000;
+    size_t cap = strlen(head) + 64 + n * 128, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap, "%schecks:\n", head);
+    for (size_t i = 0; i < n; i++)
+        used += (size_t)snprintf(text + used, cap - used,
+                                 "  - {rule: c%zu, value: share_within, state: serviceability, "
+                                 "comparison: '>=', threshold: 0.9}\n",
+                                 i);
+    rf_rules r;
+    rf_error err = {{0}};
+    unsigned long long before = rf_names_probes();
+    ENSURE_MSG(rf_rules_load_text("many.yaml", text, used, &r, &err) == 0, "%s", err.message);
+    unsigned long long probes = rf_names_probes() - before;
+    ENSURE(r.nchecks == n);
+    ENSURE_MSG(probes <= 6 * n, "%llu slots looked at for %zu names", probes, n);
+    rf_rules_free(&r);
+    /* a duplicate is still found */
+    used += (size_t)snprintf(text + used, cap - used,
+                             "  - {rule: c7, value: share_within, state: serviceability, "
+                             "comparison: '>=', threshold: 0.9}\n");
+    ENSURE(rf_rules_load_text("many.yaml", text, used, &r, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "two checks are named 'c7'"), "%s", err.message);
+    free(text);
+    free(head);
+}
+
+/* empirical took --height 0x10 (strtod reads hexadecimal, "inf" and "nan") and printed
+ * "inf m/s" for 1e308: numbers are decimal, results finite. */
+TEST(cli_empirical_decimal_numbers_and_finite_results_only)
+{
+    char out[8192];
+    const char *bad[] = {"0x10", "inf", "nan", "' 5'", "1e", "5e+", "1,5", "--"};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char args[256];
+        snprintf(args, sizeof args, "empirical --height %s --slope 45 --mu 0.3", bad[i]);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s: %s", bad[i], out);
+    }
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --mu 0x0.3", out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height 1e308 --slope 45 --mu 0.3", out, sizeof out) == 2);
+    ENSURE_MSG(!strstr(out, "inf") && strstr(out, "beyond what a double holds"), "%s", out);
+    ENSURE(rf_test_rockfall("empirical --height 175 --slope 45 --mu 0.3 --distance 1e308 "
+                            "--beta 89",
+                            out, sizeof out) == 2);
+    ENSURE(rf_test_rockfall("empirical --height +1.75e2 --slope 45. --mu .35", out, sizeof out) == 0);
+    ENSURE_MSG(strstr(out, "47.2 m/s"), "%s", out);
+}

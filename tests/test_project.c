@@ -400,3 +400,90 @@ TEST(project_enum_names)
     ENSURE(!strcmp(rf_limit_state_name(RF_NEAR_COLLAPSE), "near_collapse"));
     ENSURE(!strcmp(rf_limit_state_name(RF_COLLAPSE), "collapse"));
 }
+
+/* ---- loads linear in the input ------------------------------------------------- */
+
+#include "base/names.h"
+
+/* A project of n rocks and n releases on a profile, each release naming its own rock. */
+static const char *many_items_project(size_t n)
+{
+    size_t cap = 128 + n * 96, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap,
+                             "name: many\nterrain:\n  profile: {points: [[0, 100], [100, 0]], "
+                             "width: 100}\nrocks:\n");
+    for (size_t i = 0; i < n; i++)
+        used += (size_t)snprintf(text + used, cap - used, "  - {name: r%zu, mass: 100}\n", i);
+    used += (size_t)snprintf(text + used, cap - used, "releases:\n");
+    for (size_t i = 0; i < n; i++)
+        used += (size_t)snprintf(text + used, cap - used,
+                                 "  - {name: a%zu, point: [5, 35], rock: r%zu}\n", i, n - 1 - i);
+    const char *path = rf_test_write("many.yaml", text);
+    free(text);
+    return path;
+}
+
+/* 100 000 rocks took 22 s: every name was compared with every earlier one, and every
+ * release's rock was looked for among all rocks.  The names are now found in a hash:
+ * the slots looked at stay a few per name (counted, not timed). */
+TEST(project_100000_rocks_and_releases_load_in_linear_work)
+{
+    const size_t n = 100000;
+    const char *path = many_items_project(n);
+    rf_project p;
+    unsigned long long before = rf_names_probes();
+    ENSURE(load_ok(path, &p));
+    unsigned long long probes = rf_names_probes() - before;
+    ENSURE(p.nrocks == n && p.nreleases == n);
+    ENSURE(p.releases[0].rock == (int)(n - 1) && p.releases[n - 1].rock == 0);
+    /* 3 n lookups: each rock's and each release's name added, each release's rock found */
+    ENSURE_MSG(probes <= 3 * 3 * n, "%llu slots looked at for %zu names", probes, 3 * n);
+    rf_project_free(&p);
+}
+
+/* The index itself: a duplicate is found, and a name's lookup looks at few slots even as
+ * the table grows from its smallest size. */
+TEST(names_index_finds_duplicates_in_few_probes)
+{
+    rf_names h;
+    ENSURE(rf_names_init(&h, 0) == 0);
+    enum { N = 50000 };
+    static char keys[N][16];
+    int oom;
+    unsigned long long before = rf_names_probes();
+    for (size_t i = 0; i < N; i++) {
+        snprintf(keys[i], sizeof keys[i], "k%zu", i);
+        ENSURE(rf_names_add(&h, keys[i], i, &oom) == RF_NAMES_ABSENT && !oom);
+    }
+    ENSURE(rf_names_add(&h, "k123", 7, &oom) == 123);
+    ENSURE(rf_names_find(&h, "k49999") == 49999);
+    ENSURE(rf_names_find(&h, "k50000") == RF_NAMES_ABSENT);
+    ENSURE(h.n == N);
+    unsigned long long probes = rf_names_probes() - before;
+    ENSURE_MSG(probes <= 8ull * N, "%llu probes for %d names", probes, N);
+    rf_names_free(&h);
+}
+
+/* The loader from memory (for fuzzing and embedding) reads what the file loader reads;
+ * the buffer needs no NUL and is bounded as a file is. */
+TEST(project_load_from_memory_reads_as_the_file_does)
+{
+    static const char text[] = "name: mem\nterrain:\n  profile: {points: [[0, 100], [100, 0]], "
+                               "width: 50}\nrocks:\n  - {name: r, mass: 100}\n"
+                               "releases:\n  - {name: A, point: [5, 25], rock: r, count: 3}\n"
+                               "TRAILING GARBAGE NOT PART OF THE BUFFER";
+    size_t len = strstr(text, "TRAILING") - text;
+    rf_project p;
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_project_load_from_memory(text, len, "mem/p.yaml", &p, &err) == 0, "%s",
+               err.message);
+    ENSURE(!strcmp(p.name, "mem") && p.nreleases == 1 && p.releases[0].count == 3);
+    ENSURE(!strcmp(p.dir, "mem") && strlen(p.yaml_text) == len);
+    rf_project_free(&p);
+    ENSURE(rf_project_load_from_memory(text, 20, "mem/p.yaml", &p, &err) != 0);
+    ENSURE(!strcmp(err.file, "mem/p.yaml"));
+    ENSURE(rf_project_load_from_memory(text, ((size_t)16 << 20) + 1, "big.yaml", &p, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "at most 16777216"), "%s", err.message);
+}

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
 #include <sys/stat.h>
 
 #include "report/report.h"
@@ -437,5 +438,75 @@ TEST(report_of_an_empty_run)
     ENSURE(strstr(html, "No rock reached this line"));
     free(svg_ok(dir, "plan.svg", html));
     free(html);
+    rf_store_close(s);
+}
+
+/* `report --out DIR` wrote through symbolic links already in DIR: a link named
+ * index.html or plan.svg sent the report over any file its user may write. */
+#include <unistd.h>
+
+TEST(report_refuses_to_write_through_symlinks_in_the_folder)
+{
+    test_project t;
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "links.db");
+    int64_t run = write_run(s, &t, 1, 1);
+    const char *victim = rf_test_write("victim.txt", "keep me\n");
+    char victim_path[700], dir[700], link[800];
+    snprintf(victim_path, sizeof victim_path, "%s", victim);
+    snprintf(dir, sizeof dir, "%s", rf_test_path("out"));
+    ENSURE(mkdir(dir, 0777) == 0);
+    const char *names[2] = {"index.html", "plan.svg"};
+    for (int k = 0; k < 2; k++) {
+        snprintf(link, sizeof link, "%s/%s", dir, names[k]);
+        unlink(link); /* written by the round before, which failed at index.html */
+        ENSURE_MSG(symlink(victim_path, link) == 0, "symlink %s: %s", link, strerror(errno));
+        rf_error err = {0};
+        ENSURE_MSG(rf_report_write(rf_store_db(s), run, dir, &err) != 0, "%s written through",
+                   names[k]);
+        ENSURE_MSG(strstr(err.message, "symbolic link") && strstr(err.file, names[k]), "%s: %s",
+                   err.file, err.message);
+        char *text = read_text(victim_path);
+        ENSURE_MSG(!strcmp(text, "keep me\n"), "the link's target was written");
+        free(text);
+        ENSURE(unlink(link) == 0);
+    }
+    report_ok(s, run, dir); /* without links it writes */
+    rf_store_close(s);
+}
+
+/* An infinite energy was stored as Inf; a value that is not finite is no measurement and
+ * is stored as NULL. */
+TEST(store_keeps_non_finite_values_as_null)
+{
+    test_project t;
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "inf.db");
+    rf_error err = {0};
+    int64_t run = 0, tid = 0, iid = 0;
+    ENSURE_MSG(rf_store_run_begin(s, &t.p, 1, &run, &err) == 0, "%s", err.message);
+    ENSURE(rf_store_batch_begin(s, &err) == 0);
+    rf_trajectory_record tr = {.stop = {118.0, 30.0, 0.74}, .reason = RF_END_REST,
+                               .duration_s = 9.5, .path_length_m = 150.0,
+                               .max_energy_kj = INFINITY, .n_impacts = 7};
+    ENSURE(rf_store_add_trajectory(s, 0, 0, &tr, &tid, &err) == 0);
+    rf_interception_record ic = {.measure = 0, .t_s = 8.0, .p = {95.0, 30.0, 5.7},
+                                 .speed_ms = -INFINITY, .energy_kj = NAN,
+                                 .energy_trans_kj = 12.5, .passing_height_m = 0.74,
+                                 .outcome = RF_OUT_PASSED};
+    ENSURE(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0);
+    ENSURE(rf_store_batch_commit(s, &err) == 0);
+    sqlite3_stmt *st;
+    ENSURE(sqlite3_prepare_v2(rf_store_db(s),
+                              "SELECT typeof(t.max_energy_kj), typeof(i.speed_ms),"
+                              " typeof(i.energy_kj), typeof(i.energy_trans_kj)"
+                              " FROM trajectories t JOIN interceptions i ON i.trajectory_id = t.id"
+                              " WHERE t.id = ?1",
+                              -1, &st, NULL) == SQLITE_OK);
+    sqlite3_bind_int64(st, 1, tid);
+    ENSURE(sqlite3_step(st) == SQLITE_ROW);
+    const char *want[4] = {"null", "null", "null", "real"};
+    for (int c = 0; c < 4; c++)
+        ENSURE_MSG(!strcmp((const char *)sqlite3_column_text(st, c), want[c]), "column %d: %s", c,
+                   (const char *)sqlite3_column_text(st, c));
+    sqlite3_finalize(st);
     rf_store_close(s);
 }

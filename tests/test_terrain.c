@@ -868,3 +868,215 @@ TEST(terrain_mesh_highest_and_bucket_memory)
     ENSURE(rf_terrain_locate(&t, 20.0, 20.0) == -1);
     rf_terrain_free(&t);
 }
+
+/* ---- bounds on the files ----------------------------------------------------------- */
+
+#include "input/terrain_io.h"
+
+/* A terrain file must be a regular file: /dev/zero was read until memory ran out. */
+TEST(terrain_device_and_directory_refused_at_once)
+{
+    ensure_build_error("/dev/zero", RF_TERRAIN_DEM, 0, 0, "not a regular file");
+    ensure_build_error("/dev/zero", RF_TERRAIN_MESH, 0, 0, "not a regular file");
+    ensure_build_error("/tmp", RF_TERRAIN_MESH, 0, 0, "Is a directory");
+    rf_points p;
+    rf_error err = {0};
+    ENSURE(rf_points_read("/dev/zero", 3, &p, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "not a regular file"), "%s", err.message);
+}
+
+/* The in-memory readers parse what the file readers parse. */
+TEST(terrain_readers_from_memory)
+{
+    static const char grid[] = "ncols 2\nnrows 2\nxllcenter 0\nyllcenter 0\ncellsize 1\n"
+                               "1 2\n3 4\n";
+    rf_asc_grid g;
+    rf_error err = {0};
+    ENSURE(rf_asc_read_from_memory(grid, sizeof grid - 1, "g.asc", &g, &err) == 0);
+    ENSURE(g.ncols == 2 && g.nrows == 2 && g.z[0] == 3 && g.z[3] == 2);
+    rf_asc_free(&g);
+    ENSURE(rf_asc_read_from_memory(grid, 20, "g.asc", &g, &err) != 0);
+    ENSURE(strcmp(err.file, "g.asc") == 0 && g.z == NULL);
+
+    static const char obj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    rf_tri_list l = {0};
+    ENSURE(rf_mesh_read_from_memory(obj, sizeof obj - 1, "m.obj", 1, 'z', &l, &err) == 0);
+    ENSURE(l.n == 1 && l.v[1].x == 1);
+    static const char stl[] = "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                              "vertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n";
+    ENSURE(rf_mesh_read_from_memory(stl, sizeof stl - 1, "m.stl", 0, 'z', &l, &err) == 0);
+    ENSURE(l.n == 2);
+    rf_tri_list_free(&l);
+
+    static const char rows[] = "# x y z\n1 2 3\n4 5 6\n";
+    rf_points p;
+    ENSURE(rf_points_read_from_memory(rows, sizeof rows - 1, "p.txt", 3, &p, &err) == 0);
+    ENSURE(p.n == 2 && p.v[5] == 6);
+    rf_points_free(&p);
+}
+
+static void ensure_asc_error(const char *name, const char *text, int line, int column,
+                             const char *needle)
+{
+    ensure_build_error(rf_test_write(name, text), RF_TERRAIN_DEM, line, column, needle);
+}
+
+#define GRID_HEAD(ncols, nrows, cell) \
+    "ncols " ncols "\nnrows " nrows "\nxllcenter 0\nyllcenter 0\ncellsize " cell "\n"
+
+/* `ncols 1000000000` said "must be at least 2": the message gives the real bounds. */
+TEST(terrain_asc_ncols_beyond_the_limit_says_the_limit)
+{
+    ensure_asc_error("wide.asc", GRID_HEAD("1000000000", "2", "1") "1 2\n3 4\n", 1, 1,
+                     "from 2 to 50000000, got 1e+09");
+    ensure_asc_error("square.asc", GRID_HEAD("20000", "20000", "1") "1 2\n3 4\n", 2, 1,
+                     "ncols x nrows is 400000000 nodes; at most 100000000");
+    /* a grid the file cannot hold is refused before its nodes are allocated */
+    ensure_asc_error("claims.asc", GRID_HEAD("10000", "10000", "1") "1 2\n3 4\n", 6, 1,
+                     "needs 100000000 values");
+}
+
+/* `cellsize 1e-300` said "no cell without nodata". */
+TEST(terrain_asc_tiny_cellsize_refused_with_its_bounds)
+{
+    ensure_asc_error("tiny.asc", GRID_HEAD("2", "2", "1e-300") "1 2\n3 4\n", 5, 1,
+                     "cellsize must be from 0.001 to 100000 m, got 1e-300");
+}
+
+/* A node of 1e300 made a release on it "in a nodata hole". */
+TEST(terrain_asc_absurd_elevation_refused_at_its_node)
+{
+    ensure_asc_error("high.asc", GRID_HEAD("2", "2", "1") "1 2\n3 1e300\n", 7, 3,
+                     "an elevation must be from -100000 to 100000 m");
+    /* the NODATA_value may be anything */
+    const char *ok = rf_test_write("nodata.asc", GRID_HEAD("2", "2", "1")
+                                   "NODATA_value -3.4e38\n1 2\n3 -3.4e38\n");
+    rf_asc_grid g;
+    rf_error err = {0};
+    ENSURE_MSG(rf_asc_read(ok, &g, &err) == 0, "%s", err.message);
+    rf_asc_free(&g);
+}
+
+/* A truncated binary STL was parsed as ascii ("unexpected ... at 1:1"). */
+TEST(terrain_truncated_binary_stl_says_truncated)
+{
+    unsigned char b[84 + 50 + 20] = {0};
+    memcpy(b, "binary", 6);
+    b[80] = 2; /* two triangles: 184 bytes */
+    rf_tri_list l = {0};
+    rf_error err = {0};
+    ENSURE(rf_mesh_read_from_memory((const char *)b, sizeof b, "cut.stl", 0, 'z', &l, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "binary STL of 2 triangles needs 184 bytes, the file has "
+                                   "154 (truncated)"),
+               "%s", err.message);
+    ENSURE(rf_mesh_read_from_memory((const char *)b, 50, "cut.stl", 0, 'z', &l, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "truncated"), "%s", err.message);
+    ENSURE(l.n == 0);
+}
+
+/* Mesh vertices far beyond any terrain are refused at their line. */
+TEST(terrain_mesh_vertex_out_of_bounds)
+{
+    ensure_build_error(rf_test_write("far.obj", "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n"),
+                       RF_TERRAIN_MESH, 2, 1, "out of bounds");
+    ensure_build_error(rf_test_write("deep.stl", "solid x\nfacet normal 0 0 1\nouter loop\n"
+                                                 "vertex 0 0 0\n vertex 1 0 -1e6\n"),
+                       RF_TERRAIN_MESH, 5, 2, "out of bounds");
+}
+
+/* ---- polygons through an index of their edges --------------------------------------- */
+
+#include "base/polygon.h"
+
+/* A wavy ring of n vertices around (cx, cy): radius 40 +- 15, folding in and out. */
+static double *wavy_polygon(size_t n, double cx, double cy)
+{
+    double *xy = malloc(2 * n * sizeof *xy);
+    ENSURE(xy);
+    for (size_t k = 0; k < n; k++) {
+        double a = 2 * PI * (double)k / (double)n, r = 40 + 15 * sin(37 * a) * cos(5 * a);
+        xy[2 * k] = cx + r * cos(a);
+        xy[2 * k + 1] = cy + r * sin(a);
+    }
+    return xy;
+}
+
+/* The index answers as the plain test does, to the bit, on vertices, on edges' midpoints,
+ * on a lattice and beyond the polygon, with few edges per point. */
+TEST(polygon_index_answers_as_the_plain_test_with_few_edges)
+{
+    const size_t n = 30000;
+    double *xy = wavy_polygon(n, 50, 50);
+    rf_polygon_index ix;
+    ENSURE(rf_polygon_index_build(&ix, xy, n) == 0);
+    size_t queries = 0;
+    for (size_t k = 0; k < n; k += 7) {
+        size_t j = (k + 1) % n;
+        double pts[3][2] = {{xy[2 * k], xy[2 * k + 1]},
+                            {0.5 * (xy[2 * k] + xy[2 * j]), 0.5 * (xy[2 * k + 1] + xy[2 * j + 1])},
+                            {xy[2 * k] + 1e-9, xy[2 * k + 1]}};
+        for (int q = 0; q < 3; q++, queries++)
+            ENSURE_MSG(rf_polygon_index_contains(&ix, pts[q][0], pts[q][1]) ==
+                           rf_point_in_polygon(xy, n, pts[q][0], pts[q][1]),
+                       "vertex %zu point %d", k, q);
+    }
+    for (double y = -5; y <= 105; y += 1.7)
+        for (double x = -5; x <= 105; x += 2.3, queries++)
+            ENSURE_MSG(rf_polygon_index_contains(&ix, x, y) == rf_point_in_polygon(xy, n, x, y),
+                       "(%g, %g)", x, y);
+    ENSURE_MSG(ix.tests <= 64 * queries, "%zu edges tested for %zu points", ix.tests, queries);
+    rf_polygon_index_free(&ix);
+    /* long edges only: a zigzag whose every edge spans the whole height */
+    double zig[2 * 1000];
+    for (size_t k = 0; k < 1000; k++) {
+        zig[2 * k] = (double)k;
+        zig[2 * k + 1] = k % 2 ? 100.0 : 0.0;
+    }
+    ENSURE(rf_polygon_index_build(&ix, zig, 1000) == 0);
+    ENSURE(ix.start[ix.nstrips] <= 8 * 1000); /* the entries stay linear */
+    for (double y = 0; y <= 100; y += 3.3)
+        ENSURE(rf_polygon_index_contains(&ix, 500.5, y) == rf_point_in_polygon(zig, 1000, 500.5, y));
+    rf_polygon_index_free(&ix);
+    free(xy);
+}
+
+/* One 30 000-vertex zone polygon over a grid took 102 s: every triangle was tested
+ * against every edge.  The zones are those the plain test gives. */
+TEST(terrain_30000_vertex_zone_polygon_zones_as_the_plain_test)
+{
+    const size_t n = 30000, side = 201;
+    size_t cap = 128 + side * side * 8, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap,
+                             "ncols %zu\nnrows %zu\nxllcenter 0\nyllcenter 0\ncellsize 0.5\n",
+                             side, side);
+    for (size_t j = 0; j < side; j++)
+        for (size_t i = 0; i < side; i++)
+            used += (size_t)snprintf(text + used, cap - used, "%zu%c", (i + j) % 7,
+                                     i + 1 == side ? '\n' : ' ');
+    const char *path = rf_test_write("zones.asc", text);
+    free(text);
+    double *xy = wavy_polygon(n, 50, 50);
+    char *files[1] = {(char *)path};
+    rf_zone_spec zones[1] = {
+        {.name = (char *)"wavy", .poly_xy = xy, .npoly = n, .surface = SURF_OTHER}};
+    rf_terrain_spec spec = {.source = RF_TERRAIN_DEM, .files = files, .nfiles = 1, .up = 'z',
+                            .surface = SURF_DEFAULT, .zones = zones, .nzones = 1};
+    rf_terrain t;
+    build_ok(&spec, &t);
+    ENSURE(t.ntri == 2 * (side - 1) * (side - 1));
+    size_t inside = 0;
+    for (size_t k = 0; k < t.ntri; k++) {
+        const rf_triangle *tri = &t.tri[k];
+        inside += tri->zone == 1;
+        if (k % 53)
+            continue;
+        double cx = (tri->a.x + tri->b.x + tri->c.x) / 3.0;
+        double cy = (tri->a.y + tri->b.y + tri->c.y) / 3.0;
+        ENSURE(tri->zone == (rf_point_in_polygon(xy, n, cx, cy) ? 1 : 0));
+    }
+    ENSURE(inside > t.ntri / 4 && inside < t.ntri);
+    rf_terrain_free(&t);
+    free(xy);
+}

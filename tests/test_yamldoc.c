@@ -257,3 +257,90 @@ TEST(yamldoc_describe_names_what_was_found)
     ENSURE(rf_ydoc_map_size(root) == 5);
     rf_ydoc_free(&d);
 }
+
+/* ---- aliases expanded within a budget -------------------------------------------- */
+
+/* "measures:" with `uses` items, each `line: *l` naming one line of `points` points. */
+static char *aliased_lines(size_t points, size_t uses)
+{
+    size_t cap = 64 + points * 16 + uses * 48, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap, "line: &l [");
+    for (size_t i = 0; i < points; i++)
+        used += (size_t)snprintf(text + used, cap - used, "%s[%zu, 1]", i ? ", " : "", i);
+    used += (size_t)snprintf(text + used, cap - used, "]\nmeasures:\n");
+    for (size_t i = 0; i < uses; i++)
+        used += (size_t)snprintf(text + used, cap - used, "  - {name: m%zu, line: *l}\n", i);
+    return text;
+}
+
+/* One 30 000-point line aliased by 1 000 measures was read as 30 million points (71 s,
+ * 510 MB): the expansion is refused at load, at the node that expands too far. */
+TEST(yamldoc_alias_expansion_beyond_the_budget_refused)
+{
+    char *text = aliased_lines(30000, 1000);
+    rf_ydoc d;
+    rf_error err = {{0}};
+    ENSURE(rf_ydoc_load_text(&d, "a.yaml", text, strlen(text), &err) != 0);
+    ENSURE_MSG(strstr(err.message, "through its YAML aliases this expands to") &&
+                   strstr(err.message, "at most 10 times as many"),
+               "%s", err.message);
+    ENSURE_MSG(err.line == 3 && err.column == 3, "%d:%d %s", err.line, err.column, err.message);
+    ENSURE(d.text == NULL && d.loaded == 0);
+    free(text);
+    /* a few uses of a line, and of a small mapping by many items, are fine */
+    text = aliased_lines(30000, 5);
+    ENSURE_MSG(rf_ydoc_load_text(&d, "a.yaml", text, strlen(text), &err) == 0, "%s", err.message);
+    rf_ydoc_free(&d);
+    free(text);
+    text = aliased_lines(2, 5000);
+    ENSURE_MSG(rf_ydoc_load_text(&d, "a.yaml", text, strlen(text), &err) == 0, "%s", err.message);
+    rf_ydoc_free(&d);
+    free(text);
+}
+
+/* Aliases of aliases double at each level ("billion laughs"): refused at once. */
+TEST(yamldoc_nested_aliases_refused)
+{
+    char text[4096];
+    size_t used = (size_t)snprintf(text, sizeof text, "a0: &a0 [x, x]\n");
+    for (int i = 1; i < 60; i++)
+        used += (size_t)snprintf(text + used, sizeof text - used, "a%d: &a%d [*a%d, *a%d]\n", i, i,
+                                 i - 1, i - 1);
+    rf_ydoc d;
+    rf_error err = {{0}};
+    ENSURE(rf_ydoc_load_text(&d, "b.yaml", text, strlen(text), &err) != 0);
+    ENSURE_MSG(strstr(err.message, "expands to"), "%s", err.message);
+    /* an alias inside the node it names */
+    const char *self = "a: &s [1, *s]\n";
+    int rc = rf_ydoc_load_text(&d, "c.yaml", self, strlen(self), &err);
+    if (rc == 0) /* libyaml refused to name the node from inside it: nothing to expand */
+        rf_ydoc_free(&d);
+    else
+        ENSURE_MSG(strstr(err.message, "alias") && err.line == 1, "%s", err.message);
+}
+
+/* An unclosed '[' was reported at the end of the file, lines below it; libyaml's context
+ * mark is where it opened. */
+TEST(yamldoc_unclosed_bracket_reported_where_it_opens)
+{
+    rf_ydoc d;
+    rf_error err = {{0}};
+    const char *text = "name: x\nline: [[0, 1], [2, 3]\nb: 3\nc: 4\n\n\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE_MSG(err.line == 2 && err.column == 7, "%d:%d %s", err.line, err.column, err.message);
+    ENSURE_MSG(strstr(err.message, "in the flow sequence that starts here") &&
+                   strstr(err.message, "(at line 3, column 1)"),
+               "%s", err.message);
+    text = "a: {x: 1\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && err.column == 4 && strstr(err.message, "flow mapping"));
+    text = "a: \"open\nb: 2\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && err.column == 4 && strstr(err.message, "quoted scalar"));
+    /* other errors stay where libyaml finds them */
+    text = "a: b: c\n";
+    ENSURE(rf_ydoc_load_text(&d, "u.yaml", text, strlen(text), &err) != 0);
+    ENSURE(err.line == 1 && err.column == 5);
+}

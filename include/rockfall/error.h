@@ -20,7 +20,8 @@ typedef struct rf_mark {
 /* Fills err (when not NULL) and returns -1, so callers can `return rf_error_set(...)`. */
 int rf_error_set(rf_error *err, const char *file, int line, int column, const char *fmt, ...)
     __attribute__((format(printf, 5, 6)));
-/* Prints "file:line:column: error: message" (parts that are unknown are left out). */
+/* Prints "file:line:column: error: message" (parts that are unknown are left out), the
+ * file and message escaped for a terminal (base/term.h). */
 void rf_error_print(const rf_error *err, FILE *out);
 
 #endif

@@ -120,6 +120,12 @@ typedef struct rf_project {
 /* Loads, validates and builds a project (terrain included).  On error fills err with
  * file:line:column and returns nonzero; nothing is left allocated in p. */
 int rf_project_load(const char *path, rf_project *p, rf_error *err);
+/* The same from len bytes at data (no NUL needed, at most 16 MiB) as if read from the file
+ * `path`, which names it in errors and whose folder the project's own paths (terrain,
+ * rules) are relative to: a project with a `profile` terrain and no rules touches no
+ * file. */
+int rf_project_load_from_memory(const char *data, size_t len, const char *path, rf_project *p,
+                                rf_error *err);
 void rf_project_free(rf_project *p);
 
 const char *rf_measure_kind_name(rf_measure_kind k);

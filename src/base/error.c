@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/term.h"
+
 int rf_error_set(rf_error *err, const char *file, int line, int column, const char *fmt, ...)
 {
     if (!err)
@@ -22,7 +24,7 @@ int rf_error_set(rf_error *err, const char *file, int line, int column, const ch
 void rf_error_print(const rf_error *err, FILE *out)
 {
     if (err->file[0]) {
-        fputs(err->file, out);
+        rf_term_fputs(err->file, out);
         if (err->line > 0) {
             fprintf(out, ":%d", err->line);
             if (err->column > 0)
@@ -30,5 +32,7 @@ void rf_error_print(const rf_error *err, FILE *out)
         }
         fputs(": ", out);
     }
-    fprintf(out, "error: %s\n", err->message);
+    fputs("error: ", out);
+    rf_term_fputs(err->message, out); /* it may quote a file's text */
+    fputc('\n', out);
 }

@@ -5,6 +5,8 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
 
 #include "rockfall/error.h"
 
@@ -12,9 +14,29 @@
  * doubling; returns 0, or -1 when memory runs out (then *v is unchanged). */
 int rf_grow(void **v, size_t *cap, size_t need, size_t elem);
 
-/* Reads a whole file into a NUL-terminated malloc'd buffer (*len excludes the NUL).
- * Errors name the file: "cannot open 'PATH': reason", "cannot read ...". */
-int rf_read_file(const char *path, char **text, size_t *len, rf_error *err);
+/* Reads a whole regular file of at most max_bytes into a NUL-terminated malloc'd buffer
+ * (*len excludes the NUL).  A directory, device or FIFO is refused at once, before any
+ * read, and so is a larger file.  Errors name the file: "cannot open 'PATH': reason",
+ * "cannot read 'PATH': not a regular file", "'PATH' is N bytes; at most M are read". */
+int rf_read_file(const char *path, size_t max_bytes, char **text, size_t *len, rf_error *err);
+
+/* A regular file mapped read-only: len bytes at data (not NUL-terminated; "" when
+ * empty).  The pages are the file's own, read as they are touched: a large terrain file
+ * costs no heap. */
+typedef struct rf_mapped {
+    const char *data;
+    size_t len;
+    int mapped;
+} rf_mapped;
+
+/* Maps a regular file of at most max_bytes, refused as rf_read_file refuses. */
+int rf_map_file(const char *path, uint64_t max_bytes, rf_mapped *m, rf_error *err);
+void rf_unmap_file(rf_mapped *m);
+
+/* Creates or truncates the file at path for writing.  A symbolic link there is refused,
+ * not followed (O_NOFOLLOW): an output folder may hold links planted to send the writes
+ * elsewhere.  NULL with err set ("cannot write: ..."). */
+FILE *rf_create_file(const char *path, rf_error *err);
 
 /* qsort comparison of doubles, ascending. */
 int rf_cmp_double(const void *a, const void *b);

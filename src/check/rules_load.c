@@ -5,8 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/names.h"
 #include "base/util.h"
 #include "check/rules_private.h"
+#include "input/bounds.h"
 #include "input/measure_kinds.h"
 #include "input/yamldoc.h"
 
@@ -28,6 +30,7 @@ typedef struct loader {
     rf_ydoc d;
     rf_rules *r;
     rf_error *err;
+    rf_names check_names; /* the names of the checks read so far, over both lists */
 } loader;
 
 static int out_of_memory(loader *L)
@@ -239,15 +242,6 @@ static int read_capacities(loader *L, rf_ynode *root)
     return 0;
 }
 
-/* 1 when one of the checks read so far (a NULL name ends them) is named `name`. */
-static int check_named(const rf_rule_check *c, size_t n, const char *name)
-{
-    for (size_t j = 0; j < n && c[j].name; j++)
-        if (!strcmp(c[j].name, name))
-            return 1;
-    return 0;
-}
-
 /* Check i of the measures' checks, or with `layout` set of the layout's. */
 static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
 {
@@ -264,16 +258,16 @@ static int read_check(loader *L, rf_ynode *n, int layout, size_t i)
         rf_ydoc_string(&L->d, name, "rule", &text, L->err))
         return -1;
     /* rule names are unique over both lists and the integrity checks: they name the
-     * rows of `checks` */
-    if (check_named(L->r->checks, L->r->nchecks, text) ||
-        check_named(L->r->layout_checks, L->r->nlayout, text))
+     * rows of `checks`; an index of them keeps a file of many checks linear */
+    if (rf_names_find(&L->check_names, text) != RF_NAMES_ABSENT)
         return rf_ydoc_error(&L->d, name, L->err, "two checks are named '%s'", text);
     for (int k = 0; k < RF_N_INTEGRITY; k++)
         if (!strcmp(text, rf_integrity_rules[k]))
             return rf_ydoc_error(&L->d, name, L->err,
                                  "'%s' names the check of allowance '%s'; choose another "
                                  "name", text, rf_allowance_keys[k]);
-    if (!(c->name = strdup(text)))
+    int oom;
+    if (!(c->name = strdup(text)) || (rf_names_add(&L->check_names, c->name, i, &oom), oom))
         return out_of_memory(L);
     if (rf_ydoc_require(&L->d, n, "value", what, &value, L->err) ||
         rf_ydoc_enum(&L->d, value, "value", value_names, &v, L->err) ||
@@ -388,6 +382,7 @@ static int finish_load(loader *L, const char *path)
     if (rc == 0 && !(L->r->path = strdup(path)))
         rc = out_of_memory(L);
     rf_ydoc_free(&L->d);
+    rf_names_free(&L->check_names);
     if (rc)
         rf_rules_free(L->r);
     return rc;
@@ -396,16 +391,13 @@ static int finish_load(loader *L, const char *path)
 int rf_rules_load(const char *path, rf_rules *r, rf_error *err)
 {
     memset(r, 0, sizeof *r);
-    loader L = {.r = r, .err = err};
-    if (rf_ydoc_load_file(&L.d, path, err) || finish_load(&L, path))
-        return -1;
-    /* the text as read, stored with the checks (check_rules) */
+    char *text;
     size_t len;
-    if (rf_read_file(path, &r->text, &len, err)) {
-        rf_rules_free(r);
+    if (rf_read_file(path, RF_TEXT_FILE_MAX, &text, &len, err))
         return -1;
-    }
-    return 0;
+    int rc = rf_rules_load_text(path, text, len, r, err);
+    free(text);
+    return rc;
 }
 
 int rf_rules_load_text(const char *file, const char *text, size_t len, rf_rules *r,

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "base/term.h"
 #include "check/rules_private.h"
 #include "results/run_view.h"
 
@@ -21,6 +22,10 @@ static void print_capacities(const rf_rules *r, const rf_rules_measure *m, FILE 
     }
     fprintf(out, "%s\n", any ? "" : " none");
 }
+
+/* Every name from the rule file or the database reaches the terminal escaped
+ * (base/term.h): a name is text from a file, and may hold a newline or ESC. */
+#define NAME_SIZE 256
 
 /* The shares of the measure's interceptions in each limit state (one classification
  * each); nothing without interceptions. */
@@ -62,7 +67,8 @@ static int print_states(sqlite3 *db, const rf_rules *r, const rf_rules_measure *
         int no_capacity = i < r->nstates && isnan(m->capacity[r->states[i]]);
         if ((i == r->nstates + 2 || no_capacity) && counts[i] == 0)
             continue;
-        fprintf(out, "%s %s %.1f %%", shown++ ? "," : "", name,
+        char safe[NAME_SIZE];
+        fprintf(out, "%s %s %.1f %%", shown++ ? "," : "", rf_term_escape(name, safe, sizeof safe),
                 100.0 * (double)counts[i] / (double)n);
     }
     fprintf(out, "\n");
@@ -102,11 +108,13 @@ static int print_checks(sqlite3 *db, int64_t run, const rf_rules *r, const rf_ru
             if (rule && !strcmp(rule, list[c].name))
                 cmp = rf_rules_comparison_names[list[c].comparison];
         int passed = sqlite3_column_int(st, 3);
+        char safe[NAME_SIZE];
+        rf_term_escape(rule, safe, sizeof safe);
         if (sqlite3_column_type(st, 1) == SQLITE_NULL)
-            fprintf(out, "  %s %-24s %s\n", passed ? "PASS" : "FAIL", rule,
+            fprintf(out, "  %s %-24s %s\n", passed ? "PASS" : "FAIL", safe,
                     m ? "no interceptions" : "no rockfalls");
         else
-            fprintf(out, "  %s %-24s %.4f %s %g\n", passed ? "PASS" : "FAIL", rule,
+            fprintf(out, "  %s %-24s %.4f %s %g\n", passed ? "PASS" : "FAIL", safe,
                     sqlite3_column_double(st, 1), cmp, sqlite3_column_double(st, 2));
     }
     sqlite3_finalize(st);
@@ -178,8 +186,10 @@ int rf_rules_print_run(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rul
     if (!L->project)
         return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0, "no run %lld",
                             (long long)run);
-    fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run, L->project,
-            r->path, r->name);
+    char project[NAME_SIZE], path[NAME_SIZE * 4], name[NAME_SIZE], safe[NAME_SIZE];
+    fprintf(out, "run %lld of '%s' checked against %s (%s)\n\n", (long long)run,
+            rf_term_escape(L->project, project, sizeof project),
+            rf_term_escape(r->path, path, sizeof path), rf_term_escape(r->name, name, sizeof name));
     fprintf(out, "%-16s %-10s %-14s", "measure", "kind", "importance");
     rf_query_print_stats_header(out);
     for (size_t i = 0; i < L->n; i++) {
@@ -187,16 +197,16 @@ int rf_rules_print_run(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rul
         rf_measure_stats st;
         if (rf_query_measure_stats(db, m->id, &st, err))
             return -1;
-        fprintf(out, "%-16s %-10s %-14s", m->name, rf_measure_kind_name(m->kind),
-                rf_importance_name(m->importance));
+        fprintf(out, "%-16s %-10s %-14s", rf_term_escape(m->name, safe, sizeof safe),
+                rf_measure_kind_name(m->kind), rf_importance_name(m->importance));
         rf_query_print_stats(out, &st);
     }
     fprintf(out, "energies in kJ at the 50th, 90th, 95th, 99th percentiles (nearest rank) and "
                  "maximum; h95: 95th-percentile passing height\n");
     for (size_t i = 0; i < L->n; i++) {
         const rf_rules_measure *m = &L->m[i];
-        fprintf(out, "\n%s (%s, %s)\n", m->name, rf_measure_kind_name(m->kind),
-                rf_importance_name(m->importance));
+        fprintf(out, "\n%s (%s, %s)\n", rf_term_escape(m->name, safe, sizeof safe),
+                rf_measure_kind_name(m->kind), rf_importance_name(m->importance));
         print_capacities(r, m, out);
         if (print_states(db, r, m, out, err) || print_checks(db, run, r, m, out, err))
             return -1;
@@ -221,7 +231,9 @@ int rf_rules_print_run(sqlite3 *db, int64_t run, const rf_rules *r, const rf_rul
         fprintf(out, "\nlayout: %ld rockfalls, %ld of them across a control line\n", n, reach);
         for (size_t c = 0; c < r->nlayout; c++)
             fprintf(out, "  kept within %s: %ld (%.1f %%)\n",
-                    rf_rules_state_name(r, r->layout_checks[c].state), L->kept[c],
+                    rf_term_escape(rf_rules_state_name(r, r->layout_checks[c].state), safe,
+                                   sizeof safe),
+                    L->kept[c],
                     n > 0 ? 100.0 * (double)L->kept[c] / (double)n : 0.0);
         if (print_checks(db, run, r, NULL, out, err))
             return -1;

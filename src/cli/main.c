@@ -13,6 +13,7 @@
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "rockfall/version.h"
+#include "base/term.h"
 #include "results/run_view.h"
 #include "report/report.h"
 #include "check/rules.h"
@@ -121,8 +122,36 @@ static int parse_long(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
+/* A plain decimal number: [+-]digits[.digits][e[+-]digits] (at least one digit before
+ * or after the point).  strtod alone takes "0x10", "inf", "nan" and leading blanks. */
+static int is_decimal(const char *s)
+{
+    const char *c = s + (*s == '+' || *s == '-');
+    size_t digits = strspn(c, "0123456789");
+    c += digits;
+    if (*c == '.') {
+        size_t frac = strspn(c + 1, "0123456789");
+        digits += frac;
+        c += 1 + frac;
+    }
+    if (digits == 0)
+        return 0;
+    if (*c == 'e' || *c == 'E') {
+        c++;
+        c += *c == '+' || *c == '-';
+        size_t exp = strspn(c, "0123456789");
+        if (exp == 0)
+            return 0;
+        c += exp;
+    }
+    return *c == '\0';
+}
+
+/* A finite decimal number (is_decimal); 0 on success. */
 static int parse_double(const char *s, double *out)
 {
+    if (!is_decimal(s))
+        return -1;
     char *end;
     errno = 0;
     double v = strtod(s, &end);
@@ -240,8 +269,10 @@ static int cmd_run(int argc, char **argv)
     if (rc) {
         rf_error_print(&err, stderr);
     } else if (!quiet) {
+        char name[256], db[1024];
         printf("run %lld of '%s' into %s: %ld trajectories in %.2f s (%.0f per second)\n",
-               (long long)sum.run_id, p.name, out, sum.n_trajectories, sum.seconds,
+               (long long)sum.run_id, rf_term_escape(p.name, name, sizeof name),
+               rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds,
                sum.seconds > 0 ? (double)sum.n_trajectories / sum.seconds : 0.0);
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
@@ -444,6 +475,13 @@ static int cmd_empirical(int argc, char **argv)
         distance = height / tan(theta);
     double alpha = rf_empirical_alpha(mu, theta);
     double v = rf_empirical_velocity(height, theta, mu);
+    double width = rf_empirical_attainment_width(distance, beta * M_PI / 180.0);
+    if (!isfinite(distance) || !isfinite(v) || !isfinite(width)) {
+        fprintf(stderr, "rockfall empirical: the velocity or the attainment width of --height "
+                        "%g is beyond what a double holds; give a smaller height or distance\n",
+                height);
+        return EXIT_BAD_INPUT;
+    }
     printf("height H            %.1f m\n", height);
     printf("gradient theta      %.1f deg\n", slope);
     if (cls)
@@ -453,7 +491,7 @@ static int cmd_empirical(int argc, char **argv)
     printf("alpha (Eq. 2)       %.4f\n", alpha);
     printf("velocity (Eq. 1)    %.1f m/s\n", v);
     printf("attainment width    %.1f m (beta %.0f deg to both sides over %.1f m, Fig. 1b)\n",
-           rf_empirical_attainment_width(distance, beta * M_PI / 180.0), beta, distance);
+           width, beta, distance);
     if (alpha == 0.0)
         printf("note: mu >= tan(theta): a sliding rock does not keep moving on this slope\n");
     return EXIT_OK;

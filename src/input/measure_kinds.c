@@ -4,7 +4,21 @@
 #include <math.h>
 #include <string.h>
 
+#include "input/bounds.h"
+
 /* ---- the project's keys of each kind --------------------------------------------- */
+
+/* A value within its bound of input/bounds.h, checked after its reader: 0, or an error at
+ * n, "'KEY' must be from 0 to MAX UNIT, got V". */
+static int at_most(const rf_measure_item *it, const rf_ynode *n, const char *key, double v,
+                   double max, const char *unit)
+{
+    if (v <= max)
+        return 0;
+    char got[64];
+    return rf_ydoc_error(it->d, n, it->err, "'%s' must be from 0 to %g %s, got %s", key, max,
+                         unit, rf_ydoc_describe(n, got, sizeof got));
+}
 
 /* The capacities under `capacity` (kJ per limit state); nodes[s] gets the node of each
  * one given.  A kind that needs them (an embankment) says so with `required`. */
@@ -41,7 +55,8 @@ static int read_capacity(const rf_measure_item *it, rf_measure *m, rf_ynode **no
                                  "a barrier's last limit state is its MEL (ultimate); "
                                  "'near_collapse' is for embankments");
         if (rf_ydoc_number(d, v, rf_limit_state_names[s], RF_YR_POSITIVE, &m->capacity[s],
-                           it->err))
+                           it->err) ||
+            at_most(it, v, rf_limit_state_names[s], m->capacity[s], RF_CAPACITY_MAX, "kJ"))
             return -1;
         nodes[s] = v;
     }
@@ -75,7 +90,9 @@ static int read_height(const rf_measure_item *it, rf_measure *m)
 {
     rf_ynode *height;
     return rf_ydoc_require(it->d, it->node, "height", it->what, &height, it->err) ||
-                   rf_ydoc_number(it->d, height, "height", RF_YR_POSITIVE, &m->height, it->err)
+                   rf_ydoc_number(it->d, height, "height", RF_YR_POSITIVE, &m->height,
+                                  it->err) ||
+                   at_most(it, height, "height", m->height, RF_MEASURE_HEIGHT_MAX, "m")
                ? -1
                : 0;
 }
@@ -87,7 +104,8 @@ static int read_barrier(const rf_measure_item *it, rf_measure *m)
     rf_ydoc *d = it->d;
     rf_ynode *mel, *nodes[RF_N_LIMIT_STATES] = {NULL};
     if (read_height(it, m) || rf_ydoc_require(d, it->node, "mel", it->what, &mel, it->err) ||
-        rf_ydoc_number(d, mel, "mel", RF_YR_POSITIVE, &m->mel, it->err))
+        rf_ydoc_number(d, mel, "mel", RF_YR_POSITIVE, &m->mel, it->err) ||
+        at_most(it, mel, "mel", m->mel, RF_CAPACITY_MAX, "kJ"))
         return -1;
     m->sel = m->mel / 3.0;
     m->sel_given = 0;

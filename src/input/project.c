@@ -14,31 +14,15 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "input/bounds.h"
 #include "input/measure_kinds.h"
+#include "input/project_private.h"
 #include "input/yamldoc.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
 #endif
 
-typedef struct loader {
-    rf_ydoc d;
-    rf_project *p;
-    rf_error *err;
-    rf_ynode **file_nodes;   /* YAML node of each terrain file path */
-    rf_ynode **point_nodes;  /* YAML node of each release point */
-    rf_ynode **line_nodes;   /* YAML node of each measure line */
-    rf_ynode *cell_node;     /* hazard: cell, when given */
-    int rolling_given;       /* the terrain surface sets rolling explicitly */
-} loader;
-
-/* Room for "LIST item N", which names a list item in messages. */
-#define WHAT_SIZE 64
-
-/* Bounds of the rock's radius (trajectories per release: RF_COUNT_MAX; the hazard
- * map's cells: RF_HAZARD_CELLS_MAX). */
-#define RF_ROCK_RADIUS_MIN 1e-3
-#define RF_ROCK_RADIUS_MAX 100.0
 
 static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", "rocks",
                                        "releases", "measures", "simulation", "hazard",
@@ -50,7 +34,6 @@ static const char *const surface_keys[] = {"restitution", "friction", "rolling",
                                            NULL};
 static const char *const zone_keys[] = {"name", "polygon", "file", "restitution",
                                         "friction", "rolling", "class", NULL};
-static const char *const dist_keys[] = {"mean", "sd", NULL};
 static const char *const forest_keys[] = {"name", "polygon", "density", "height", "diameter",
                                           "restitution", "friction", NULL};
 static const char *const rock_keys[] = {"name", "mass", "density", "action_level", NULL};
@@ -59,15 +42,6 @@ static const char *const release_keys[] = {"name", "point", "rock", "count", "he
 static const char *const simulation_keys[] = {"model", "engine", "dt", "contact",
                                               "stop_speed", "max_time", "paths", NULL};
 static const char *const hazard_keys[] = {"cell", NULL};
-
-/* A list of named items: its key ("rocks"), an item's kind in messages ("rock"), what
- * its items are called when it is no sequence, an item's keys, and an item's size and
- * where it keeps its name. */
-typedef struct item_list {
-    const char *key, *kind, *items;
-    const char *const *keys;
-    size_t size, name_offset;
-} item_list;
 
 static const item_list zone_list = {"zones", "zone", "zones", zone_keys,
                                     sizeof(rf_zone_spec), offsetof(rf_zone_spec, name)};
@@ -90,7 +64,6 @@ static const char *const model_names[] = {"sphere", "point", NULL};
 static const char *const engine_names[] = {"exact", "fixed_step", NULL};
 static const char *const contact_names[] = {"full", "centre", NULL};
 static const char *const up_names[] = {"z", "y", NULL};
-static const char *const class_names[] = {"A", "B", "C", "D", NULL};
 
 const char *rf_importance_name(rf_importance i)
 {
@@ -109,231 +82,6 @@ const char *rf_limit_state_name(rf_limit_state s)
     return (unsigned)s < RF_N_LIMIT_STATES ? rf_limit_state_names[s] : "?";
 }
 
-/* ---- helpers ----------------------------------------------------------------- */
-
-static int oom(loader *L)
-{
-    return rf_error_set(L->err, L->d.file, 0, 0, "out of memory");
-}
-
-/* A path from the project file, relative to the project file's directory. */
-static char *resolve(const char *dir, const char *rel)
-{
-    if (rel[0] == '/' || !strcmp(dir, "."))
-        return strdup(rel);
-    size_t n = strlen(dir) + strlen(rel) + 2;
-    char *s = malloc(n);
-    if (s)
-        snprintf(s, n, "%s/%s", dir, rel);
-    return s;
-}
-
-/* 1 when path names a regular file that opens for reading; otherwise 0, why set (a
- * directory or a pipe opens too, but is no file to read). */
-static int readable(const char *path, char *why, size_t size)
-{
-    struct stat st;
-    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
-        snprintf(why, size, "%s", S_ISDIR(st.st_mode) ? strerror(EISDIR) : "not a regular file");
-        return 0;
-    }
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        snprintf(why, size, "%s", strerror(errno));
-        return 0;
-    }
-    fclose(f);
-    return 1;
-}
-
-/* The required non-empty string under "name", copied. */
-static int read_name(loader *L, const rf_ynode *map, const char *what, char **out)
-{
-    rf_ynode *n;
-    const char *s = NULL;
-    if (rf_ydoc_require(&L->d, map, "name", what, &n, L->err) ||
-        rf_ydoc_string(&L->d, n, "name", &s, L->err))
-        return -1;
-    *out = strdup(s);
-    return *out ? 0 : oom(L);
-}
-
-/* The name of item i of a list's array. */
-static char **item_name(const item_list *list, void *array, size_t i)
-{
-    return (char **)((char *)array + i * list->size + list->name_offset);
-}
-
-/* Starts item i of a list: a mapping with only the list's keys and a name no earlier
- * item has.  *count becomes i + 1 once the item holds its name, so that freeing the
- * project frees it.  `what` gets "LIST item N", which names the item in its other
- * messages. */
-static int read_item(loader *L, const rf_ynode *n, size_t i, const item_list *list,
-                     void *array, size_t *count, char what[WHAT_SIZE])
-{
-    char **name = item_name(list, array, i);
-    snprintf(what, WHAT_SIZE, "%s item %zu", list->key, i + 1);
-    if (rf_ydoc_mapping_of(&L->d, n, list->keys, what, L->err) || read_name(L, n, what, name))
-        return -1;
-    *count = i + 1;
-    for (size_t j = 0; j < i; j++) {
-        const char *other = *item_name(list, array, j);
-        if (other && !strcmp(other, *name))
-            return rf_ydoc_error(&L->d, rf_ydoc_get(&L->d, n, "name"), L->err,
-                                 "duplicate %s name '%s' (%s item %zu has it too)", list->kind,
-                                 *name, list->key, j + 1);
-    }
-    return 0;
-}
-
-/* The list under its key in `parent` (a sequence; at least one item when required) into
- * a new *array of *count items: read_item starts each, then item(L, node, i, what)
- * reads the rest. */
-static int read_list(loader *L, const rf_ynode *parent, const item_list *list, int required,
-                     void **array, size_t *count,
-                     int (*item)(loader *, const rf_ynode *, size_t, const char *))
-{
-    rf_ynode *n = rf_ydoc_get(&L->d, parent, list->key);
-    if (!n) {
-        if (required)
-            return rf_ydoc_error(&L->d, parent, L->err,
-                                 "missing required key '%s' in the project file", list->key);
-        return 0;
-    }
-    if (rf_ydoc_sequence(&L->d, n, list->key, required ? 1 : 0, list->items, L->err))
-        return -1;
-    size_t size = rf_ydoc_seq_size(n);
-    if (!size)
-        return 0;
-    *array = calloc(size, list->size);
-    if (!*array)
-        return oom(L);
-    for (size_t i = 0; i < size; i++) {
-        rf_ynode *node = rf_ydoc_seq_item(&L->d, n, i);
-        char what[WHAT_SIZE];
-        if (read_item(L, node, i, list, *array, count, what) || item(L, node, i, what))
-            return -1;
-    }
-    return 0;
-}
-
-/* A DIST: {mean: number, sd: number >= 0} or a plain number (sd 0). */
-static int read_dist(loader *L, const rf_ynode *n, const char *key, rf_yrange mean_range,
-                     rf_dist *out)
-{
-    char k[64];
-    if (n->type == YAML_SCALAR_NODE) {
-        out->sd = 0.0;
-        return rf_ydoc_number(&L->d, n, key, mean_range, &out->mean, L->err);
-    }
-    if (n->type != YAML_MAPPING_NODE) {
-        char got[64];
-        return rf_ydoc_error(&L->d, n, L->err,
-                             "'%s' must be a number or a mapping {mean, sd}, got %s", key,
-                             rf_ydoc_describe(n, got, sizeof got));
-    }
-    snprintf(k, sizeof k, "'%s'", key);
-    rf_ynode *mean;
-    if (rf_ydoc_check_keys(&L->d, n, dist_keys, k, L->err) ||
-        rf_ydoc_require(&L->d, n, "mean", k, &mean, L->err))
-        return -1;
-    snprintf(k, sizeof k, "%s.mean", key);
-    if (rf_ydoc_number(&L->d, mean, k, mean_range, &out->mean, L->err))
-        return -1;
-    out->sd = 0.0;
-    snprintf(k, sizeof k, "%s.sd", key);
-    rf_ynode *sd = rf_ydoc_get(&L->d, n, "sd");
-    return sd ? rf_ydoc_number(&L->d, sd, k, RF_YR_NONNEG, &out->sd, L->err) : 0;
-}
-
-static int opt_dist(loader *L, const rf_ynode *map, const char *key, rf_yrange mean_range,
-                    rf_dist *out)
-{
-    rf_ynode *n = rf_ydoc_get(&L->d, map, key);
-    return n ? read_dist(L, n, key, mean_range, out) : 0;
-}
-
-/* [a, b, ...]: exactly `dims` numbers. */
-static int read_tuple(loader *L, const rf_ynode *n, const char *key, size_t dims,
-                      const char *shape, double *out)
-{
-    char got[64];
-    if (n->type != YAML_SEQUENCE_NODE)
-        return rf_ydoc_error(&L->d, n, L->err, "'%s' must be %s, got %s", key, shape,
-                             rf_ydoc_describe(n, got, sizeof got));
-    size_t size = rf_ydoc_seq_size(n);
-    if (size != dims)
-        return rf_ydoc_error(&L->d, n, L->err, "'%s' must be %s (%zu numbers), got %zu", key,
-                             shape, dims, size);
-    for (size_t i = 0; i < dims; i++)
-        if (rf_ydoc_number(&L->d, rf_ydoc_seq_item(&L->d, n, i), key, RF_YR_ANY, &out[i],
-                           L->err))
-            return -1;
-    return 0;
-}
-
-/* [[x, y], ...] with at least min_points points; *xy is allocated. */
-static int read_points(loader *L, const rf_ynode *n, const char *key, size_t min_points,
-                       double **xy, size_t *count)
-{
-    if (rf_ydoc_sequence(&L->d, n, key, min_points, "points [x, y]", L->err))
-        return -1;
-    size_t np = rf_ydoc_seq_size(n);
-    double *v = malloc(2 * np * sizeof *v);
-    if (!v)
-        return oom(L);
-    for (size_t i = 0; i < np; i++) {
-        if (read_tuple(L, rf_ydoc_seq_item(&L->d, n, i), key, 2, "a list of points [x, y]",
-                       v + 2 * i)) {
-            free(v);
-            return -1;
-        }
-    }
-    *xy = v;
-    *count = np;
-    return 0;
-}
-
-static int read_polyline(loader *L, const rf_ynode *n, const char *key, size_t min_points,
-                         rf_polyline *out)
-{
-    return read_points(L, n, key, min_points, &out->xy, &out->n);
-}
-
-/* restitution / friction / rolling / class of a surface; absent values keep `base`.
- * rolling defaults to this surface's friction unless `inherit_rolling` is set. */
-static int read_surface(loader *L, const rf_ynode *map, const rf_surface *base,
-                        int inherit_rolling, rf_surface *out, int *rolling_given)
-{
-    *out = *base;
-    rf_ynode *cls = rf_ydoc_get(&L->d, map, "class");
-    rf_ynode *friction = rf_ydoc_get(&L->d, map, "friction");
-    rf_ynode *rolling = rf_ydoc_get(&L->d, map, "rolling");
-    if (opt_dist(L, map, "restitution", RF_YR_UNIT, &out->restitution))
-        return -1;
-    if (friction && read_dist(L, friction, "friction", RF_YR_NONNEG, &out->friction))
-        return -1;
-    if (cls) {
-        int c;
-        if (rf_ydoc_enum(&L->d, cls, "class", class_names, &c, L->err))
-            return -1;
-        if (friction)
-            return rf_ydoc_error(&L->d, cls, L->err,
-                                 "'class' sets the friction from Table 2 and cannot be "
-                                 "given together with 'friction'");
-        out->friction = rf_table2_friction_dist((char)('A' + c));
-    }
-    if (rolling) {
-        if (read_dist(L, rolling, "rolling", RF_YR_NONNEG, &out->rolling))
-            return -1;
-    } else if (!inherit_rolling) {
-        out->rolling = out->friction;
-    }
-    if (rolling_given)
-        *rolling_given = rolling != NULL;
-    return 0;
-}
-
 /* ---- terrain ----------------------------------------------------------------- */
 
 static int add_file(loader *L, rf_ynode *n)
@@ -342,14 +90,14 @@ static int add_file(loader *L, rf_ynode *n)
     const char *path = NULL;
     if (rf_ydoc_string(&L->d, n, s->source == RF_TERRAIN_DEM ? "dem" : "mesh", &path, L->err))
         return -1;
-    char *resolved = resolve(L->p->dir, path);
+    char *resolved = rf_load_resolve(L->p->dir, path);
     if (!resolved)
-        return oom(L);
+        return rf_load_oom(L);
     s->files[s->nfiles] = resolved;
     L->file_nodes[s->nfiles] = n;
     s->nfiles++;
     char why[256];
-    if (!readable(resolved, why, sizeof why))
+    if (!rf_load_readable(resolved, why, sizeof why))
         return rf_ydoc_error(&L->d, n, L->err, "cannot open terrain file '%s': %s", resolved,
                              why);
     return 0;
@@ -363,7 +111,7 @@ static int read_profile(loader *L, const rf_ynode *n)
         rf_ydoc_require(&L->d, n, "points", "'profile'", &points, L->err) ||
         rf_ydoc_require(&L->d, n, "width", "'profile'", &width, L->err))
         return -1;
-    if (read_points(L, points, "points", 2, &s->profile, &s->nprofile))
+    if (rf_load_points(L, points, "points", 2, &s->profile, &s->nprofile))
         return -1;
     for (size_t i = 1; i < s->nprofile; i++) {
         if (!(s->profile[2 * i] > s->profile[2 * (i - 1)]))
@@ -372,7 +120,9 @@ static int read_profile(loader *L, const rf_ynode *n)
                                  "point %zu has distance %g after %g",
                                  i + 1, s->profile[2 * i], s->profile[2 * (i - 1)]);
     }
-    return rf_ydoc_number(&L->d, width, "width", RF_YR_POSITIVE, &s->width, L->err);
+    if (rf_ydoc_number(&L->d, width, "width", RF_YR_POSITIVE, &s->width, L->err))
+        return -1;
+    return rf_load_bounded(L, width, "width", s->width, 0.0, RF_PROFILE_WIDTH_MAX, "m");
 }
 
 static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *what)
@@ -386,7 +136,7 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *wha
                              "a zone has either 'polygon' or 'file', not both");
     if (!polygon && !file)
         return rf_ydoc_error(&L->d, n, L->err, "%s needs 'polygon' or 'file'", what);
-    if (polygon && read_points(L, polygon, "polygon", 3, &z->poly_xy, &z->npoly))
+    if (polygon && rf_load_points(L, polygon, "polygon", 3, &z->poly_xy, &z->npoly))
         return -1;
     if (file) {
         const char *path = NULL;
@@ -395,19 +145,16 @@ static int read_zone(loader *L, const rf_ynode *n, size_t index, const char *wha
         if (s->source != RF_TERRAIN_MESH)
             return rf_ydoc_error(&L->d, file, L->err,
                                  "a zone 'file' needs a 'mesh' terrain; use 'polygon' here");
-        z->file = resolve(L->p->dir, path);
+        z->file = rf_load_resolve(L->p->dir, path);
         if (!z->file)
-            return oom(L);
-        int found = 0;
-        for (size_t k = 0; k < s->nfiles && !found; k++)
-            found = !strcmp(s->files[k], z->file);
-        if (!found)
+            return rf_load_oom(L);
+        if (rf_names_find(&L->file_names, z->file) == RF_NAMES_ABSENT)
             return rf_ydoc_error(&L->d, file, L->err,
                                  "zone 'file' must be one of the terrain's 'mesh' files, got "
                                  "'%s'",
                                  path);
     }
-    return read_surface(L, n, &s->surface, L->rolling_given, &z->surface, NULL);
+    return rf_load_surface(L, n, &s->surface, L->rolling_given, &z->surface, NULL);
 }
 
 static int read_terrain(loader *L, const rf_ynode *n)
@@ -464,7 +211,7 @@ static int read_terrain(loader *L, const rf_ynode *n)
         s->files = calloc(count, sizeof *s->files);
         L->file_nodes = calloc(count, sizeof *L->file_nodes);
         if (!s->files || !L->file_nodes)
-            return oom(L);
+            return rf_load_oom(L);
         for (size_t i = 0; i < count; i++)
             if (add_file(L, source->type == YAML_SEQUENCE_NODE
                                 ? rf_ydoc_seq_item(&L->d, source, i)
@@ -477,11 +224,17 @@ static int read_terrain(loader *L, const rf_ynode *n)
     s->surface = base;
     if (surface) {
         if (rf_ydoc_mapping_of(&L->d, surface, surface_keys, "'surface'", L->err) ||
-            read_surface(L, surface, &base, 0, &s->surface, &L->rolling_given))
+            rf_load_surface(L, surface, &base, 0, &s->surface, &L->rolling_given))
             return -1;
     }
 
-    return read_list(L, n, &zone_list, 0, (void **)&s->zones, &s->nzones, read_zone);
+    /* the terrain's files by name, for the zones that name one */
+    int oom = rf_names_init(&L->file_names, s->nfiles) != 0;
+    for (size_t i = 0; i < s->nfiles && !oom; i++)
+        rf_names_add(&L->file_names, s->files[i], i, &oom);
+    if (oom)
+        return rf_load_oom(L);
+    return rf_load_list(L, n, &zone_list, 0, (void **)&s->zones, &s->nzones, read_zone, NULL);
 }
 
 /* ---- vegetation, rocks, releases --------------------------------------------- */
@@ -492,7 +245,7 @@ static int read_forest(loader *L, const rf_ynode *n, size_t i, const char *what)
     f->restitution = (rf_dist){0.2, 0.0};
     f->friction = (rf_dist){0.3, 0.0};
     rf_ynode *polygon = rf_ydoc_get(&L->d, n, "polygon");
-    if (polygon && read_polyline(L, polygon, "polygon", 3, &f->polygon))
+    if (polygon && rf_load_polyline(L, polygon, "polygon", 3, &f->polygon))
         return -1;
     rf_ynode *density, *height, *diameter;
     if (rf_ydoc_require(&L->d, n, "density", what, &density, L->err) ||
@@ -500,10 +253,15 @@ static int read_forest(loader *L, const rf_ynode *n, size_t i, const char *what)
         rf_ydoc_require(&L->d, n, "diameter", what, &diameter, L->err))
         return -1;
     if (rf_ydoc_number(&L->d, density, "density", RF_YR_NONNEG, &f->density, L->err) ||
-        read_dist(L, height, "height", RF_YR_POSITIVE, &f->height) ||
+        rf_load_bounded(L, density, "density", f->density, 0.0, RF_FOREST_DENSITY_MAX,
+                        "trees per m^2") ||
+        rf_load_dist(L, height, "height", RF_YR_POSITIVE, RF_TREE_HEIGHT_MAX, RF_TREE_HEIGHT_MAX,
+                     &f->height) ||
         rf_ydoc_number(&L->d, diameter, "diameter", RF_YR_POSITIVE, &f->diameter, L->err) ||
-        opt_dist(L, n, "restitution", RF_YR_UNIT, &f->restitution) ||
-        opt_dist(L, n, "friction", RF_YR_NONNEG, &f->friction))
+        rf_load_bounded(L, diameter, "diameter", f->diameter, 0.0, RF_STEM_DIAMETER_MAX, "m") ||
+        rf_load_opt_dist(L, n, "restitution", RF_YR_UNIT, 1.0, 1.0, &f->restitution) ||
+        rf_load_opt_dist(L, n, "friction", RF_YR_NONNEG, RF_FRICTION_MAX, RF_FRICTION_MAX,
+                         &f->friction))
         return -1;
     return 0;
 }
@@ -526,6 +284,11 @@ static int read_rock(loader *L, const rf_ynode *n, size_t i, const char *what)
                              "'mass' and 'density' give a rock of radius %g m; it must be "
                              "%g to %g m",
                              r->radius, RF_ROCK_RADIUS_MIN, RF_ROCK_RADIUS_MAX);
+    rf_ynode *density = rf_ydoc_get(&L->d, n, "density");
+    if (rf_load_bounded(L, mass, "mass", r->mass, 0.0, RF_ROCK_MASS_MAX, "kg") ||
+        (density && rf_load_bounded(L, density, "density", r->density, RF_ROCK_DENSITY_MIN,
+                                    RF_ROCK_DENSITY_MAX, "kg/m^3")))
+        return -1;
     return 0;
 }
 
@@ -537,23 +300,21 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
     const char *rock_name = NULL;
     double xy[2];
     if (rf_ydoc_require(&L->d, n, "point", what, &point, L->err) ||
-        read_tuple(L, point, "point", 2, "a point [x, y]", xy) ||
+        rf_load_tuple(L, point, "point", 2, "a point [x, y]", RF_COORD_MAX, "m", xy) ||
         rf_ydoc_require(&L->d, n, "rock", what, &rock, L->err) ||
         rf_ydoc_string(&L->d, rock, "rock", &rock_name, L->err))
         return -1;
     r->x = xy[0];
     r->y = xy[1];
     L->point_nodes[i] = point;
-    r->rock = -1;
-    for (size_t k = 0; k < p->nrocks; k++)
-        if (!strcmp(p->rocks[k].name, rock_name))
-            r->rock = (int)k;
+    size_t k = rf_names_find(&L->rock_names, rock_name);
+    r->rock = k == RF_NAMES_ABSENT ? -1 : (int)k;
     if (r->rock < 0) {
         char names[512] = "";
         size_t used = 0;
-        for (size_t k = 0; k < p->nrocks && used < sizeof names; k++) {
-            int w = snprintf(names + used, sizeof names - used, "%s%s", k ? ", " : "",
-                             p->rocks[k].name);
+        for (size_t j = 0; j < p->nrocks && used < sizeof names; j++) {
+            int w = snprintf(names + used, sizeof names - used, "%s%s", j ? ", " : "",
+                             p->rocks[j].name);
             if (w < 0)
                 break;
             used += (size_t)w;
@@ -566,15 +327,25 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
     r->velocity = rf_v3(0.0, 0.0, 0.0);
     if (rf_ydoc_opt_integer(&L->d, n, "count", RF_YR_BETWEEN(1, RF_COUNT_MAX), &count, L->err) ||
         rf_ydoc_opt_number(&L->d, n, "height", RF_YR_NONNEG, &r->height, L->err) ||
-        rf_ydoc_opt_number(&L->d, n, "jitter", RF_YR_NONNEG, &r->jitter, L->err))
+        rf_ydoc_opt_number(&L->d, n, "jitter", RF_YR_NONNEG, &r->jitter, L->err) ||
+        rf_load_bounded(L, rf_ydoc_get(&L->d, n, "height"), "height", r->height, 0.0,
+                        RF_RELEASE_HEIGHT_MAX, "m") ||
+        rf_load_bounded(L, rf_ydoc_get(&L->d, n, "jitter"), "jitter", r->jitter, 0.0,
+                        RF_RELEASE_JITTER_MAX, "m"))
         return -1;
     r->count = (long)count;
     rf_ynode *velocity = rf_ydoc_get(&L->d, n, "velocity");
     if (velocity) {
         double v[3];
-        if (read_tuple(L, velocity, "velocity", 3, "a vector [vx, vy, vz]", v))
+        if (rf_load_tuple(L, velocity, "velocity", 3, "a vector [vx, vy, vz]",
+                          RF_RELEASE_SPEED_MAX, "m/s", v))
             return -1;
         r->velocity = rf_v3(v[0], v[1], v[2]);
+        double speed = rf_v3_norm(r->velocity);
+        if (!(speed <= RF_RELEASE_SPEED_MAX))
+            return rf_ydoc_error(&L->d, velocity, L->err,
+                                 "'velocity' is %g m/s; a release may be at most %g m/s",
+                                 speed, RF_RELEASE_SPEED_MAX);
     }
     return 0;
 }
@@ -617,7 +388,7 @@ static int read_measure(loader *L, const rf_ynode *n, size_t i, const char *what
         rf_ydoc_enum(&L->d, kind_node, "kind", kind_names, &k, L->err))
         return -1;
     if (rf_ydoc_require(&L->d, n, "line", what, &line, L->err) ||
-        read_polyline(L, line, "line", 2, &m->line))
+        rf_load_polyline(L, line, "line", 2, &m->line))
         return -1;
     L->line_nodes[i] = line;
     m->kind = (rf_measure_kind)k;
@@ -656,6 +427,12 @@ static int read_simulation(loader *L, const rf_ynode *n)
         rf_ydoc_opt_number(&L->d, n, "max_time", RF_YR_POSITIVE, &s->max_time, L->err) ||
         rf_ydoc_opt_integer(&L->d, n, "paths", RF_YR_NONNEG, &paths, L->err))
         return -1;
+    if (rf_load_bounded(L, rf_ydoc_get(&L->d, n, "dt"), "dt", s->dt, RF_DT_MIN, RF_DT_MAX, "s") ||
+        rf_load_bounded(L, rf_ydoc_get(&L->d, n, "stop_speed"), "stop_speed", s->stop_speed, 0.0,
+                        RF_STOP_SPEED_MAX, "m/s") ||
+        rf_load_bounded(L, rf_ydoc_get(&L->d, n, "max_time"), "max_time", s->max_time, 0.0,
+                        RF_MAX_TIME_MAX, "s"))
+        return -1;
     s->model = (rf_rock_model)model;
     s->engine = (rf_engine_kind)engine;
     s->contact = (rf_contact_kind)contact;
@@ -678,7 +455,7 @@ static int read_document(loader *L)
 
     rf_ynode *terrain;
     const char *s = NULL;
-    if (read_name(L, root, "the project file", &p->name))
+    if (rf_load_name(L, root, "the project file", &p->name))
         return -1;
     long long seed = 1;
     if (rf_ydoc_opt_integer(&L->d, root, "seed", RF_YR_NONNEG, &seed, L->err))
@@ -688,25 +465,27 @@ static int read_document(loader *L)
     if (rf_ydoc_require(&L->d, root, "terrain", "the project file", &terrain, L->err) ||
         read_terrain(L, terrain))
         return -1;
-    if (read_list(L, root, &forest_list, 0, (void **)&p->forests, &p->nforests, read_forest) ||
-        read_list(L, root, &rock_list, 1, (void **)&p->rocks, &p->nrocks, read_rock))
+    if (rf_load_list(L, root, &forest_list, 0, (void **)&p->forests, &p->nforests, read_forest,
+                     NULL) ||
+        rf_load_list(L, root, &rock_list, 1, (void **)&p->rocks, &p->nrocks, read_rock,
+                     &L->rock_names))
         return -1;
     rf_ynode *releases = rf_ydoc_get(&L->d, root, "releases");
     if (releases && releases->type == YAML_SEQUENCE_NODE && rf_ydoc_seq_size(releases)) {
         L->point_nodes = calloc(rf_ydoc_seq_size(releases), sizeof *L->point_nodes);
         if (!L->point_nodes)
-            return oom(L);
+            return rf_load_oom(L);
     }
     rf_ynode *measures = rf_ydoc_get(&L->d, root, "measures");
     if (measures && measures->type == YAML_SEQUENCE_NODE && rf_ydoc_seq_size(measures)) {
         L->line_nodes = calloc(rf_ydoc_seq_size(measures), sizeof *L->line_nodes);
         if (!L->line_nodes)
-            return oom(L);
+            return rf_load_oom(L);
     }
-    if (read_list(L, root, &release_list, 1, (void **)&p->releases, &p->nreleases,
-                  read_release) ||
-        read_list(L, root, &measure_list, 0, (void **)&p->measures, &p->nmeasures,
-                  read_measure))
+    if (rf_load_list(L, root, &release_list, 1, (void **)&p->releases, &p->nreleases,
+                     read_release, NULL) ||
+        rf_load_list(L, root, &measure_list, 0, (void **)&p->measures, &p->nmeasures,
+                     read_measure, NULL))
         return -1;
 
     rf_ynode *sim = rf_ydoc_get(&L->d, root, "simulation");
@@ -723,10 +502,10 @@ static int read_document(loader *L)
     if (rules) {
         if (rf_ydoc_string(&L->d, rules, "rules", &s, L->err))
             return -1;
-        if (!(p->rules_path = resolve(p->dir, s)))
-            return oom(L);
+        if (!(p->rules_path = rf_load_resolve(p->dir, s)))
+            return rf_load_oom(L);
         char why[256];
-        if (!readable(p->rules_path, why, sizeof why))
+        if (!rf_load_readable(p->rules_path, why, sizeof why))
             return rf_ydoc_error(&L->d, rules, L->err, "cannot open rules file '%s': %s",
                                  p->rules_path, why);
     }
@@ -835,7 +614,7 @@ static int set_paths(loader *L, const char *path)
     rf_project *p = L->p;
     p->path = strdup(path);
     if (!p->path)
-        return oom(L);
+        return rf_load_oom(L);
     const char *slash = strrchr(path, '/');
     if (!slash) {
         p->dir = strdup(".");
@@ -845,9 +624,9 @@ static int set_paths(loader *L, const char *path)
         p->dir = strndup(path, (size_t)(slash - path));
     }
     if (!p->dir)
-        return oom(L);
+        return rf_load_oom(L);
     p->yaml_text = strdup(L->d.text);
-    return p->yaml_text ? 0 : oom(L);
+    return p->yaml_text ? 0 : rf_load_oom(L);
 }
 
 /* The hazard map's grid over the terrain stays within RF_HAZARD_CELLS_MAX cells (each
@@ -871,7 +650,9 @@ static int check_hazard_grid(loader *L)
                         c, cells, RF_HAZARD_CELLS_MAX);
 }
 
-int rf_project_load(const char *path, rf_project *p, rf_error *err)
+/* Loads the project from `text` (len bytes, from the file `path`, or NULL to read the
+ * file). */
+static int load(const char *path, const char *text, size_t len, rf_project *p, rf_error *err)
 {
     memset(p, 0, sizeof *p);
     p->seed = 1;
@@ -884,7 +665,14 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err)
     memset(&L, 0, sizeof L);
     L.p = p;
     L.err = err;
-    int rc = rf_ydoc_load_file(&L.d, path, err);
+    int rc;
+    if (!text)
+        rc = rf_ydoc_load_file(&L.d, path, err);
+    else if (len > RF_TEXT_FILE_MAX)
+        rc = rf_error_set(err, path, 0, 0, "'%s' is %zu bytes; at most %zu are read", path, len,
+                          RF_TEXT_FILE_MAX);
+    else
+        rc = rf_ydoc_load_text(&L.d, path, text, len, err);
     if (rc == 0)
         rc = set_paths(&L, path);
     if (rc == 0)
@@ -900,10 +688,23 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err)
     free(L.file_nodes);
     free(L.point_nodes);
     free(L.line_nodes);
+    rf_names_free(&L.rock_names);
+    rf_names_free(&L.file_names);
     rf_ydoc_free(&L.d);
     if (rc)
         rf_project_free(p);
     return rc;
+}
+
+int rf_project_load(const char *path, rf_project *p, rf_error *err)
+{
+    return load(path, NULL, 0, p, err);
+}
+
+int rf_project_load_from_memory(const char *data, size_t len, const char *path, rf_project *p,
+                                rf_error *err)
+{
+    return load(path, data, len, p, err);
 }
 
 static void free_spec(rf_terrain_spec *s)

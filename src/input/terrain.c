@@ -9,6 +9,8 @@
 #include <string.h>
 
 #include "input/terrain_io.h"
+#include "base/names.h"
+#include "base/polygon.h"
 #include "base/tolerances.h"
 #include "base/util.h"
 
@@ -159,14 +161,11 @@ int rf_point_in_polygon(const double *poly_xy, size_t npoly, double x, double y)
 {
     int inside = 0;
     for (size_t i = 0, j = npoly ? npoly - 1 : 0; i < npoly; j = i++) {
-        double xi = poly_xy[2 * i], yi = poly_xy[2 * i + 1];
-        double xj = poly_xy[2 * j], yj = poly_xy[2 * j + 1];
-        double dx = xj - xi, dy = yj - yi;
-        double cross = dx * (y - yi) - dy * (x - xi);
-        if (fabs(cross) <= RF_ON_EDGE_REL * (dx * dx + dy * dy) && x >= fmin(xi, xj) &&
-            x <= fmax(xi, xj) && y >= fmin(yi, yj) && y <= fmax(yi, yj))
+        int r = rf_polygon_edge(poly_xy[2 * i], poly_xy[2 * i + 1], poly_xy[2 * j],
+                                poly_xy[2 * j + 1], x, y);
+        if (r == RF_EDGE_ON)
             return 1; /* on the boundary */
-        if ((yi > y) != (yj > y) && x < xi + (y - yi) * dx / dy)
+        if (r == RF_EDGE_CROSSES)
             inside = !inside;
     }
     return inside;
@@ -492,22 +491,35 @@ static int build_buckets(rf_terrain *t)
     return 0;
 }
 
-/* A triangle whose xy centroid lies in a polygon zone takes the first such zone. */
-static void apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
-                                const int32_t *poly_zone)
+/* A triangle whose xy centroid lies in a polygon zone takes the first such zone.  Each
+ * polygon is tested through an index of its edges (base/polygon.h): a triangle costs the
+ * few edges near its centroid's y, not all of them, and gets the zone the plain test
+ * gives.  0, or -1 when memory runs out. */
+static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
+                               const int32_t *poly_zone)
 {
-    for (size_t k = 0; k < t->ntri; k++) {
+    rf_polygon_index *ix = calloc(spec->nzones, sizeof *ix);
+    if (!ix)
+        return -1;
+    int rc = 0;
+    for (size_t z = 0; z < spec->nzones && rc == 0; z++)
+        if (spec->zones[z].poly_xy)
+            rc = rf_polygon_index_build(&ix[z], spec->zones[z].poly_xy, spec->zones[z].npoly);
+    for (size_t k = 0; k < t->ntri && rc == 0; k++) {
         rf_triangle *tri = &t->tri[k];
         double cx = (tri->a.x + tri->b.x + tri->c.x) / 3.0;
         double cy = (tri->a.y + tri->b.y + tri->c.y) / 3.0;
         for (size_t z = 0; z < spec->nzones; z++) {
-            const rf_zone_spec *zs = &spec->zones[z];
-            if (zs->poly_xy && rf_point_in_polygon(zs->poly_xy, zs->npoly, cx, cy)) {
+            if (spec->zones[z].poly_xy && rf_polygon_index_contains(&ix[z], cx, cy)) {
                 tri->zone = poly_zone[z];
                 break;
             }
         }
     }
+    for (size_t z = 0; z < spec->nzones; z++)
+        rf_polygon_index_free(&ix[z]);
+    free(ix);
+    return rc;
 }
 
 static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
@@ -599,6 +611,16 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     rf_tri_list l = {NULL, 0, 0};
     int32_t *zone_of = NULL;
     size_t zone_cap = 0;
+    /* the zones that name a file, by its path (the first of them for each) */
+    rf_names by_file;
+    int oom = rf_names_init(&by_file, spec->nzones) != 0;
+    for (size_t z = 0; z < spec->nzones && !oom; z++)
+        if (spec->zones[z].file)
+            rf_names_add(&by_file, spec->zones[z].file, z, &oom);
+    if (oom) {
+        rf_names_free(&by_file);
+        return rf_error_set(err, NULL, 0, 0, "out of memory building the terrain");
+    }
     for (size_t f = 0; f < spec->nfiles; f++) {
         const char *path = spec->files[f];
         size_t before = l.n;
@@ -608,15 +630,14 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
         rf_surface surface = spec->surface;
         size_t len;
         const char *name = base_name(path, &len);
-        for (size_t z = 0; z < spec->nzones; z++)
-            if (spec->zones[z].file && strcmp(spec->zones[z].file, path) == 0) {
-                surface = spec->zones[z].surface;
-                if (spec->zones[z].name) {
-                    name = spec->zones[z].name;
-                    len = strlen(name);
-                }
-                break;
+        size_t z = rf_names_find(&by_file, path);
+        if (z != RF_NAMES_ABSENT) {
+            surface = spec->zones[z].surface;
+            if (spec->zones[z].name) {
+                name = spec->zones[z].name;
+                len = strlen(name);
             }
+        }
         int32_t zone = (int32_t)t->nzones;
         if (add_zone(t, name, len, surface)) {
             rf_error_set(err, path, 0, 0, "out of memory");
@@ -639,6 +660,7 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     }
     rf_tri_list_free(&l);
     free(zone_of);
+    rf_names_free(&by_file);
     if (t->ntri == 0)
         return rf_error_set(err, spec->nfiles ? spec->files[0] : "", 0, 0,
                             "the terrain mesh has no triangle with an area");
@@ -646,6 +668,7 @@ static int build_mesh(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
 fail:
     rf_tri_list_free(&l);
     free(zone_of);
+    rf_names_free(&by_file);
     return -1;
 }
 
@@ -706,8 +729,8 @@ int rf_terrain_build(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
                 goto oom;
             any = 1;
         }
-        if (any)
-            apply_polygon_zones(t, spec, poly_zone);
+        if (any && apply_polygon_zones(t, spec, poly_zone))
+            goto oom;
         free(poly_zone);
         poly_zone = NULL;
     }

@@ -1,6 +1,7 @@
 /* terrain_io.c - readers of terrain files: ESRI ASCII grids, STL and OBJ meshes. */
 #include "input/terrain_io.h"
 #include "base/util.h"
+#include "input/bounds.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -174,12 +175,30 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
             return rf_error_set(err, s->path, data_line, data_col, "missing grid header key '%s'",
                                 key_name[k]);
     for (int k = NCOLS; k <= NROWS; k++)
-        if (val[k] < 2 || val[k] > 1e8 || val[k] != floor(val[k]))
+        if (val[k] < 2 || val[k] > RF_GRID_NODES_MAX / 2 || val[k] != floor(val[k]))
             return rf_error_set(err, s->path, mark[k].line, mark[k].column,
-                                "%s must be a whole number of at least 2", key_name[k]);
-    if (!(val[CELL] > 0))
+                                "%s must be a whole number from 2 to %.0f, got %g", key_name[k],
+                                RF_GRID_NODES_MAX / 2, val[k]);
+    if (val[NCOLS] * val[NROWS] > RF_GRID_NODES_MAX)
+        return rf_error_set(err, s->path, mark[NROWS].line, mark[NROWS].column,
+                            "ncols x nrows is %.0f nodes; at most %.0f", val[NCOLS] * val[NROWS],
+                            RF_GRID_NODES_MAX);
+    /* every value takes a character and a separator but the last */
+    if (val[NCOLS] * val[NROWS] > (double)(s->end - s->p + 1) / 2)
+        return rf_error_set(err, s->path, data_line, data_col,
+                            "a %.0f x %.0f grid needs %.0f values; the %zu bytes left in the file "
+                            "hold at most %zu",
+                            val[NCOLS], val[NROWS], val[NCOLS] * val[NROWS],
+                            (size_t)(s->end - s->p), (size_t)(s->end - s->p + 1) / 2);
+    if (!(val[CELL] >= RF_CELL_MIN && val[CELL] <= RF_CELL_MAX))
         return rf_error_set(err, s->path, mark[CELL].line, mark[CELL].column,
-                            "cellsize must be positive");
+                            "cellsize must be from %g to %g m, got %g", RF_CELL_MIN, RF_CELL_MAX,
+                            val[CELL]);
+    for (int k = XLL; k <= YLL; k++)
+        if (!(fabs(val[k]) <= RF_COORD_MAX))
+            return rf_error_set(err, s->path, mark[k].line, mark[k].column,
+                                "%s must be from -%g to %g m, got %g", key_name[k], RF_COORD_MAX,
+                                RF_COORD_MAX, val[k]);
 
     g->ncols = (size_t)val[NCOLS];
     g->nrows = (size_t)val[NROWS];
@@ -199,8 +218,15 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
             if (!scan_skip(s, 1))
                 return rf_error_set(err, s->path, s->line, scan_column(s, s->p),
                                     "expected %zu values, found %zu", count, r * g->ncols + i);
-            if (scan_number(s, 1, &g->z[j * g->ncols + i], err))
+            int line = s->line, col = scan_column(s, s->p);
+            double *z = &g->z[j * g->ncols + i];
+            if (scan_number(s, 1, z, err))
                 return -1;
+            if (!(fabs(*z) <= RF_ELEVATION_MAX) && !(g->has_nodata && *z == g->nodata))
+                return rf_error_set(err, s->path, line, col,
+                                    "an elevation must be from -%g to %g m (or the "
+                                    "NODATA_value), got %g",
+                                    RF_ELEVATION_MAX, RF_ELEVATION_MAX, *z);
         }
     }
     if (scan_skip(s, 1))
@@ -210,19 +236,26 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
     return 0;
 }
 
+int rf_asc_read_from_memory(const char *data, size_t len, const char *name, rf_asc_grid *g,
+                            rf_error *err)
+{
+    memset(g, 0, sizeof *g);
+    scanner s;
+    scan_init(&s, name, data, len);
+    int rc = asc_parse(&s, g, err);
+    if (rc)
+        rf_asc_free(g);
+    return rc;
+}
+
 int rf_asc_read(const char *path, rf_asc_grid *g, rf_error *err)
 {
     memset(g, 0, sizeof *g);
-    char *buf;
-    size_t len;
-    if (rf_read_file(path, &buf, &len, err))
+    rf_mapped m;
+    if (rf_map_file(path, RF_TERRAIN_FILE_MAX, &m, err))
         return -1;
-    scanner s;
-    scan_init(&s, path, buf, len);
-    int rc = asc_parse(&s, g, err);
-    free(buf);
-    if (rc)
-        rf_asc_free(g);
+    int rc = rf_asc_read_from_memory(m.data, m.len, path, g, err);
+    rf_unmap_file(&m);
     return rc;
 }
 
@@ -240,8 +273,12 @@ static rf_vec3 to_world(double x, double y, double z, char up)
     return up == 'y' ? rf_v3(x, z, y) : rf_v3(x, y, z);
 }
 
+/* 0, or 1 when the list holds RF_MESH_TRIANGLES_MAX triangles already, or -1 when memory
+ * runs out (push_failed says which). */
 static int tri_push(rf_tri_list *l, rf_vec3 a, rf_vec3 b, rf_vec3 c)
 {
+    if ((double)l->n >= RF_MESH_TRIANGLES_MAX)
+        return 1;
     if (rf_grow((void **)&l->v, &l->cap, l->n + 1, 3 * sizeof *l->v))
         return -1;
     l->v[3 * l->n] = a;
@@ -249,6 +286,29 @@ static int tri_push(rf_tri_list *l, rf_vec3 a, rf_vec3 b, rf_vec3 c)
     l->v[3 * l->n + 2] = c;
     l->n++;
     return 0;
+}
+
+static int push_failed(const char *path, int rc, rf_error *err)
+{
+    if (rc > 0)
+        return rf_error_set(err, path, 0, 0, "the mesh files hold more than %.0f triangles",
+                            RF_MESH_TRIANGLES_MAX);
+    return rf_error_set(err, path, 0, 0, "out of memory");
+}
+
+/* 1 when a vertex lies within RF_COORD_MAX across and RF_ELEVATION_MAX up and down. */
+static int vertex_in_bounds(rf_vec3 v)
+{
+    return fabs(v.x) <= RF_COORD_MAX && fabs(v.y) <= RF_COORD_MAX &&
+           fabs(v.z) <= RF_ELEVATION_MAX;
+}
+
+static int vertex_error(const char *path, int line, int column, rf_vec3 v, rf_error *err)
+{
+    return rf_error_set(err, path, line, column,
+                        "vertex (%g, %g, %g) is out of bounds: x and y must be within %g m, "
+                        "the elevation within %g m",
+                        v.x, v.y, v.z, RF_COORD_MAX, RF_ELEVATION_MAX);
 }
 
 /* ---- STL ------------------------------------------------------------------------------ */
@@ -274,6 +334,29 @@ static int stl_binary_size_matches(size_t len, const unsigned char *b)
     return (uint64_t)len == 84 + 50 * n;
 }
 
+/* A NUL byte among the first facet's bytes: no ascii STL has one, a binary STL almost
+ * always does (its header's padding, the high bytes of its triangle count and of small
+ * floats). */
+static int stl_looks_binary(const char *data, size_t len)
+{
+    return memchr(data, '\0', len < 134 ? len : 134) != NULL;
+}
+
+static int stl_binary_size_error(const char *path, const unsigned char *b, size_t len,
+                                 rf_error *err)
+{
+    if (len < 84)
+        return rf_error_set(err, path, 0, 0,
+                            "binary STL of %zu bytes is truncated: its header and triangle "
+                            "count take 84",
+                            len);
+    uint64_t n = le32(b + 80), want = 84 + 50 * n;
+    return rf_error_set(err, path, 0, 0,
+                        "binary STL of %llu triangles needs %llu bytes, the file has %zu (%s)",
+                        (unsigned long long)n, (unsigned long long)want, len,
+                        len < want ? "truncated" : "bytes after the last triangle");
+}
+
 static int stl_read_binary(const char *path, const unsigned char *b, char up, rf_tri_list *out,
                            rf_error *err)
 {
@@ -287,9 +370,17 @@ static int stl_read_binary(const char *path, const unsigned char *b, char up, rf
             if (!isfinite(v[i].x) || !isfinite(v[i].y) || !isfinite(v[i].z))
                 return rf_error_set(err, path, 0, 0, "facet %u of binary STL has a non-finite vertex",
                                     (unsigned)k + 1);
+            if (!vertex_in_bounds(v[i]))
+                return rf_error_set(err, path, 0, 0,
+                                    "facet %u of binary STL: vertex (%g, %g, %g) is out of "
+                                    "bounds: x and y must be within %g m, the elevation within "
+                                    "%g m",
+                                    (unsigned)k + 1, v[i].x, v[i].y, v[i].z, RF_COORD_MAX,
+                                    RF_ELEVATION_MAX);
         }
-        if (tri_push(out, v[0], v[1], v[2]))
-            return rf_error_set(err, path, 0, 0, "out of memory");
+        int rc = tri_push(out, v[0], v[1], v[2]);
+        if (rc)
+            return push_failed(path, rc, err);
     }
     return 0;
 }
@@ -312,14 +403,18 @@ static int stl_read_ascii(scanner *s, char up, rf_tri_list *out, rf_error *err)
                 return rf_error_set(err, s->path, s->line, scan_column(s, a),
                                     "'vertex' outside 'outer loop'");
             double x, y, z;
+            int vline = s->line, vcol = scan_column(s, a);
             if (scan_number(s, 0, &x, err) || scan_number(s, 0, &y, err) ||
                 scan_number(s, 0, &z, err))
                 return -1;
             rf_vec3 v = to_world(x, y, z, up);
+            if (!vertex_in_bounds(v))
+                return vertex_error(s->path, vline, vcol, v, err);
+            int rc = nloop >= 2 ? tri_push(out, first, prev, v) : 0;
+            if (rc)
+                return push_failed(s->path, rc, err);
             if (nloop == 0)
                 first = v;
-            else if (nloop >= 2 && tri_push(out, first, prev, v))
-                return rf_error_set(err, s->path, 0, 0, "out of memory");
             prev = v;
             nloop++;
         } else if (token_is(a, b, "endloop")) {
@@ -382,12 +477,19 @@ static int obj_parse(scanner *s, char up, rf_tri_list *out, vert_list *vl, rf_er
         const char *a, *b = scan_token(s, &a);
         if (token_is(a, b, "v")) {
             double x, y, z;
+            int vline = s->line, vcol = scan_column(s, a);
             if (scan_number(s, 0, &x, err) || scan_number(s, 0, &y, err) ||
                 scan_number(s, 0, &z, err))
                 return -1;
+            if ((double)vl->n >= RF_MESH_VERTICES_MAX)
+                return rf_error_set(err, s->path, vline, vcol, "more than %.0f vertices",
+                                    RF_MESH_VERTICES_MAX);
             if (rf_grow((void **)&vl->v, &vl->cap, vl->n + 1, sizeof *vl->v))
                 return rf_error_set(err, s->path, 0, 0, "out of memory");
-            vl->v[vl->n++] = to_world(x, y, z, up);
+            rf_vec3 v = to_world(x, y, z, up);
+            if (!vertex_in_bounds(v))
+                return vertex_error(s->path, vline, vcol, v, err);
+            vl->v[vl->n++] = v;
         } else if (token_is(a, b, "f")) {
             int fline = s->line, fcol = scan_column(s, a);
             size_t first = 0, prev = 0, n = 0;
@@ -398,10 +500,11 @@ static int obj_parse(scanner *s, char up, rf_tri_list *out, vert_list *vl, rf_er
                     return rf_error_set(err, s->path, s->line, scan_column(s, ia),
                                         "bad vertex index '%.*s' (%zu vertices so far)",
                                         shown_len(ia, ib), ia, vl->n);
+                int rc = n >= 2 ? tri_push(out, vl->v[first], vl->v[prev], vl->v[idx]) : 0;
+                if (rc)
+                    return push_failed(s->path, rc, err);
                 if (n == 0)
                     first = idx;
-                else if (n >= 2 && tri_push(out, vl->v[first], vl->v[prev], vl->v[idx]))
-                    return rf_error_set(err, s->path, 0, 0, "out of memory");
                 prev = idx;
                 n++;
             }
@@ -423,50 +526,61 @@ static int has_extension(const char *path, const char *ext)
     return n >= m && token_is(path + n - m, path + n, ext);
 }
 
-int rf_mesh_read(const char *path, char up, rf_tri_list *out, rf_error *err)
+int rf_mesh_read_from_memory(const char *data, size_t len, const char *name, int obj, char up,
+                             rf_tri_list *out, rf_error *err)
 {
-    char *buf;
-    size_t len;
-    if (rf_read_file(path, &buf, &len, err))
-        return -1;
     size_t n_before = out->n;
     scanner s;
-    scan_init(&s, path, buf, len);
+    scan_init(&s, name, data, len);
     int rc;
-    if (has_extension(path, ".obj")) {
+    if (obj) {
         vert_list vl = {NULL, 0, 0};
         rc = obj_parse(&s, up, out, &vl, err);
         free(vl.v);
-    } else if (stl_binary_size_matches(len, (const unsigned char *)buf)) {
-        rc = stl_read_binary(path, (const unsigned char *)buf, up, out, err);
+    } else if (stl_binary_size_matches(len, (const unsigned char *)data)) {
+        rc = stl_read_binary(name, (const unsigned char *)data, up, out, err);
+    } else if (stl_looks_binary(data, len)) {
+        rc = stl_binary_size_error(name, (const unsigned char *)data, len, err);
     } else {
         rc = stl_read_ascii(&s, up, out, err);
     }
-    free(buf);
     if (rc)
         out->n = n_before;
     return rc;
 }
 
+int rf_mesh_read(const char *path, char up, rf_tri_list *out, rf_error *err)
+{
+    rf_mapped m;
+    if (rf_map_file(path, RF_TERRAIN_FILE_MAX, &m, err))
+        return -1;
+    int rc = rf_mesh_read_from_memory(m.data, m.len, path, has_extension(path, ".obj"), up, out,
+                                      err);
+    rf_unmap_file(&m);
+    return rc;
+}
+
 /* ---- rows of numbers ------------------------------------------------------------ */
 
-int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
+int rf_points_read_from_memory(const char *data, size_t len, const char *name, size_t ncol,
+                               rf_points *out, rf_error *err)
 {
     memset(out, 0, sizeof *out);
-    char *buf;
-    size_t len, cap = 0;
-    if (rf_read_file(path, &buf, &len, err))
-        return -1;
+    size_t cap = 0;
     scanner s;
-    scan_init(&s, path, buf, len);
+    scan_init(&s, name, data, len);
     int rc = 0;
     while (rc == 0 && scan_skip(&s, 1)) {
         if (*s.p == '#') {
             scan_to_next_line(&s);
             continue;
         }
+        if ((double)out->n >= RF_POINTS_ROWS_MAX) {
+            rc = rf_error_set(err, name, s.line, 1, "more than %.0f rows", RF_POINTS_ROWS_MAX);
+            break;
+        }
         if (rf_grow((void **)&out->v, &cap, (out->n + 1) * ncol, sizeof *out->v)) {
-            rc = rf_error_set(err, path, s.line, 0, "out of memory");
+            rc = rf_error_set(err, name, s.line, 0, "out of memory");
             break;
         }
         for (size_t k = 0; rc == 0 && k < ncol; k++)
@@ -475,9 +589,19 @@ int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
             out->n++;
         scan_to_next_line(&s);
     }
-    free(buf);
     if (rc)
         rf_points_free(out);
+    return rc;
+}
+
+int rf_points_read(const char *path, size_t ncol, rf_points *out, rf_error *err)
+{
+    memset(out, 0, sizeof *out);
+    rf_mapped m;
+    if (rf_map_file(path, RF_TERRAIN_FILE_MAX, &m, err))
+        return -1;
+    int rc = rf_points_read_from_memory(m.data, m.len, path, ncol, out, err);
+    rf_unmap_file(&m);
     return rc;
 }
 

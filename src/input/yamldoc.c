@@ -1,6 +1,7 @@
 /* yamldoc.c - strict, typed access to a YAML document with file:line:column errors. */
 #include "input/yamldoc.h"
 #include "base/util.h"
+#include "input/bounds.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -28,6 +29,17 @@ static rf_mark mark_of_offset(const char *text, size_t len, size_t offset)
     return m;
 }
 
+/* What libyaml's context names when it is a collection or scalar that must be closed
+ * ("while parsing a flow sequence" -> "flow sequence"), else NULL. */
+static const char *opened_here(const char *context)
+{
+    static const char *const openers[] = {"while parsing a flow ", "while scanning a quoted "};
+    for (size_t i = 0; i < sizeof openers / sizeof *openers; i++)
+        if (!strncmp(context, openers[i], strlen(openers[i])))
+            return strstr(context, " a ") + 3;
+    return NULL;
+}
+
 static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error *err)
 {
     const char *problem = parser->problem ? parser->problem : "unknown problem";
@@ -44,6 +56,16 @@ static int parser_error(const rf_ydoc *d, const yaml_parser_t *parser, rf_error 
                             problem);
     }
     default:
+        if (parser->context && opened_here(parser->context))
+            /* an unclosed '[', '{' or quote is found at the end of the file or of the
+             * next lines: the place to look is where it opened */
+            return rf_error_set(err, d->file, (int)parser->context_mark.line + 1,
+                                (int)parser->context_mark.column + 1,
+                                "YAML syntax error in the %s that starts here: %s (at line %d, "
+                                "column %d)",
+                                opened_here(parser->context), problem,
+                                (int)parser->problem_mark.line + 1,
+                                (int)parser->problem_mark.column + 1);
         if (parser->context)
             return rf_error_set(err, d->file, (int)parser->problem_mark.line + 1,
                                 (int)parser->problem_mark.column + 1,
@@ -165,6 +187,87 @@ static int check_depth(const rf_ydoc *d, rf_error *err)
     return rc ? -1 : 0;
 }
 
+/* The children of node n (1-based ids): the items of a sequence, the keys and values of
+ * a mapping, in order; *count of them. */
+static yaml_node_item_t child_of(const yaml_node_t *n, size_t k)
+{
+    if (n->type == YAML_SEQUENCE_NODE)
+        return n->data.sequence.items.start[k];
+    const yaml_node_pair_t *pair = &n->data.mapping.pairs.start[k / 2];
+    return k % 2 ? pair->value : pair->key;
+}
+
+static size_t child_count(const yaml_node_t *n)
+{
+    if (n->type == YAML_SEQUENCE_NODE)
+        return (size_t)(n->data.sequence.items.top - n->data.sequence.items.start);
+    if (n->type == YAML_MAPPING_NODE)
+        return 2 * (size_t)(n->data.mapping.pairs.top - n->data.mapping.pairs.start);
+    return 0;
+}
+
+/* The document as the readers see it, every alias replaced by the node it names, may
+ * hold at most RF_YAML_EXPANSION_MAX times the nodes the file writes out (and
+ * RF_YAML_EXPANSION_FLOOR in any case), so that reading it costs time linear in the
+ * file.  An alias inside the node it names (&a [*a]) expands without end and is refused
+ * too.  Counted depth first without recursion, each node's expanded size once. */
+static int check_expansion(rf_ydoc *d, rf_error *err)
+{
+    yaml_node_t *nodes = d->doc.nodes.start;
+    size_t n = (size_t)(d->doc.nodes.top - nodes);
+    if (n == 0)
+        return 0;
+    double budget = fmax(RF_YAML_EXPANSION_MAX * (double)n, RF_YAML_EXPANSION_FLOOR);
+    double *size = calloc(n, sizeof *size);
+    unsigned char *state = calloc(n, 1); /* 0 not seen, 1 open, 2 counted */
+    size_t *stack = malloc(n * sizeof *stack), *next = malloc(n * sizeof *next);
+    int rc = 0;
+    if (!size || !state || !stack || !next) {
+        rc = rf_error_set(err, d->file, 0, 0, "out of memory while reading YAML");
+        goto done;
+    }
+    size_t top = 0;
+    stack[top] = 0; /* the root is node 1 */
+    next[top++] = 0;
+    state[0] = 1;
+    size[0] = 1;
+    while (top && rc == 0) {
+        size_t i = stack[top - 1];
+        if (next[top - 1] < child_count(&nodes[i])) {
+            size_t c = (size_t)child_of(&nodes[i], next[top - 1]++) - 1;
+            if (state[c] == 2) {
+                size[i] += size[c];
+            } else if (state[c] == 1) {
+                rf_mark m = rf_ydoc_mark(&nodes[c]);
+                rc = rf_error_set(err, d->file, m.line, m.column,
+                                  "a YAML alias refers to this node from inside it");
+            } else {
+                state[c] = 1;
+                size[c] = 1;
+                stack[top] = c;
+                next[top++] = 0;
+            }
+            continue;
+        }
+        state[i] = 2;
+        if (size[i] > budget) {
+            rf_mark m = rf_ydoc_mark(&nodes[i]);
+            rc = rf_error_set(err, d->file, m.line, m.column,
+                              "through its YAML aliases this expands to %.3g nodes; the file "
+                              "writes out %zu, and may expand to at most %g times as many",
+                              size[i], n, RF_YAML_EXPANSION_MAX);
+        }
+        if (--top)
+            size[stack[top - 1]] += size[i];
+    }
+done:
+    free(size);
+    free(state);
+    free(stack);
+    free(next);
+    return rc ? -1 : 0;
+}
+
 static int parse_text(rf_ydoc *d, rf_error *err)
 {
     if (check_depth(d, err))
@@ -179,6 +282,10 @@ static int parse_text(rf_ydoc *d, rf_error *err)
         return -1;
     }
     d->loaded = 1;
+    if (check_expansion(d, err)) {
+        yaml_parser_delete(&parser);
+        return -1;
+    }
     quote_tagged_strings(d);
     if (yaml_document_get_root_node(&d->doc)) {
         yaml_document_t next;
@@ -237,7 +344,7 @@ int rf_ydoc_load_file(rf_ydoc *d, const char *path, rf_error *err)
     memset(d, 0, sizeof *d);
     char *text;
     size_t len;
-    if (rf_read_file(path, &text, &len, err))
+    if (rf_read_file(path, RF_TEXT_FILE_MAX, &text, &len, err))
         return -1;
     return load_owned(d, path, text, len, err);
 }

@@ -217,9 +217,9 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
     if (!status) {
         char path[4096];
         snprintf(path, sizeof path, "%s/index.html", dir);
-        FILE *f = fopen(path, "w");
+        FILE *f = rf_create_file(path, err);
         if (!f) {
-            status = rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
+            status = -1;
         } else {
             section_head(&r, f);
             fputs("<div class=\"summary\"><h2 style=\"margin-top:.3em\">Summary</h2><ul>\n", f);

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/tolerances.h"
+#include "base/util.h"
 
 #define SVG_FONT "font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\""
 
@@ -15,9 +16,9 @@ int rf_svg_open(rf_svg *s, const char *path, double width, double height, const 
 {
     memset(s, 0, sizeof *s);
     snprintf(s->path, sizeof s->path, "%s", path);
-    s->f = fopen(path, "w");
+    s->f = rf_create_file(path, err);
     if (!s->f)
-        return rf_error_set(err, path, 0, 0, "cannot write: %s", strerror(errno));
+        return -1;
     fprintf(s->f,
             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
             "viewBox=\"0 0 %.0f %.0f\" " SVG_FONT " font-size=\"13\">\n",

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/stats.h"
+#include "base/term.h"
 #include "rockfall/records.h"
 #include "base/util.h"
 #include "input/measure_kinds.h"
@@ -174,8 +175,10 @@ void rf_query_print_measures(sqlite3 *db, int64_t run, FILE *out)
             rf_error_print(&err, stderr);
             break;
         }
-        fprintf(out, "%-16s %-10s", (const char *)sqlite3_column_text(st, 1),
-                (const char *)sqlite3_column_text(st, 2));
+        char name[256], kind[64]; /* text from a file: escaped for the terminal */
+        fprintf(out, "%-16s %-10s",
+                rf_term_escape((const char *)sqlite3_column_text(st, 1), name, sizeof name),
+                rf_term_escape((const char *)sqlite3_column_text(st, 2), kind, sizeof kind));
         rf_query_print_stats(out, &s);
     }
     sqlite3_finalize(st);

@@ -123,9 +123,11 @@ static void bind_int(sqlite3_stmt *st, int col, int64_t v)
     (void)rc;
 }
 
+/* A real, NULL when it is not finite: an infinite energy is no measurement, and SQLite
+ * would store it as Inf (and a NaN as NULL anyway). */
 static void bind_real(sqlite3_stmt *st, int col, double v)
 {
-    int rc = sqlite3_bind_double(st, col, v);
+    int rc = isfinite(v) ? sqlite3_bind_double(st, col, v) : sqlite3_bind_null(st, col);
     assert(rc == SQLITE_OK);
     (void)rc;
 }
@@ -138,10 +140,11 @@ static void bind_vec3(sqlite3_stmt *st, int i, rf_vec3 p)
     bind_real(st, i + 2, p.z);
 }
 
-/* A value that is NULL when negative: a capacity that was not given. */
+/* A value that is NULL when negative (a capacity that was not given) or not finite. */
 static void bind_given(sqlite3_stmt *st, int col, double v)
 {
-    int rc = v < 0.0 ? sqlite3_bind_null(st, col) : sqlite3_bind_double(st, col, v);
+    int rc = v < 0.0 || !isfinite(v) ? sqlite3_bind_null(st, col)
+                                      : sqlite3_bind_double(st, col, v);
     assert(rc == SQLITE_OK);
     (void)rc;
 }
