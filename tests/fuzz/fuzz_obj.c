@@ -1,4 +1,5 @@
-/* fuzz_obj.c - the OBJ mesh reader (rf_mesh_read, from a file), z up and y up. */
+/* fuzz_obj.c - the OBJ mesh reader, from memory (rf_mesh_read_from_memory), z up and
+ * y up. */
 #include "input/terrain_io.h"
 #include "fuzz_util.h"
 
@@ -10,11 +11,10 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char path[400];
-    fuzz_write("mesh.obj", data, size, path, sizeof path);
     rf_tri_list l = {0};
     rf_error err;
-    rf_mesh_read(path, size % 2 ? 'y' : 'z', &l, &err);
+    rf_mesh_read_from_memory((const char *)data, size, "mesh.obj", 1, size % 2 ? 'y' : 'z', &l,
+                             &err);
     rf_tri_list_free(&l);
     return 0;
 }

@@ -1,6 +1,6 @@
-/* fuzz_project.c - the project loader (rf_project_load, which reads files: the input
- * is written as bad/project.yaml in the scratch folder, beside the test terrains under
- * the names the seed projects give them, so that their terrains load). */
+/* fuzz_project.c - the project loader, from memory (rf_project_load_from_memory): the
+ * input is read as bad/project.yaml of the scratch folder, beside the test terrains
+ * under the names the seed projects give them, so that their terrains load. */
 #include "rockfall/project.h"
 #include "fuzz_util.h"
 
@@ -23,10 +23,10 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     char path[400];
-    fuzz_write("bad/project.yaml", data, size, path, sizeof path);
+    snprintf(path, sizeof path, "%s/bad/project.yaml", fuzz_scratch());
     rf_project p;
     rf_error err;
-    if (rf_project_load(path, &p, &err) == 0)
+    if (rf_project_load_from_memory((const char *)data, size, path, &p, &err) == 0)
         rf_project_free(&p);
     return 0;
 }

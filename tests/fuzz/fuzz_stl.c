@@ -1,4 +1,5 @@
-/* fuzz_stl.c - the STL mesh reader (rf_mesh_read, from a file), z up and y up. */
+/* fuzz_stl.c - the STL mesh reader, from memory (rf_mesh_read_from_memory), z up and
+ * y up. */
 #include "input/terrain_io.h"
 #include "fuzz_util.h"
 
@@ -10,11 +11,10 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char path[400];
-    fuzz_write("mesh.stl", data, size, path, sizeof path);
     rf_tri_list l = {0};
     rf_error err;
-    rf_mesh_read(path, size % 2 ? 'y' : 'z', &l, &err);
+    rf_mesh_read_from_memory((const char *)data, size, "mesh.stl", 0, size % 2 ? 'y' : 'z', &l,
+                             &err);
     rf_tri_list_free(&l);
     return 0;
 }

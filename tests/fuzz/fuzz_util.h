@@ -1,6 +1,6 @@
 /* fuzz_util.h - what the libFuzzer targets share: a private scratch folder under
- * /dev/shm (removed at exit) holding the fuzz input as a file, for the loaders that
- * read only files, and copies of the test terrains that project files name.
+ * /dev/shm (removed at exit) holding copies of the test terrains that project files
+ * name.
  *
  * Each target defines LLVMFuzzerTestOneInput; `make fuzz` builds them with clang
  * -fsanitize=fuzzer,address,undefined (tests/fuzz/README.md). */
@@ -54,18 +54,6 @@ static inline const char *fuzz_scratch(void)
         atexit(fuzz_rm);
     }
     return fuzz_dir;
-}
-
-/* Writes the input to the scratch folder's `name`; its path in `path`. */
-static inline void fuzz_write(const char *name, const uint8_t *data, size_t size, char *path,
-                       size_t cap)
-{
-    snprintf(path, cap, "%s/%s", fuzz_scratch(), name);
-    FILE *f = fopen(path, "wb");
-    if (!f || (size && fwrite(data, 1, size, f) != size) || fclose(f)) {
-        perror(path);
-        abort();
-    }
 }
 
 /* Copies a file of RF_FUZZ_DATA into the scratch folder as `to`. */
