@@ -9,6 +9,7 @@
 #   make report-check   the demo report rendered by headless chromium (a PNG to look at)
 #   make layers     the layer rule of src/ (docs/architecture.md), on sources and objects
 #   make bench-memory   peak memory of a run at 2 000 and 200 000 trajectories (flat)
+#   make bench-load the project loader on large inputs (times, not tests)
 #   make fuzz       libFuzzer on every loader (clang, installed when missing), FUZZ_SECONDS each
 #   make install    PREFIX=/usr/local
 
@@ -51,7 +52,7 @@ TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.o)
 TOOL_SRC := $(wildcard tools/*.c)
 TOOLS    := $(TOOL_SRC:tools/%.c=$(BUILD)/tools/%)
 
-.PHONY: all demo test bench validate install clean deps report-check layers bench-memory fuzz fuzz-deps
+.PHONY: all demo test bench validate install clean deps report-check layers bench-memory bench-load fuzz fuzz-deps
 all: $(BUILD)/rockfall $(TOOLS)
 
 $(BUILD)/src/%.o: src/%.c
@@ -120,6 +121,13 @@ bench-memory:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/tools/bench_memory
 	$(BUILD)/tools/bench_memory $(BUILD)/rockfall
+
+# The project loader's time on the inputs that once made it quadratic or unbounded
+# (100 000 rocks, a 30 000-vertex zone, an alias of a long line used 1 000 times).
+bench-load:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory $(BUILD)/tools/bench_load
+	$(BUILD)/tools/bench_load
 
 # libFuzzer on every loader (tests/fuzz/README.md): FUZZ_SECONDS each, one after the
 # other, clang and its fuzzer runtime installed when missing.
