@@ -102,7 +102,7 @@ int rf_read_file(const char *path, size_t max_bytes, char **text, size_t *len, r
 int rf_map_file(const char *path, uint64_t max_bytes, rf_mapped *m, rf_error *err)
 {
     memset(m, 0, sizeof *m);
-    uint64_t size;
+    uint64_t size = 0;
     int fd = open_regular(path, max_bytes, &size, err);
     if (fd < 0)
         return -1;
