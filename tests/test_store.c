@@ -1139,6 +1139,31 @@ TEST(store_upgrades_a_version_2_file_in_place)
     sqlite3_close(db);
 }
 
+/* A check of schema version 3 writes its integrity checks into a version-2 file without
+ * on_failure; the upgrade gives those rows 'inconclusive' (and the design checks
+ * 'fail'), so the upgraded file's verdict is the one check printed. */
+TEST(store_upgrade_from_version_2_keeps_an_inconclusive_check_inconclusive)
+{
+    const char *path = copy_fixture(V2_FIXTURE, "v2-checked.db");
+    sqlite3 *db = open_raw(path);
+    exec_raw(db, "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+                 " VALUES (1, NULL, 'trajectories_max_time', 0.04, 0, 0),"
+                 " (1, NULL, 'trajectories_left_terrain', 0, 0.01, 1),"
+                 " (1, NULL, 'trajectories_rest_on_steep_face', NULL, 0, 1)");
+    sqlite3_close(db);
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 3);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
+                       " rule LIKE 'trajectories_%%' AND on_failure = 'inconclusive'") == 3);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 5);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM run_verdicts WHERE run_id = 1 AND"
+                       " verdict = 'inconclusive' AND checks_inconclusive = 1") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM check_results WHERE rule = 'trajectories_max_time'"
+                       " AND verdict = 'inconclusive'") == 1);
+    sqlite3_close(db);
+}
+
 /* The upgrade is one transaction: failing at its last step leaves the file at
  * version 2 without the new columns. */
 TEST(store_failed_upgrade_from_version_2_leaves_the_file_as_it_was)

@@ -489,9 +489,9 @@ int rf_rules_evaluate_verdict(sqlite3 *db, int64_t run, const rf_rules *r, FILE 
     if (status != 0 && !sqlite3_get_autocommit(db))
         sqlite3_exec(db, "ROLLBACK", NULL, NULL, NULL);
     rf_rules_result got = {.failed = failed, .inconclusive = inconclusive,
-                           .verdict = failed         ? RF_VERDICT_FAIL
-                                      : inconclusive ? RF_VERDICT_INCONCLUSIVE
-                                                     : RF_VERDICT_PASS};
+                           .verdict = inconclusive ? RF_VERDICT_INCONCLUSIVE
+                                      : failed     ? RF_VERDICT_FAIL
+                                                   : RF_VERDICT_PASS};
     if (status == 0 && out)
         status = rf_rules_print_run(db, run, r, &L, &got, out, err);
     if (res)

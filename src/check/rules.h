@@ -87,7 +87,7 @@ typedef struct rf_rules {
 extern const char *const rf_allowance_keys[RF_N_INTEGRITY + 1];
 extern const char *const rf_integrity_rules[RF_N_INTEGRITY + 1];
 
-/* A checked run's verdict.  FAIL wins over INCONCLUSIVE (docs/rules.md). */
+/* A checked run's verdict.  INCONCLUSIVE wins over FAIL (docs/rules.md). */
 typedef enum rf_verdict { RF_VERDICT_PASS, RF_VERDICT_FAIL, RF_VERDICT_INCONCLUSIVE } rf_verdict;
 
 typedef struct rf_rules_result {

@@ -127,7 +127,8 @@ static const char *const integrity_what[RF_N_INTEGRITY] = {
     "ended by max_time", "left the terrain before any control line",
     "came to rest on a face steeper than their friction holds"};
 static const char *const integrity_remedy[RF_N_INTEGRITY] = {
-    "raise simulation.max_time until no rock is cut short",
+    "raise simulation.max_time until no rock is cut short (a forest that makes a rock draw "
+    "over a million candidate trees ends it so too: check the forests' density and diameter)",
     "extend the terrain past the protected line and draw that line as a control line",
     "use the exact engine or a smaller time step"};
 
@@ -160,20 +161,20 @@ static void print_reasons(const rf_rules_run *L, FILE *out)
                     integrity_what[k], integrity_remedy[k]);
 }
 
-/* The verdict line: FAIL wins over INCONCLUSIVE (a failed design check stands however
- * the unsupported trajectories would have ended), and the reasons of an inconclusive
- * run are printed under either. */
+/* The verdict line: INCONCLUSIVE wins over FAIL (docs/rules.md: trajectories that cannot
+ * support a verdict support no FAIL either), then the reasons. */
 static void print_verdict(const rf_rules_run *L, const rf_rules_result *res, long nc, FILE *out)
 {
-    if (res->failed)
-        fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", res->failed, nc);
+    if (res->inconclusive && res->failed)
+        fprintf(out, "\nverdict: INCONCLUSIVE (%ld of %ld checks failed, on trajectories that "
+                     "cannot support a verdict)\n", res->failed, nc);
     else if (res->inconclusive)
         fprintf(out, "\nverdict: INCONCLUSIVE (all %ld checks passed, but the trajectories "
                      "cannot support a PASS)\n", nc);
+    else if (res->failed)
+        fprintf(out, "\nverdict: FAIL (%ld of %ld checks failed)\n", res->failed, nc);
     else
         fprintf(out, "\nverdict: PASS (all %ld checks passed)\n", nc);
-    if (res->failed && res->inconclusive)
-        fprintf(out, "the run is also inconclusive (the FAIL stands):\n");
     if (res->inconclusive)
         print_reasons(L, out);
 }

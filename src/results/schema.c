@@ -262,8 +262,8 @@ static const char views_sql[] =
     "CREATE VIEW IF NOT EXISTS run_verdicts AS\n"
     "SELECT run_id, project, status, started_at, checks, checks_failed,\n"
     "  checks_inconclusive,\n"
-    "  CASE WHEN checks = 0 THEN 'unchecked' WHEN checks_failed > 0 THEN 'fail'\n"
-    "       WHEN checks_inconclusive > 0 THEN 'inconclusive' ELSE 'pass' END AS verdict\n"
+    "  CASE WHEN checks = 0 THEN 'unchecked' WHEN checks_inconclusive > 0 THEN 'inconclusive'\n"
+    "       WHEN checks_failed > 0 THEN 'fail' ELSE 'pass' END AS verdict\n"
     "FROM (SELECT r.id AS run_id, r.project, r.status, r.started_at,\n"
     "        coalesce(k.n, 0) AS checks, coalesce(k.failed, 0) AS checks_failed,\n"
     "        coalesce(k.inconclusive, 0) AS checks_inconclusive\n"
@@ -491,6 +491,10 @@ static int upgrade_2_to_3(sqlite3 *db, const char *path, rf_error *err)
     static const char sql[] =
         "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V3_COLUMN ";\n"
         "ALTER TABLE checks ADD COLUMN " CHECKS_V3_COLUMN ";\n"
+        /* the integrity checks a check of version 3 wrote into the version-2 file */
+        "UPDATE checks SET on_failure = 'inconclusive' WHERE measure_id IS NULL AND rule IN"
+        " ('trajectories_max_time', 'trajectories_left_terrain',"
+        " 'trajectories_rest_on_steep_face');\n"
         "UPDATE rockfall_schema SET version = 3;\n"
         "PRAGMA user_version = 3;\n";
     return exec_sql(db, path, sql, "upgrading the results database from schema version 2",
