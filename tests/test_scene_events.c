@@ -523,3 +523,45 @@ TEST(scene_events_roll_over_an_edge_across_a_line_is_recorded)
     rf_workspace_free(ws);
     rf_project_free(&p);
 }
+
+typedef struct lines_seen {
+    int n[2];
+    double t[2];
+} lines_seen;
+
+static void note_line(void *ctx, const rf_interception_record *r)
+{
+    lines_seen *c = ctx;
+    c->n[r->measure]++;
+    c->t[r->measure] = r->t_s;
+}
+
+/* Two control lines 3 cm apart, both inside the move of rock D 21 of Noto 3.2 over an
+ * edge (y 22.05 to 21.99 in no time): each is recorded once, in the order the move
+ * crosses them, at the moment of the move. */
+TEST(scene_events_roll_over_an_edge_across_two_lines_records_both)
+{
+    rf_project p;
+    rf_error err;
+    ENSURE_MSG(rf_project_load("projects/noto/noto-3.2.yaml", &p, &err) == 0, "%s", err.message);
+    double xy[2][4] = {{0, 22.03, 300, 22.03}, {0, 22.0, 300, 22.0}};
+    rf_measure ms[2] = {p.measures[0], p.measures[0]};
+    for (int k = 0; k < 2; k++)
+        ms[k].line = (rf_polyline){xy[k], 2};
+    rf_scene scene = {&p.terrain, &p.sim, p.forests, p.nforests, ms, 2};
+    rf_workspace *ws = rf_workspace_alloc(&p.terrain);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    gsl_rng_set(rng, rf_trajectory_seed(p.seed, 1, 21));
+    rf_body b = rf_release_body(&p, 1, p.sim.model);
+    rf_state s = rf_release_start(&p, 1, &b, rng);
+    lines_seen c = {{0, 0}, {NAN, NAN}};
+    rf_sink sink = {.ctx = &c, .interception = note_line};
+    rf_trajectory_record rec;
+    ENSURE(rf_simulate(&scene, &b, &s, rng, ws, &sink, &rec) == 0);
+    ENSURE_MSG(c.n[0] == 1 && c.n[1] == 1, "crossings %d and %d", c.n[0], c.n[1]);
+    ENSURE_MSG(c.t[0] == c.t[1] && fabs(c.t[0] - 15.953122185) < 1e-6, "at %.9f and %.9f", c.t[0],
+               c.t[1]);
+    gsl_rng_free(rng);
+    rf_workspace_free(ws);
+    rf_project_free(&p);
+}

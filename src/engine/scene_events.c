@@ -43,6 +43,7 @@ void rf_scene_begin(rf_motion *m)
     const rf_scene *sc = m->cfg.scene;
     m->scn.pending = RF_SCENE_NONE;
     m->scn.seen = m->rock.s.p;
+    m->scn.jumping = 0;
     m->scn.odo = 0.0;
     m->scn.phi_r = 2.0 * m->cfg.body->radius;
     const rf_terrain *t = m->cfg.terrain;
@@ -128,7 +129,7 @@ static int jump_crossings(rf_motion *m, rf_vec3 p)
     rf_arc move = {from, rf_v3_sub(p, from), rf_v3(0, 0, 0)};
     measure_horizon(m, &move, 1.0);
     if (m->scn.ncrossings > 0)
-        return 1;
+        return m->scn.jumping = 1;
     m->scn.seen = p;
     return 0;
 }
@@ -136,6 +137,7 @@ static int jump_crossings(rf_motion *m, rf_vec3 p)
 double rf_scene_horizon(rf_motion *m, const rf_arc *arc, double T)
 {
     m->scn.pending = RF_SCENE_NONE;
+    m->scn.jumping = 0;
     if (jump_crossings(m, arc->p)) {
         m->scn.pending = RF_SCENE_MEASURE;
         return 0.0;
@@ -198,7 +200,13 @@ static int cross_measure(rf_motion *m, int which)
  * is never seen by the next. */
 static int measure_event(rf_motion *m)
 {
-    m->scn.seen = m->rock.s.p;
+    /* seen moves on to the crossing: a move in no time may cross further lines after it */
+    if (m->scn.jumping)
+        m->scn.seen = rf_v3_madd(m->scn.seen, m->scn.crossings[0].t,
+                                 rf_v3_sub(m->rock.s.p, m->scn.seen));
+    else
+        m->scn.seen = m->rock.s.p;
+    m->scn.jumping = 0;
     for (int i = 0; i < m->scn.ncrossings; i++) {
         rf_passage_start(m, &m->scn.crossings[i]);
         if (cross_measure(m, m->scn.crossings[i].measure) >= 0)
@@ -244,6 +252,7 @@ int rf_scene_at_once(rf_motion *m)
      * centre meets a column's face a hair before the column's edge) */
     rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
     double vh = rf_v3_hnorm(m->rock.s.v);
+    m->scn.jumping = 0;
     measure_horizon(m, &arc, vh > 0 ? fmax(RF_CROSSING_EPS, RF_REACH_TOLS * m->cfg.tol_len / vh) : RF_CROSSING_EPS);
     m->scn.pending = RF_SCENE_NONE;
     return m->scn.ncrossings > 0 ? measure_event(m) : -1;

@@ -155,6 +155,7 @@ typedef struct rf_scene_state {
     rf_vec3 seen;            /* where the measures last saw the centre: the end of the last
                                 piece of motion or scene event (a move in no time since, a
                                 roll over an edge or a lift, is checked for crossings) */
+    int jumping;             /* the crossings pending are of that move, from seen */
     rf_crossing crossings[RF_MAX_COINCIDENT_CROSSINGS]; /* the measures crossed, at once */
     int ncrossings;
     rf_passage passing[RF_MAX_COINCIDENT_CROSSINGS]; /* lines being passed (travel.c) */
