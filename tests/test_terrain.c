@@ -930,7 +930,8 @@ TEST(terrain_asc_ncols_beyond_the_limit_says_the_limit)
     ensure_asc_error("wide.asc", GRID_HEAD("1000000000", "2", "1") "1 2\n3 4\n", 1, 1,
                      "from 2 to 50000000, got 1e+09");
     ensure_asc_error("square.asc", GRID_HEAD("20000", "20000", "1") "1 2\n3 4\n", 2, 1,
-                     "ncols x nrows is 400000000 nodes; at most 100000000");
+                     "ncols x nrows is 400000000 nodes; at most 100000000 (crop the grid to the "
+                     "slope, or resample it to larger cells)");
     /* a grid the file cannot hold is refused before its nodes are allocated */
     ensure_asc_error("claims.asc", GRID_HEAD("10000", "10000", "1") "1 2\n3 4\n", 6, 1,
                      "needs 100000000 values");

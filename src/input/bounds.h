@@ -16,7 +16,8 @@
 #define RF_YAML_EXPANSION_MAX 10.0  /* a YAML document's nodes with its aliases expanded, per
                                      * node it writes out */
 #define RF_YAML_EXPANSION_FLOOR 1e5 /* ... and in any case (small files may alias freely) */
-#define RF_GRID_NODES_MAX 1e8       /* nodes of an ASCII grid, ncols x nrows (800 MB) */
+#define RF_GRID_NODES_MAX 1e8       /* nodes of an ASCII grid, ncols x nrows (as triangles,
+                                       about 24 GB) */
 #define RF_MESH_TRIANGLES_MAX 5e7   /* triangles of all mesh files together */
 #define RF_MESH_VERTICES_MAX 5e7    /* vertices of one OBJ file */
 #define RF_POINTS_ROWS_MAX 1e7      /* rows of a points file (field data) */

@@ -181,8 +181,9 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
                                 RF_GRID_NODES_MAX / 2, val[k]);
     if (val[NCOLS] * val[NROWS] > RF_GRID_NODES_MAX)
         return rf_error_set(err, s->path, mark[NROWS].line, mark[NROWS].column,
-                            "ncols x nrows is %.0f nodes; at most %.0f", val[NCOLS] * val[NROWS],
-                            RF_GRID_NODES_MAX);
+                            "ncols x nrows is %.0f nodes; at most %.0f (crop the grid to the "
+                            "slope, or resample it to larger cells)",
+                            val[NCOLS] * val[NROWS], RF_GRID_NODES_MAX);
     /* every value takes a character and a separator but the last */
     if (val[NCOLS] * val[NROWS] > (double)(s->end - s->p + 1) / 2)
         return rf_error_set(err, s->path, data_line, data_col,
