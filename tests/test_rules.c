@@ -1072,6 +1072,47 @@ TEST(rules_integrity_checked_in_a_version_2_file)
     sqlite3_close(db);
 }
 
+/* A fixed-step run written before schema version 3 does not say which of its rocks came
+ * to rest on a steep face: such a run supports no PASS (an exact run's, as above, does:
+ * that engine never rests a rock so). */
+TEST(rules_unrecorded_rests_of_a_fixed_step_run_are_inconclusive)
+{
+    const char *path = rf_test_path("v2-fixed.db");
+    FILE *in = fopen("tests/data/results-v2.db", "rb"), *out = fopen(path, "wb");
+    ENSURE(in && out);
+    char chunk[65536];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, in)) > 0)
+        ENSURE(fwrite(chunk, 1, n, out) == n);
+    fclose(in);
+    fclose(out);
+    sqlite3 *db;
+    rf_error err = {{0}};
+    ENSURE(sqlite3_open(path, &db) == SQLITE_OK);
+    ENSURE(sqlite3_exec(db, "UPDATE runs SET project_yaml = replace(project_yaml, 'simulation: {',"
+                            " 'simulation: {engine: fixed_step, dt: 0.01, ')",
+                        NULL, NULL, NULL) == SQLITE_OK);
+    ENSURE(dbt_int(db, "SELECT instr(project_yaml, 'engine: fixed_step') > 0 FROM runs") == 1);
+    sqlite3_close(db);
+    ENSURE(rf_db_open(path, RF_DB_CHECK, &db, NULL, &err) == 0);
+    rf_rules r;
+    load_rules(TABLE3, &r);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *pr = open_memstream(&text, &len);
+    rf_rules_result res;
+    ENSURE_MSG(rf_rules_evaluate_verdict(db, 1, &r, pr, &res, &err) == 0, "%s", err.message);
+    fclose(pr);
+    ENSURE_MSG(res.verdict == RF_VERDICT_INCONCLUSIVE && res.inconclusive == 1, "%s", text);
+    ENSURE_MSG(strstr(text, "INCONCLUSIVE trajectories_rest_on_steep_face not recorded") &&
+                   strstr(text, "a fixed-step run written before schema version 3 does not "
+                                "record"),
+               "%s", text);
+    free(text);
+    rf_rules_free(&r);
+    sqlite3_close(db);
+}
+
 /* ---- the command line -------------------------------------------------------------- */
 
 /* The exit status of `rockfall check` agrees with the stored checks. */

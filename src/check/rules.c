@@ -372,8 +372,10 @@ static int write_integrity_checks(sqlite3 *db, int64_t run, const rf_rules *r,
     int status = 0;
     for (int k = 0; status == 0 && k < RF_N_INTEGRITY; k++) {
         int known = g->recorded[k] && g->n_trajectories > 0;
-        L->within[k] = !g->recorded[k] ||
-                       rf_rules_within_allowance(g->count[k], g->n_trajectories, r->allowance[k]);
+        /* unrecorded, a fixed-step run's rests on steep faces cannot be ruled out */
+        L->within[k] = g->recorded[k] ? rf_rules_within_allowance(g->count[k], g->n_trajectories,
+                                                                  r->allowance[k])
+                                      : !(k == RF_INTEGRITY_REST_STEEP && g->fixed_step);
         *n_inconclusive += !L->within[k];
         sqlite3_bind_int64(ins, 1, run);
         sqlite3_bind_text(ins, 2, rf_integrity_rules[k], -1, SQLITE_STATIC);

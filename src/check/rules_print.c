@@ -156,7 +156,10 @@ static void print_reasons(const rf_rules_run *L, FILE *out)
 {
     const rf_run_integrity *g = &L->integrity;
     for (int k = 0; k < RF_N_INTEGRITY; k++)
-        if (!L->within[k])
+        if (!L->within[k] && !g->recorded[k])
+            fprintf(out, "  a fixed-step run written before schema version 3 does not record "
+                         "which trajectories %s: run it again\n", integrity_what[k]);
+        else if (!L->within[k])
             fprintf(out, "  %ld of %ld trajectories %s: %s\n", g->count[k], g->n_trajectories,
                     integrity_what[k], integrity_remedy[k]);
 }

@@ -6,6 +6,7 @@
 
 #include "input/measure_kinds.h"
 #include "results/schema.h"
+#include "results/schema_legacy.h"
 
 char *rf_reach_kinds_sql(void)
 {
@@ -58,5 +59,20 @@ int rf_run_integrity_count(sqlite3 *db, int64_t run, rf_run_integrity *out, rf_e
     int status = rf_sql_status(db, file, rc, "counting the trajectories that cannot support "
                                "a verdict", err);
     sqlite3_finalize(st);
+    if (status == 0 && !out->recorded[RF_INTEGRITY_REST_STEEP]) {
+        /* which engine ran it, from the project text the run stores */
+        rc = sqlite3_prepare_v2(db, "SELECT project_yaml FROM runs WHERE id = ?1", -1, &st,
+                                NULL);
+        if (rc == SQLITE_OK) {
+            sqlite3_bind_int64(st, 1, run);
+            rc = sqlite3_step(st);
+            if (rc == SQLITE_ROW)
+                out->fixed_step =
+                    rf_legacy_fixed_step((const char *)sqlite3_column_text(st, 0));
+        }
+        status = rf_sql_status(db, file, rc == SQLITE_DONE ? SQLITE_ROW : rc,
+                               "reading the run's engine", err);
+        sqlite3_finalize(st);
+    }
     return status;
 }

@@ -29,6 +29,9 @@ typedef struct rf_run_integrity {
      * is recorded from schema version 3 (a file of an earlier version, or its runs
      * written before an upgrade, do not say) */
     int recorded[RF_N_INTEGRITY];
+    /* the run used the fixed-step engine (its stored project text says so): where the
+     * file does not record rest_steep, a rest on a steep face may have gone unrecorded */
+    int fixed_step;
 } rf_run_integrity;
 
 /* The names of the kinds with reach_line (control lines) as a quoted SQL list

@@ -39,6 +39,19 @@ static int gives_sel(rf_ydoc *d, const char *name)
     return gives;
 }
 
+int rf_legacy_fixed_step(const char *project_yaml)
+{
+    rf_ydoc doc, *d = project_doc(project_yaml, &doc);
+    if (!d)
+        return 0;
+    rf_ynode *sim = project_get(d, "simulation");
+    rf_ynode *e = sim && sim->type == YAML_MAPPING_NODE ? rf_ydoc_get(d, sim, "engine") : NULL;
+    int fixed = e && e->type == YAML_SCALAR_NODE &&
+                !strcmp((const char *)e->data.scalar.value, "fixed_step");
+    rf_ydoc_free(d);
+    return fixed;
+}
+
 int rf_legacy_sel_given(const char *project_yaml, const char *name)
 {
     rf_ydoc doc, *d = project_doc(project_yaml, &doc);

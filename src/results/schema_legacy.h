@@ -12,6 +12,8 @@
 /* 1 when the project text gives measure `name` a sel, 0 when not, -1 when unknown (no
  * text, or text that does not parse). */
 int rf_legacy_sel_given(const char *project_yaml, const char *name);
+/* 1 when the project text's simulation.engine is fixed_step, else 0 (also for no text). */
+int rf_legacy_fixed_step(const char *project_yaml);
 
 /* The rule file the project text names (`rules:`), resolved from the directory of
  * project_path; malloc'd, NULL when it names none. */
