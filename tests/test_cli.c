@@ -566,3 +566,69 @@ TEST(cli_empirical_decimal_numbers_and_finite_results_only)
     ENSURE(rf_test_rockfall("empirical --height +1.75e2 --slope 45. --mu .35", out, sizeof out) == 0);
     ENSURE_MSG(strstr(out, "47.2 m/s"), "%s", out);
 }
+
+/* ---- an interrupted run ----------------------------------------------------------- */
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sqlite3.h>
+#include <time.h>
+
+/* SIGINT (Ctrl-C) or SIGTERM in the middle of a run: the run ends as failed with the
+ * rows written so far, the database is closed, and neither a -wal nor a -shm file is
+ * left beside it. */
+TEST(cli_interrupted_run_is_failed_and_leaves_no_stray_files)
+{
+    const int sigs[2] = {SIGINT, SIGTERM};
+    for (int k = 0; k < 2; k++) {
+        char db[600], wal[620], shm[620];
+        snprintf(db, sizeof db, "%s/interrupted-%d.db", rf_test_tmpdir(), k);
+        snprintf(wal, sizeof wal, "%s-wal", db);
+        snprintf(shm, sizeof shm, "%s-shm", db);
+        const char *bin = getenv("ROCKFALL_BIN") ? getenv("ROCKFALL_BIN") : "build/rockfall";
+        pid_t pid = fork();
+        ENSURE(pid >= 0);
+        if (pid == 0) {
+            int devnull = open("/dev/null", O_WRONLY);
+            dup2(devnull, 1);
+            dup2(devnull, 2);
+            execl(bin, bin, "run", "projects/noto/noto-3.1-no-trees.yaml", "--count", "1000000",
+                  "--quiet", "-o", db, (char *)NULL);
+            _exit(127);
+        }
+        /* until the run has written rows (at most 60 s) */
+        long rows = 0;
+        for (int tries = 0; tries < 600 && rows == 0; tries++) {
+            nanosleep(&(struct timespec){0, 100 * 1000 * 1000}, NULL);
+            sqlite3 *h;
+            if (sqlite3_open_v2(db, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK) {
+                sqlite3_stmt *st;
+                if (sqlite3_prepare_v2(h, "SELECT count(*) FROM trajectories", -1, &st, NULL) ==
+                        SQLITE_OK &&
+                    sqlite3_step(st) == SQLITE_ROW)
+                    rows = sqlite3_column_int64(st, 0);
+                sqlite3_finalize(st);
+            }
+            sqlite3_close(h);
+        }
+        ENSURE_MSG(rows > 0, "the run wrote no row in 60 s");
+        ENSURE(kill(pid, sigs[k]) == 0);
+        int st;
+        ENSURE(waitpid(pid, &st, 0) == pid);
+        ENSURE_MSG(WIFEXITED(st) && WEXITSTATUS(st) == 2, "status %d", st);
+        struct stat sb;
+        ENSURE_MSG(stat(wal, &sb) != 0 && stat(shm, &sb) != 0, "%s or %s left behind", wal, shm);
+        sqlite3 *h;
+        ENSURE(sqlite3_open_v2(db, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
+        sqlite3_stmt *q;
+        ENSURE(sqlite3_prepare_v2(h, "SELECT status, n_trajectories, (SELECT count(*) FROM"
+                                     " trajectories) FROM runs", -1, &q, NULL) == SQLITE_OK);
+        ENSURE(sqlite3_step(q) == SQLITE_ROW);
+        ENSURE_MSG(!strcmp((const char *)sqlite3_column_text(q, 0), "failed") &&
+                       sqlite3_column_int64(q, 1) == sqlite3_column_int64(q, 2) &&
+                       sqlite3_column_int64(q, 1) < 1000000,
+                   "%s, %lld rows", sqlite3_column_text(q, 0), sqlite3_column_int64(q, 1));
+        sqlite3_finalize(q);
+        sqlite3_close(h);
+    }
+}

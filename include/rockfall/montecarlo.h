@@ -6,6 +6,7 @@
 #ifndef ROCKFALL_MONTECARLO_H
 #define ROCKFALL_MONTECARLO_H
 
+#include <signal.h>
 #include <stdint.h>
 
 #include <gsl/gsl_rng.h>
@@ -19,6 +20,9 @@ struct rf_store;
 typedef struct rf_run_options {
     int threads;  /* worker threads, >= 1 */
     int progress; /* print progress to stderr */
+    /* may be NULL; once it reads nonzero (set by a signal handler), the run ends after
+     * the rows being written, as failed ("interrupted") */
+    const volatile sig_atomic_t *interrupted;
 } rf_run_options;
 
 typedef struct rf_run_summary {

@@ -127,8 +127,8 @@ static const char *const integrity_what[RF_N_INTEGRITY] = {
     "ended by max_time", "left the terrain before any control line",
     "came to rest on a face steeper than their friction holds"};
 static const char *const integrity_remedy[RF_N_INTEGRITY] = {
-    "raise simulation.max_time until no rock is cut short (a forest that makes a rock draw "
-    "over a million candidate trees ends it so too: check the forests' density and diameter)",
+    ("raise simulation.max_time until no rock is cut short (a forest that makes a rock draw "
+     "over a million candidate trees ends it so too: check the forests' density and diameter)"),
     "extend the terrain past the protected line and draw that line as a control line",
     "use the exact engine or a smaller time step"};
 

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -204,6 +205,14 @@ static int print_run_integrity(sqlite3 *db, int64_t run)
 
 /* ---- run ---------------------------------------------------------------------- */
 
+static volatile sig_atomic_t interrupted;
+
+static void on_interrupt(int sig)
+{
+    (void)sig;
+    interrupted = 1;
+}
+
 static int cmd_run(int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -263,7 +272,14 @@ static int cmd_run(int argc, char **argv)
         rf_project_free(&p);
         return EXIT_BAD_INPUT;
     }
-    rf_run_options o = {.threads = (int)threads, .progress = !quiet && isatty(2)};
+    /* SIGINT or SIGTERM: the run ends as failed after the rows being written, and the
+     * database is closed (no -wal or -shm file left behind) */
+    struct sigaction sa = {.sa_handler = on_interrupt}, old_int, old_term;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, &old_int);
+    sigaction(SIGTERM, &sa, &old_term);
+    rf_run_options o = {.threads = (int)threads, .progress = !quiet && isatty(2),
+                        .interrupted = &interrupted};
     rf_run_summary sum;
     int rc = rf_montecarlo_run(&p, s, &o, &sum, &err);
     if (rc) {
@@ -288,6 +304,8 @@ static int cmd_run(int argc, char **argv)
         rf_query_print_measures(rf_store_db(s), sum.run_id, stdout);
     }
     rf_store_close(s);
+    sigaction(SIGINT, &old_int, NULL);
+    sigaction(SIGTERM, &old_term, NULL);
     rf_rules_free(&rules);
     rf_project_free(&p);
     return status;

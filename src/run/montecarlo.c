@@ -326,6 +326,12 @@ static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o
     }
     double t0 = rf_now_s(), last_report = t0;
     for (size_t ci = 0; status == 0 && ci < ctx->nchunks; ci++) {
+        if (o->interrupted && *o->interrupted) {
+            status = rf_error_set(err, "", 0, 0, "interrupted after %zu of %zu trajectories",
+                                  ci * CHUNK_SIZE < ctx->total ? ci * CHUNK_SIZE : ctx->total,
+                                  ctx->total);
+            break;
+        }
         chunk *c = &ctx->ring[ci % ctx->ahead];
         pthread_mutex_lock(&ctx->mu);
         while (!c->done && started > 0)
