@@ -399,6 +399,49 @@ TEST(motion_fixed_step_turned_back_by_friction_on_a_steep_face_slides_on)
     }
 }
 
+/* A rock thrown across the fall line of a face that holds it (10 degrees, mu 0.5)
+ * curves down the slope as friction slows it, and rests: the step in which friction
+ * stops it ends where its speed vanishes, and the pull down the slope across its path
+ * over that step is lost; the stop point still converges at first order to the exact
+ * engine's. */
+TEST(motion_fixed_step_thrown_across_a_face_that_holds_it_rests_where_the_exact_does)
+{
+    const double theta = 10.0 * M_PI / 180.0, L = 200.0;
+    const double dts[3] = {0.1, 0.01, 0.001};
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_terrain t;
+        mt_incline(&t, theta, L, 200.0, (rf_surface){{0.0, 0.0}, {0.5, 0.0}, {0.5, 0.0}});
+        rf_body b = rf_body_make(1500.0, 2650.0, md);
+        rf_state s = mt_incline_state(theta, L, 60.0, 20.0, rf_body_contact_radius(&b),
+                                      rf_v3(0.0, 10.0, 0.0));
+        rf_vec3 stop[4];
+        for (int i = 0; i < 4; i++) {
+            rf_simulation sim = mt_sim(md, RF_CONTACT_CENTRE, 60.0);
+            if (i > 0) {
+                sim.engine = RF_ENGINE_FIXED_STEP;
+                sim.dt = dts[i - 1];
+            }
+            static mt_scene_run run;
+            mt_run_scene(&t, &sim, &b, NULL, 0, &s, 38, &run);
+            ENSURE_MSG(run.rec.reason == RF_END_REST && !run.rec.rest_on_steep_face,
+                       "model %d run %d: reason %d", model, i, run.rec.reason);
+            stop[i] = run.rec.stop;
+        }
+        /* it went across and down: the stop lies beyond its start on both axes */
+        ENSURE(stop[0].y > 25.0 && stop[0].x > 60.0);
+        double err[3];
+        for (int i = 0; i < 3; i++) {
+            err[i] = rf_v3_norm(rf_v3_sub(stop[i + 1], stop[0]));
+            printf("    %s, thrown across: dt %g s: stop %.4f m from the exact engine's\n",
+                   model ? "point" : "sphere", dts[i], err[i]);
+        }
+        ENSURE_MSG(err[1] < 0.2 * err[0] && err[2] < 0.2 * err[1], "errors %.3g %.3g %.3g",
+                   err[0], err[1], err[2]);
+        rf_terrain_free(&t);
+    }
+}
+
 /* The same rock released at rest on the steep face: it slides (or rolls) from the
  * first step on, at first order towards the exact speed at the line (for a point mass
  * the closed form sqrt(2 a_down s)). */
