@@ -1036,13 +1036,11 @@ TEST(rules_inconclusive_wins_over_a_failed_check)
     rf_store_close(t.s);
 }
 
-/* check writes into a file of schema version 2 without upgrading it: the integrity
- * checks are rows of its checks table as it is, and a rest on a steep face, which
- * version 2 did not record, is not counted. */
-TEST(rules_integrity_checked_in_a_version_2_file)
+/* A copy of the version-2 fixture as `name`, changed by `sql` (when not NULL) and opened
+ * as check opens it. */
+static sqlite3 *copy_v2_for_check(const char *name, const char *sql)
 {
-    const char *path = rf_test_path("v2.db");
-    char *text = NULL;
+    const char *path = rf_test_path(name);
     FILE *in = fopen("tests/data/results-v2.db", "rb"), *out = fopen(path, "wb");
     ENSURE(in && out);
     char chunk[65536];
@@ -1052,15 +1050,38 @@ TEST(rules_integrity_checked_in_a_version_2_file)
     fclose(in);
     fclose(out);
     sqlite3 *db;
+    if (sql) {
+        ENSURE(sqlite3_open(path, &db) == SQLITE_OK);
+        ENSURE(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK);
+        sqlite3_close(db);
+    }
     rf_error err = {{0}};
-    ENSURE(rf_db_open(path, RF_DB_CHECK, &db, NULL, &err) == 0);
+    ENSURE_MSG(rf_db_open(path, RF_DB_CHECK, &db, NULL, &err) == 0, "%s", err.message);
+    return db;
+}
+
+/* The verdict of run 1 under r, and what check prints of it (malloc'd). */
+static char *verdict_of_run_1(sqlite3 *db, const rf_rules *r, rf_rules_result *res)
+{
+    char *text = NULL;
+    size_t len = 0;
+    rf_error err = {{0}};
+    FILE *pr = open_memstream(&text, &len);
+    ENSURE_MSG(rf_rules_evaluate_verdict(db, 1, r, pr, res, &err) == 0, "%s", err.message);
+    fclose(pr);
+    return text;
+}
+
+/* check writes into a file of schema version 2 without upgrading it: the integrity
+ * checks are rows of its checks table as it is, and a rest on a steep face, which
+ * version 2 did not record, is not counted. */
+TEST(rules_integrity_checked_in_a_version_2_file)
+{
+    sqlite3 *db = copy_v2_for_check("v2.db", NULL);
     rf_rules r;
     load_rules(TABLE3, &r);
-    size_t len = 0;
-    FILE *pr = open_memstream(&text, &len);
     rf_rules_result res;
-    ENSURE_MSG(rf_rules_evaluate_verdict(db, 1, &r, pr, &res, &err) == 0, "%s", err.message);
-    fclose(pr);
+    char *text = verdict_of_run_1(db, &r, &res);
     ENSURE_MSG(res.verdict == RF_VERDICT_FAIL && res.inconclusive == 0, "%s", text);
     ENSURE_MSG(strstr(text, "PASS trajectories_rest_on_steep_face not recorded"), "%s", text);
     ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 2);
@@ -1077,32 +1098,14 @@ TEST(rules_integrity_checked_in_a_version_2_file)
  * that engine never rests a rock so). */
 TEST(rules_unrecorded_rests_of_a_fixed_step_run_are_inconclusive)
 {
-    const char *path = rf_test_path("v2-fixed.db");
-    FILE *in = fopen("tests/data/results-v2.db", "rb"), *out = fopen(path, "wb");
-    ENSURE(in && out);
-    char chunk[65536];
-    size_t n;
-    while ((n = fread(chunk, 1, sizeof chunk, in)) > 0)
-        ENSURE(fwrite(chunk, 1, n, out) == n);
-    fclose(in);
-    fclose(out);
-    sqlite3 *db;
-    rf_error err = {{0}};
-    ENSURE(sqlite3_open(path, &db) == SQLITE_OK);
-    ENSURE(sqlite3_exec(db, "UPDATE runs SET project_yaml = replace(project_yaml, 'simulation: {',"
-                            " 'simulation: {engine: fixed_step, dt: 0.01, ')",
-                        NULL, NULL, NULL) == SQLITE_OK);
+    sqlite3 *db = copy_v2_for_check("v2-fixed.db",
+                                    "UPDATE runs SET project_yaml = replace(project_yaml,"
+                                    " 'simulation: {', 'simulation: {engine: fixed_step, dt: 0.01, ')");
     ENSURE(dbt_int(db, "SELECT instr(project_yaml, 'engine: fixed_step') > 0 FROM runs") == 1);
-    sqlite3_close(db);
-    ENSURE(rf_db_open(path, RF_DB_CHECK, &db, NULL, &err) == 0);
     rf_rules r;
     load_rules(TABLE3, &r);
-    char *text = NULL;
-    size_t len = 0;
-    FILE *pr = open_memstream(&text, &len);
     rf_rules_result res;
-    ENSURE_MSG(rf_rules_evaluate_verdict(db, 1, &r, pr, &res, &err) == 0, "%s", err.message);
-    fclose(pr);
+    char *text = verdict_of_run_1(db, &r, &res);
     ENSURE_MSG(res.verdict == RF_VERDICT_INCONCLUSIVE && res.inconclusive == 1, "%s", text);
     ENSURE_MSG(strstr(text, "INCONCLUSIVE trajectories_rest_on_steep_face not recorded") &&
                    strstr(text, "a fixed-step run written before schema version 3 does not "
