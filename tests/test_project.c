@@ -487,3 +487,32 @@ TEST(project_load_from_memory_reads_as_the_file_does)
     ENSURE(rf_project_load_from_memory(text, ((size_t)16 << 20) + 1, "big.yaml", &p, &err) != 0);
     ENSURE_MSG(strstr(err.message, "at most 16777216"), "%s", err.message);
 }
+
+/* ---- releases as a planner draws them ------------------------------------------ */
+
+/* An area is read, triangulated (a concave L of six vertices into four triangles of
+ * 972 m^2 in all) and placed at its centroid; a cells mask gives its non-zero cells in
+ * row order from the south; masses are a log-normal or a list (its mean the rock's). */
+TEST(project_area_cells_and_mass_kinds_read)
+{
+    rf_project p;
+    ENSURE(load_ok(DATA "release_area.yaml", &p));
+    const rf_release *a = &p.releases[0];
+    ENSURE(a->source == RF_SOURCE_AREA && a->narea == 6 && a->ntri == 4);
+    ENSURE(fabs(a->area_cum[3] - 972.0) < 1e-9);
+    /* centroid of the L: (3 squares of 18 m) */
+    ENSURE(fabs(a->x - (11.0 * 2 + 29.0) / 3.0) < 1e-9 && fabs(a->y - (11.0 * 2 + 29.0) / 3.0) < 1e-9);
+    ENSURE(p.releases[1].source == RF_SOURCE_POINT && rf_release_trajectories(&p.releases[1]) == 3);
+    ENSURE(p.rocks[0].mass_kind == RF_MASS_LOGNORMAL && p.rocks[0].mass == 1000.0 &&
+           p.rocks[0].mass_sd == 500.0);
+    ENSURE(p.rocks[1].mass_kind == RF_MASS_LIST && p.rocks[1].nmasses == 4 &&
+           p.rocks[1].mass == 450.0);
+    rf_project_free(&p);
+    ENSURE(load_ok(DATA "release_cells.yaml", &p));
+    const rf_release *c = &p.releases[0];
+    ENSURE(c->source == RF_SOURCE_CELLS && c->ncells == 3 && c->cell == 10.0);
+    ENSURE(c->cells[0] == 10 && c->cells[1] == 10 && c->cells[2] == 30 && c->cells[3] == 20 &&
+           c->cells[4] == 10 && c->cells[5] == 30);
+    ENSURE(rf_release_trajectories(c) == 9);
+    rf_project_free(&p);
+}

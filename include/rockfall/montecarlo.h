@@ -41,11 +41,26 @@ int rf_montecarlo_run(const rf_project *p, struct rf_store *s, const rf_run_opti
 unsigned long rf_trajectory_seed(uint64_t project_seed, size_t release, long idx);
 /* The generator every trajectory uses. */
 const gsl_rng_type *rf_rng_type(void);
-/* The rock body of a release under a rock model (the project's: p->sim.model). */
+/* The rock body of a release under a rock model (the project's: p->sim.model), with
+ * the rock's mass (a distribution's mean, a list's mean). */
 rf_body rf_release_body(const rf_project *p, size_t release, rf_rock_model model);
 /* Start state of one trajectory of a release: the release point moved by the random
  * horizontal jitter (uniform in a disc), the rock resting on the ground along the
  * surface normal, raised by the release height, with the release velocity. */
 rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b, gsl_rng *rng);
+
+/* What a trajectory draws, in this order from its own stream: its mass (nothing drawn
+ * for a fixed mass; a log-normal with mu = ln(mean) - sigma^2 / 2 and
+ * sigma^2 = ln(1 + sd^2 / mean^2); a list's masses with equal probability, one
+ * gsl_rng_uniform_int), then its start (nothing drawn for a point without jitter; a
+ * point of an area: one uniform picks a triangle by its area, two place the point in it;
+ * of a cell: two uniforms), each redrawn while off the terrain, at most 64 times. */
+double rf_release_mass(const rf_project *p, size_t release, gsl_rng *rng);
+rf_body rf_release_draw_body(const rf_project *p, size_t release, rf_rock_model model,
+                             gsl_rng *rng, double *mass);
+/* The start of trajectory idx of a release (idx picks a `cells` release's cell:
+ * trajectory idx starts in source cell idx / count). */
+rf_state rf_release_start_of(const rf_project *p, size_t release, long idx, const rf_body *b,
+                             gsl_rng *rng);
 
 #endif

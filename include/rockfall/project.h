@@ -29,9 +29,18 @@ typedef struct rf_forest {
     rf_dist friction;    /* rock-tree; default {0.3, 0} */
 } rf_forest;
 
+/* How a rock's mass is given: a number, a log-normal {mean, sd} of the mass
+ * (sigma^2 = ln(1 + sd^2 / mean^2), mu = ln(mean) - sigma^2 / 2), or a list of masses
+ * each drawn with equal probability. */
+typedef enum rf_mass_kind { RF_MASS_FIXED, RF_MASS_LOGNORMAL, RF_MASS_LIST } rf_mass_kind;
+
 typedef struct rf_rock {
     char *name;
-    double mass;      /* kg, > 0 (required) */
+    double mass;      /* kg, > 0 (required): the number, the mean, or the list's mean */
+    rf_mass_kind mass_kind; /* default fixed */
+    double mass_sd;   /* log-normal: the sd of the mass (kg, >= 0) */
+    double *masses;   /* list: its masses (kg) */
+    size_t nmasses;
     double density;   /* kg/m^3, > 0; default 2650 */
     int action_level; /* 1..3 (Table 3); default 2 */
     double radius;    /* derived: (3 m / (4 pi rho))^(1/3) */
@@ -41,12 +50,26 @@ typedef struct rf_rock {
  * --count). */
 #define RF_COUNT_MAX 1000000000L
 
+/* Where a release's trajectories start: its point, uniform over a polygon (`area`), or
+ * uniform within each non-zero cell of a raster mask (`cells`, `count` per cell). */
+typedef enum rf_release_source { RF_SOURCE_POINT, RF_SOURCE_AREA, RF_SOURCE_CELLS } rf_release_source;
+
 typedef struct rf_release {
     char *name;
-    double x, y;      /* required point */
-    double z;         /* derived: terrain height at (x, y) */
+    double x, y;      /* the point; an area's centroid; a mask's first source cell's centre */
+    double z;         /* derived: terrain height at (x, y) (area: at its first vertex when
+                       * the centroid is off the terrain) */
+    rf_release_source source; /* default point */
+    double *area;     /* area: the polygon's vertices, x y pairs */
+    size_t narea;
+    size_t *area_tri; /* area: its triangulation, 3 vertex indices per triangle */
+    double *area_cum; /* area: cumulative triangle areas, the last the polygon's area */
+    size_t ntri;
+    double *cells;    /* cells: each source cell's centre, x y pairs */
+    size_t ncells;
+    double cell;      /* cells: the mask's cell size (m) */
     int rock;         /* index into rocks (required, by name) */
-    long count;       /* trajectories; >= 1; default 1 */
+    long count;       /* trajectories (per source cell for `cells`); >= 1; default 1 */
     double height;    /* height of the rock's lowest point above the ground; default 0 */
     rf_vec3 velocity; /* initial velocity (m/s); default 0 */
     double jitter;    /* radius of the random horizontal offset (m, >= 0); default 0 */
@@ -127,6 +150,8 @@ int rf_project_load(const char *path, rf_project *p, rf_error *err);
 int rf_project_load_from_memory(const char *data, size_t len, const char *path, rf_project *p,
                                 rf_error *err);
 void rf_project_free(rf_project *p);
+/* The trajectories of a release: count, or count per source cell of a `cells` mask. */
+long rf_release_trajectories(const rf_release *r);
 
 const char *rf_measure_kind_name(rf_measure_kind k);
 const char *rf_importance_name(rf_importance i);

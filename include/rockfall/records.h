@@ -24,6 +24,10 @@ typedef struct rf_trajectory_record {
                               * steeper than its friction holds (tan theta > mu), which
                               * the exact engine would not; 0 otherwise (the exact engine
                               * never sets it); trajectories.rest_steep */
+    double mass_kg;          /* the drawn mass the trajectory ran with; 0: not known
+                              * (stored NULL); trajectories.mass_kg */
+    rf_vec3 start;           /* the rock's centre at the start; trajectories.start_x/y/z
+                              * (stored NULL with mass_kg 0) */
 } rf_trajectory_record;
 
 typedef struct rf_interception_record {

@@ -43,6 +43,9 @@
 #define RF_RELEASE_SPEED_MAX 200.0  /* |velocity| of a release (m/s) */
 #define RF_RELEASE_HEIGHT_MAX 1e4   /* a release's height above the ground (m) */
 #define RF_RELEASE_JITTER_MAX 1e4   /* a release's jitter radius (m) */
+#define RF_RELEASE_AREA_POINTS_MAX 1000 /* vertices of a release's area polygon */
+#define RF_RELEASE_CELLS_MAX 1e7    /* source cells of a release's cells mask */
+#define RF_MASS_LIST_MAX 100000     /* masses in a rock's mass list */
 
 /* ---- measures ------------------------------------------------------------------ */
 #define RF_MEASURE_HEIGHT_MAX 1000.0 /* a barrier's or embankment's height (m) */

@@ -37,7 +37,7 @@ static const char *const zone_keys[] = {"name", "polygon", "file", "restitution"
 static const char *const forest_keys[] = {"name", "polygon", "density", "height", "diameter",
                                           "restitution", "friction", NULL};
 static const char *const rock_keys[] = {"name", "mass", "density", "action_level", NULL};
-static const char *const release_keys[] = {"name", "point", "rock", "count", "height",
+static const char *const release_keys[] = {"name", "point", "area", "cells", "rock", "count", "height",
                                            "velocity", "jitter", NULL};
 static const char *const simulation_keys[] = {"model", "engine", "dt", "contact",
                                               "stop_speed", "max_time", "paths", NULL};
@@ -272,8 +272,7 @@ static int read_rock(loader *L, const rf_ynode *n, size_t i, const char *what)
     rf_ynode *mass;
     long long level = 2;
     r->density = 2650.0;
-    if (rf_ydoc_require(&L->d, n, "mass", what, &mass, L->err) ||
-        rf_ydoc_number(&L->d, mass, "mass", RF_YR_POSITIVE, &r->mass, L->err) ||
+    if (rf_load_rock_mass(L, n, r, what, &mass) ||
         rf_ydoc_opt_number(&L->d, n, "density", RF_YR_POSITIVE, &r->density, L->err) ||
         rf_ydoc_opt_integer(&L->d, n, "action_level", RF_YR_BETWEEN(1, 3), &level, L->err))
         return -1;
@@ -298,15 +297,12 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
     rf_release *r = &p->releases[i];
     rf_ynode *point, *rock;
     const char *rock_name = NULL;
-    double xy[2];
-    if (rf_ydoc_require(&L->d, n, "point", what, &point, L->err) ||
-        rf_load_tuple(L, point, "point", 2, "a point [x, y]", RF_COORD_MAX, "m", xy) ||
-        rf_ydoc_require(&L->d, n, "rock", what, &rock, L->err) ||
+    if (rf_load_release_source(L, n, r, what, &point))
+        return -1;
+    L->point_nodes[i] = point;
+    if (rf_ydoc_require(&L->d, n, "rock", what, &rock, L->err) ||
         rf_ydoc_string(&L->d, rock, "rock", &rock_name, L->err))
         return -1;
-    r->x = xy[0];
-    r->y = xy[1];
-    L->point_nodes[i] = point;
     size_t k = rf_names_find(&L->rock_names, rock_name);
     r->rock = k == RF_NAMES_ABSENT ? -1 : (int)k;
     if (r->rock < 0) {
@@ -546,6 +542,11 @@ static int place_releases(loader *L)
     for (size_t i = 0; i < p->nreleases; i++) {
         rf_release *r = &p->releases[i];
         double z = 0.0;
+        if (r->source != RF_SOURCE_POINT) {
+            if (rf_place_release(L, r, L->point_nodes[i]))
+                return -1;
+            continue;
+        }
         if (rf_terrain_height(t, r->x, r->y, &z) >= 0) {
             r->z = z;
             continue;
@@ -734,11 +735,15 @@ void rf_project_free(rf_project *p)
         free(p->forests[i].polygon.xy);
     }
     free(p->forests);
-    for (size_t i = 0; i < p->nrocks; i++)
+    for (size_t i = 0; i < p->nrocks; i++) {
         free(p->rocks[i].name);
+        free(p->rocks[i].masses);
+    }
     free(p->rocks);
-    for (size_t i = 0; i < p->nreleases; i++)
+    for (size_t i = 0; i < p->nreleases; i++) {
         free(p->releases[i].name);
+        rf_release_free(&p->releases[i]);
+    }
     free(p->releases);
     for (size_t i = 0; i < p->nmeasures; i++) {
         free(p->measures[i].name);

@@ -77,4 +77,14 @@ int rf_load_polyline(loader *L, const rf_ynode *n, const char *key, size_t min_p
 int rf_load_surface(loader *L, const rf_ynode *map, const rf_surface *base, int inherit_rolling,
                     rf_surface *out, int *rolling_given);
 
+/* src/input/release.c: a release's `point`, `area` or `cells` (exactly one; *where is
+ * set to its node), a rock's `mass`, and the check that a release's sources lie on the
+ * built terrain (setting its x, y, z). */
+int rf_load_release_source(loader *L, const rf_ynode *n, rf_release *r, const char *what,
+                           rf_ynode **where);
+int rf_load_rock_mass(loader *L, const rf_ynode *n, rf_rock *r, const char *what,
+                      rf_ynode **where);
+int rf_place_release(loader *L, rf_release *r, const rf_ynode *where);
+void rf_release_free(rf_release *r);
+
 #endif

@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_randist.h>
+
 #include "run/hazard.h"
 #include "results/store.h"
 #include "base/util.h"
@@ -50,25 +52,105 @@ rf_body rf_release_body(const rf_project *p, size_t release, rf_rock_model model
     return rf_body_make(rock->mass, rock->density, model);
 }
 
-rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b, gsl_rng *rng)
+double rf_release_mass(const rf_project *p, size_t release, gsl_rng *rng)
 {
-    const rf_release *rel = &p->releases[release];
+    const rf_rock *rock = &p->rocks[p->releases[release].rock];
+    switch (rock->mass_kind) {
+    case RF_MASS_LOGNORMAL: {
+        /* the log-normal with the given mean and sd of the mass */
+        double cv = rock->mass_sd / rock->mass;
+        double sigma2 = log1p(cv * cv);
+        return gsl_ran_lognormal(rng, log(rock->mass) - 0.5 * sigma2, sqrt(sigma2));
+    }
+    case RF_MASS_LIST:
+        return rock->masses[gsl_rng_uniform_int(rng, rock->nmasses)];
+    case RF_MASS_FIXED:
+    default:
+        return rock->mass; /* no number drawn */
+    }
+}
+
+rf_body rf_release_draw_body(const rf_project *p, size_t release, rf_rock_model model,
+                             gsl_rng *rng, double *mass)
+{
+    const rf_rock *rock = &p->rocks[p->releases[release].rock];
+    *mass = rf_release_mass(p, release, rng);
+    return rf_body_make(*mass, rock->density, model);
+}
+
+/* A point uniform over the release's polygon: a triangle picked by its area, then a
+ * point uniform in it (square-root rule). */
+static void area_point(const rf_release *rel, gsl_rng *rng, double *x, double *y)
+{
+    double u = gsl_rng_uniform(rng) * rel->area_cum[rel->ntri - 1];
+    size_t lo = 0, hi = rel->ntri - 1; /* first triangle whose cumulative area is > u */
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (rel->area_cum[mid] > u)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    const size_t *k = rel->area_tri + 3 * lo;
+    double r1 = sqrt(gsl_rng_uniform(rng)), r2 = gsl_rng_uniform(rng);
+    double wa = 1.0 - r1, wb = r1 * (1.0 - r2), wc = r1 * r2;
+    const double *a = rel->area + 2 * k[0], *b = rel->area + 2 * k[1], *c = rel->area + 2 * k[2];
+    *x = wa * a[0] + wb * b[0] + wc * c[0];
+    *y = wa * a[1] + wb * b[1] + wc * c[1];
+}
+
+/* The ground point a trajectory starts over: the release point moved by the random
+ * horizontal jitter (uniform in a disc), or a point uniform over the area, or uniform
+ * within the trajectory's source cell (trajectory idx of cell idx / count).  A draw off
+ * the terrain (a hole) is drawn again, at most JITTER_TRIES times, then the point, the
+ * area's first vertex or the cell's centre (on the terrain, as loading checked). */
+static int32_t start_ground(const rf_project *p, const rf_release *rel, long idx, gsl_rng *rng,
+                            double *x, double *y, double *z)
+{
     const rf_terrain *t = &p->terrain;
-    double x = rel->x, y = rel->y, z = rel->z;
-    int32_t tri = rf_terrain_locate(t, x, y);
-    if (rel->jitter > 0.0) {
-        /* Uniform in the disc; a point off the terrain is drawn again. */
+    double x0 = rel->x, y0 = rel->y;
+    if (rel->source == RF_SOURCE_AREA)
+        x0 = rel->area[0], y0 = rel->area[1];
+    else if (rel->source == RF_SOURCE_CELLS) {
+        size_t c = (size_t)(idx / rel->count) % rel->ncells;
+        x0 = rel->cells[2 * c], y0 = rel->cells[2 * c + 1];
+    }
+    if (rel->source != RF_SOURCE_POINT || rel->jitter > 0.0) {
         for (int k = 0; k < JITTER_TRIES; k++) {
-            double rr = rel->jitter * sqrt(gsl_rng_uniform(rng));
-            double phi = 2.0 * M_PI * gsl_rng_uniform(rng);
-            double xj = rel->x + rr * cos(phi), yj = rel->y + rr * sin(phi), zj;
+            double xj, yj, zj;
+            if (rel->source == RF_SOURCE_AREA)
+                area_point(rel, rng, &xj, &yj);
+            else if (rel->source == RF_SOURCE_CELLS) {
+                xj = x0 + (gsl_rng_uniform(rng) - 0.5) * rel->cell;
+                yj = y0 + (gsl_rng_uniform(rng) - 0.5) * rel->cell;
+            } else {
+                /* Uniform in the disc. */
+                double rr = rel->jitter * sqrt(gsl_rng_uniform(rng));
+                double phi = 2.0 * M_PI * gsl_rng_uniform(rng);
+                xj = rel->x + rr * cos(phi), yj = rel->y + rr * sin(phi);
+            }
             int32_t tj = rf_terrain_height(t, xj, yj, &zj);
             if (tj >= 0) {
-                x = xj, y = yj, z = zj, tri = tj;
-                break;
+                *x = xj, *y = yj, *z = zj;
+                return tj;
             }
         }
     }
+    *x = x0, *y = y0;
+    if (rel->source == RF_SOURCE_POINT) {
+        *z = rel->z;
+        return rf_terrain_locate(t, x0, y0);
+    }
+    return rf_terrain_height(t, x0, y0, z);
+}
+
+rf_state rf_release_start_of(const rf_project *p, size_t release, long idx, const rf_body *b,
+                             gsl_rng *rng)
+{
+    const rf_release *rel = &p->releases[release];
+    const rf_terrain *t = &p->terrain;
+    double x, y, z;
+    int32_t tri = start_ground(p, rel, idx, rng, &x, &y, &z);
     rf_vec3 n = tri >= 0 ? t->tri[tri].n : rf_v3(0, 0, 1);
     rf_state s;
     memset(&s, 0, sizeof s);
@@ -78,6 +160,11 @@ rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b,
     s.p.z += rel->height;
     s.v = rel->velocity;
     return s;
+}
+
+rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b, gsl_rng *rng)
+{
+    return rf_release_start_of(p, release, 0, b, rng);
 }
 
 /* ---- chunks ------------------------------------------------------------------- */
@@ -210,8 +297,9 @@ static void run_chunk(worker *w, chunk *c)
         o->release = rel;
         o->idx = idx;
         gsl_rng_set(w->rng, rf_trajectory_seed(p->seed, rel, idx));
-        rf_body body = rf_release_body(p, rel, p->sim.model);
-        rf_state start = rf_release_start(p, rel, &body, w->rng);
+        double mass;
+        rf_body body = rf_release_draw_body(p, rel, p->sim.model, w->rng, &mass);
+        rf_state start = rf_release_start_of(p, rel, idx, &body, w->rng);
         rf_sink sink = {0};
         sink.ctx = w;
         sink.path_point = idx < p->sim.paths ? sink_path : NULL;
@@ -224,6 +312,8 @@ static void run_chunk(worker *w, chunk *c)
         o->tree_begin = c->trees.n;
         rf_hazard_begin(ctx->hazard + w->id);
         rf_simulate(&ctx->scene, &body, &start, w->rng, w->ws, &sink, &o->rec);
+        o->rec.mass_kg = mass;
+        o->rec.start = start.p;
         if (rf_hazard_end(ctx->hazard + w->id))
             c->oom = 1;
         o->path_end = c->paths.n;
@@ -395,7 +485,7 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     ctx.ahead = (size_t)nthreads * CHUNKS_AHEAD_PER_THREAD;
     ctx.release_start = calloc(p->nreleases + 1, sizeof *ctx.release_start);
     for (size_t i = 0; ctx.release_start && i < p->nreleases; i++)
-        ctx.release_start[i + 1] = ctx.release_start[i] + (size_t)p->releases[i].count;
+        ctx.release_start[i + 1] = ctx.release_start[i] + (size_t)rf_release_trajectories(&p->releases[i]);
     ctx.total = ctx.release_start ? ctx.release_start[p->nreleases] : 0;
     ctx.nchunks = (ctx.total + CHUNK_SIZE - 1) / CHUNK_SIZE;
     ctx.ring = calloc(ctx.ahead, sizeof *ctx.ring);
