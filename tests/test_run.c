@@ -1,5 +1,6 @@
 /* test_run.c - Monte Carlo runs end to end through the library: determinism across
  * seeds and threads, and the rows a run writes. */
+#include <math.h>
 #include <sqlite3.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -211,4 +212,136 @@ TEST(run_hazard_rows_identical_1_and_4_threads_past_the_exact_limit)
     ENSURE(sqlite3_open(a, &h) == SQLITE_OK);
     ENSURE(dbt_int(h, "SELECT count(*) FROM hazard_cells WHERE passes > 128") > 10);
     sqlite3_close(h);
+}
+
+/* ---- releases as a planner draws them ------------------------------------------ */
+
+static void load_or_fail(const char *path, rf_project *p)
+{
+    rf_error err;
+    ENSURE_MSG(rf_project_load(path, p, &err) == 0, "%s:%d:%d: %s", err.file, err.line,
+               err.column, err.message);
+}
+
+/* Starts of the L-shaped area (three 18 m squares) fall uniformly on it: 12 000 draws
+ * (the run's own streams) into its twelve 9 m quarter squares, chi-square with 11
+ * degrees of freedom below 31.26 (significance 0.001); every start inside the L. */
+TEST(run_area_release_starts_uniform_over_a_concave_polygon)
+{
+    rf_project p;
+    load_or_fail("tests/data/project/release_area.yaml", &p);
+    ENSURE(p.releases[0].source == RF_SOURCE_AREA && p.releases[0].ntri == 4);
+    ENSURE_SMALL(p.releases[0].area_cum[p.releases[0].ntri - 1] - 972.0, 1e-9);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    long n[12] = {0}, N = 12000;
+    for (long k = 0; k < N; k++) {
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
+        double m;
+        rf_body b = rf_release_draw_body(&p, 0, RF_MODEL_POINT, rng, &m);
+        rf_state s = rf_release_start_of(&p, 0, k, &b, rng);
+        double x = s.p.x - 2.0, y = s.p.y - 2.0;
+        ENSURE_MSG(x >= 0 && y >= 0 && x <= 36 && y <= 36 && (x <= 18 || y <= 18),
+                   "start (%g, %g) outside the L", s.p.x, s.p.y);
+        int i = (int)fmin(floor(x / 9.0), 3.0), j = (int)fmin(floor(y / 9.0), 3.0);
+        int cell = j < 2 ? j * 4 + i : 8 + (j - 2) * 2 + i; /* top arm: i in 0..1 */
+        ENSURE(cell >= 0 && cell < 12 && (j < 2 || i < 2));
+        n[cell]++;
+    }
+    double chi2 = 0.0, e = (double)N / 12.0;
+    for (int c = 0; c < 12; c++)
+        chi2 += (n[c] - e) * (n[c] - e) / e;
+    printf("    area: chi-square %.2f (11 dof, 0.001 critical 31.26)\n", chi2);
+    ENSURE_MSG(chi2 < 31.26, "chi-square %g", chi2);
+    gsl_rng_free(rng);
+    rf_project_free(&p);
+}
+
+/* Log-normal masses {mean 1000, sd 500}: 40 000 draws have a sample mean within 2 %
+ * and a sample sd within 5 % of them; list masses [100, 200, 500, 1000] are drawn
+ * uniformly: 8 000 draws, chi-square with 3 degrees of freedom below 16.27
+ * (significance 0.001), and nothing else drawn. */
+TEST(run_masses_drawn_log_normal_and_from_a_list)
+{
+    rf_project p;
+    load_or_fail("tests/data/project/release_area.yaml", &p);
+    ENSURE(p.rocks[0].mass_kind == RF_MASS_LOGNORMAL && p.rocks[1].mass_kind == RF_MASS_LIST);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    double s1 = 0.0, s2 = 0.0;
+    long N = 40000;
+    for (long k = 0; k < N; k++) {
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
+        double m = rf_release_mass(&p, 0, rng);
+        s1 += m;
+        s2 += m * m;
+    }
+    double mean = s1 / N, sd = sqrt((s2 - s1 * s1 / N) / (N - 1));
+    printf("    log-normal: mean %.1f sd %.1f (given 1000, 500)\n", mean, sd);
+    ENSURE_REL(mean, 1000.0, 0.02);
+    ENSURE_REL(sd, 500.0, 0.05);
+    long n[4] = {0}, M = 8000;
+    const double masses[4] = {100, 200, 500, 1000};
+    for (long k = 0; k < M; k++) {
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, 1, k));
+        double m = rf_release_mass(&p, 1, rng);
+        int hit = 0;
+        for (int i = 0; i < 4; i++)
+            if (m == masses[i])
+                n[i]++, hit = 1;
+        ENSURE(hit);
+    }
+    double chi2 = 0.0, e = M / 4.0;
+    for (int i = 0; i < 4; i++)
+        chi2 += (n[i] - e) * (n[i] - e) / e;
+    printf("    list: chi-square %.2f (3 dof, 0.001 critical 16.27)\n", chi2);
+    ENSURE_MSG(chi2 < 16.27, "chi-square %g", chi2);
+    gsl_rng_free(rng);
+    rf_project_free(&p);
+}
+
+/* A cells mask with three source cells and count 3 runs nine trajectories, three per
+ * cell in the mask's order, each starting inside its cell; the stored mass and start
+ * are exactly those the run's stream gives the engine. */
+TEST(run_cells_release_count_per_cell_and_stored_starts)
+{
+    char db[600];
+    snprintf(db, sizeof db, "%s/cells.db", rf_test_tmpdir());
+    rf_project p;
+    rf_error err;
+    load_or_fail("tests/data/project/release_cells.yaml", &p);
+    ENSURE(p.releases[0].source == RF_SOURCE_CELLS && p.releases[0].ncells == 3);
+    ENSURE(rf_release_trajectories(&p.releases[0]) == 9);
+    rf_store *s;
+    ENSURE(rf_store_open(db, &s, &err) == 0);
+    rf_run_options o = {.threads = 2};
+    rf_run_summary sum;
+    ENSURE_MSG(rf_montecarlo_run(&p, s, &o, &sum, &err) == 0, "%s", err.message);
+    ENSURE(sum.n_trajectories == 9);
+    rf_store_close(s);
+    static const double centre[3][2] = {{10, 10}, {30, 20}, {10, 30}};
+    sqlite3 *h;
+    ENSURE(sqlite3_open_v2(db, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
+    sqlite3_stmt *st;
+    ENSURE(sqlite3_prepare_v2(h, "SELECT idx, mass_kg, start_x, start_y, start_z FROM "
+                                 "trajectories ORDER BY idx", -1, &st, NULL) == SQLITE_OK);
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    long rows = 0;
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        long idx = sqlite3_column_int64(st, 0);
+        const double *c = centre[idx / 3];
+        double x = sqlite3_column_double(st, 2), y = sqlite3_column_double(st, 3);
+        ENSURE_MSG(fabs(x - c[0]) <= 5.0 && fabs(y - c[1]) <= 5.0,
+                   "trajectory %ld starts at (%g, %g), outside its cell", idx, x, y);
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, idx));
+        double m;
+        rf_body b = rf_release_draw_body(&p, 0, p.sim.model, rng, &m);
+        rf_state s0 = rf_release_start_of(&p, 0, idx, &b, rng);
+        ENSURE(sqlite3_column_double(st, 1) == m && x == s0.p.x && y == s0.p.y &&
+               sqlite3_column_double(st, 4) == s0.p.z);
+        rows++;
+    }
+    ENSURE(rows == 9);
+    sqlite3_finalize(st);
+    sqlite3_close(h);
+    gsl_rng_free(rng);
+    rf_project_free(&p);
 }

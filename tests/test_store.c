@@ -294,7 +294,7 @@ TEST(store_schema_has_every_table_and_column)
          "jitter_m"},
         {"trajectories", "id", "run_id", "release_id", "idx", "stop_x", "stop_y", "stop_z",
          "stop_reason", "duration_s", "path_length_m", "max_energy_kj", "n_impacts",
-         "n_tree_hits"},
+         "n_tree_hits", "rest_steep", "mass_kg", "start_x", "start_y", "start_z"},
         {"measures", "id", "run_id", "name", "kind", "importance", "height_m", "behaviour",
          "mel_kj", "sel_kj", "cap_serviceability_kj", "cap_restorability_kj",
          "cap_ultimate_kj", "cap_near_collapse_kj", "line", "sel_source"},
@@ -704,7 +704,7 @@ TEST(store_rejects_another_schema_version)
     ENSURE(rf_store_open(path, &s, &err) != 0);
     ENSURE(s == NULL);
     ENSURE(strcmp(err.file, path) == 0);
-    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 3"), "%s",
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 4"), "%s",
                err.message);
 
     /* Still version 7: nothing was written. */
@@ -1109,8 +1109,8 @@ TEST(store_upgrades_a_version_2_file_in_place)
 
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 3);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 3);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 4);
     char *after = v2_dump(db);
     ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories") == 25);
@@ -1153,7 +1153,7 @@ TEST(store_upgrade_from_version_2_keeps_an_inconclusive_check_inconclusive)
     sqlite3_close(db);
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 3);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
     ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
                        " rule LIKE 'trajectories_%%' AND on_failure = 'inconclusive'") == 3);
     ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 5);
@@ -1191,4 +1191,42 @@ TEST(store_failed_upgrade_from_version_2_leaves_the_file_as_it_was)
     sqlite3_close(db);
     free(before);
     free(after);
+}
+
+#define V3_FIXTURE "tests/data/results-v3.db"
+
+/* Version 3 to 4 in place, in one transaction: every row kept in its columns (the
+ * version-2 dump's columns and rest_steep), the old trajectories' drawn mass and start
+ * NULL, the views current; a later run's trajectories store their mass and start. */
+TEST(store_upgrades_a_version_3_file_in_place)
+{
+    const char *path = copy_fixture(V3_FIXTURE, "v3.db");
+    sqlite3 *db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 3);
+    ENSURE(!has_column(db, "trajectories", "mass_kg"));
+    char *before = v2_dump(db);
+    char *steep_before = dump(db, "SELECT group_concat(quote(rest_steep)) FROM trajectories");
+    long n = dbt_int(db, "SELECT count(*) FROM trajectories");
+    ENSURE(n > 0);
+    sqlite3_close(db);
+
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 4);
+    ENSURE(has_column(db, "trajectories", "mass_kg") && has_column(db, "trajectories", "start_x") &&
+           has_column(db, "trajectories", "start_y") && has_column(db, "trajectories", "start_z"));
+    char *after = v2_dump(db);
+    char *steep_after = dump(db, "SELECT group_concat(quote(rest_steep)) FROM trajectories");
+    ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
+    ENSURE(strcmp(steep_before, steep_after) == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE mass_kg IS NULL AND start_x IS"
+                       " NULL AND start_y IS NULL AND start_z IS NULL") == n);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM run_verdicts") == 1);
+    sqlite3_close(db);
+    free(before);
+    free(after);
+    free(steep_before);
+    free(steep_after);
 }

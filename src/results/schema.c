@@ -103,6 +103,10 @@
 #define CHECKS_V3_COLUMN \
     "on_failure TEXT NOT NULL DEFAULT 'fail' CHECK (on_failure IN ('fail', 'inconclusive'))"
 
+/* The columns version 4 adds: the mass each trajectory drew and the rock's centre at
+ * its start (NULL for a trajectory written before version 4). */
+#define TRAJECTORIES_V4_COLUMNS "mass_kg REAL, start_x REAL, start_y REAL, start_z REAL"
+
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
     "INSERT INTO rockfall_schema VALUES (" RF_STR(RF_SCHEMA_VERSION) ", 'rockfall');\n"
@@ -144,7 +148,8 @@ static const char schema_sql[] =
     "    CHECK (stop_reason IN ('rest', 'exited', 'stopped', 'max_time')),\n"
     "  duration_s REAL, path_length_m REAL, max_energy_kj REAL,\n"
     "  n_impacts INTEGER, n_tree_hits INTEGER,\n"
-    "  " TRAJECTORIES_V3_COLUMN "\n"
+    "  " TRAJECTORIES_V3_COLUMN ",\n"
+    "  " TRAJECTORIES_V4_COLUMNS "\n"
     ");\n"
     "CREATE UNIQUE INDEX trajectories_run ON trajectories(run_id, release_id, idx);\n"
     "CREATE INDEX trajectories_release ON trajectories(release_id);\n"
@@ -501,6 +506,22 @@ static int upgrade_2_to_3(sqlite3 *db, const char *path, rf_error *err)
                     err);
 }
 
+/* Version 3 to 4, within the caller's transaction: each trajectory's drawn mass and
+ * start (NULL for the earlier trajectories, whose releases had one fixed mass and
+ * point, stored in releases). */
+static int upgrade_3_to_4(sqlite3 *db, const char *path, rf_error *err)
+{
+    static const char sql[] =
+        "ALTER TABLE trajectories ADD COLUMN mass_kg REAL;\n"
+        "ALTER TABLE trajectories ADD COLUMN start_x REAL;\n"
+        "ALTER TABLE trajectories ADD COLUMN start_y REAL;\n"
+        "ALTER TABLE trajectories ADD COLUMN start_z REAL;\n"
+        "UPDATE rockfall_schema SET version = 4;\n"
+        "PRAGMA user_version = 4;\n";
+    return exec_sql(db, path, sql, "upgrading the results database from schema version 3",
+                    err);
+}
+
 /* Switches the file to the WAL journal.  The switch needs the file to itself, and
  * SQLite returns "locked" at once, without waiting, when another connection opening
  * the file at the same moment holds it too: tried again until the busy timeout has
@@ -548,9 +569,14 @@ int rf_schema_prepare(sqlite3 *db, const char *path, rf_error *err)
                      ? -1
                      : 0;
     else if (status == 0 && version == 1)
-        status = upgrade_1_to_2(db, path, err) || upgrade_2_to_3(db, path, err) ? -1 : 0;
+        status = upgrade_1_to_2(db, path, err) || upgrade_2_to_3(db, path, err) ||
+                         upgrade_3_to_4(db, path, err)
+                     ? -1
+                     : 0;
     else if (status == 0 && version == 2)
-        status = upgrade_2_to_3(db, path, err);
+        status = upgrade_2_to_3(db, path, err) || upgrade_3_to_4(db, path, err) ? -1 : 0;
+    else if (status == 0 && version == 3)
+        status = upgrade_3_to_4(db, path, err);
     if (status == 0)
         status = refresh_views(db, path, err);
     return end_transaction(db, path, status, doing, err);

@@ -61,8 +61,9 @@ static const char *const statement_sql[ST_COUNT] = {
                   " n_trajectories = coalesce(?2, n_trajectories) WHERE id = ?3",
     [ST_TRAJECTORY] = "INSERT INTO trajectories (run_id, release_id, idx, stop_x, stop_y,"
                       " stop_z, stop_reason, duration_s, path_length_m, max_energy_kj,"
-                      " n_impacts, n_tree_hits, rest_steep)"
-                      " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)",
+                      " n_impacts, n_tree_hits, rest_steep, mass_kg, start_x, start_y,"
+                      " start_z) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11,"
+                      " ?12, ?13, ?14, ?15, ?16, ?17)",
     [ST_PATH_POINT] = "INSERT INTO path_points (trajectory_id, seq, t_s, x, y, z,"
                       " speed_ms, energy_kj) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
     [ST_INTERCEPTION] = "INSERT INTO interceptions (run_id, trajectory_id, measure_id,"
@@ -288,7 +289,7 @@ static int insert_release_row(rf_store *s, const rf_project *p, size_t i, rf_err
     bind_real(st, 9, rock->radius);
     bind_real(st, 10, rock->density);
     bind_int(st, 11, rock->action_level);
-    bind_int(st, 12, r->count);
+    bind_int(st, 12, rf_release_trajectories(r));
     bind_vec3(st, 13, r->velocity);
     bind_real(st, 16, r->height);
     bind_real(st, 17, r->jitter);
@@ -484,6 +485,9 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     bind_int(st, 11, r->n_impacts);
     bind_int(st, 12, r->n_tree_hits);
     bind_int(st, 13, r->rest_on_steep_face != 0);
+    /* the drawn mass and start; NULL when the writer did not give them */
+    bind_real(st, 14, r->mass_kg > 0.0 ? r->mass_kg : NAN);
+    bind_vec3(st, 15, r->mass_kg > 0.0 ? r->start : rf_v3(NAN, NAN, NAN));
     if (step_in_batch(s, ST_TRAJECTORY, "writing a trajectory", err))
         return -1;
     if (trajectory_id)
