@@ -46,6 +46,7 @@
 #define RF_RELEASE_AREA_POINTS_MAX 1000 /* vertices of a release's area polygon */
 #define RF_RELEASE_CELLS_MAX 1e7    /* source cells of a release's cells mask */
 #define RF_MASS_LIST_MAX 100000     /* masses in a rock's mass list */
+#define RF_MASS_CV_MAX 10.0         /* a log-normal mass's sd over its mean */
 
 /* ---- measures ------------------------------------------------------------------ */
 #define RF_MEASURE_HEIGHT_MAX 1000.0 /* a barrier's or embankment's height (m) */

@@ -283,6 +283,8 @@ static int read_rock(loader *L, const rf_ynode *n, size_t i, const char *what)
                              "'mass' and 'density' give a rock of radius %g m; it must be "
                              "%g to %g m",
                              r->radius, RF_ROCK_RADIUS_MIN, RF_ROCK_RADIUS_MAX);
+    if (rf_check_mass_radii(L, mass, r))
+        return -1;
     rf_ynode *density = rf_ydoc_get(&L->d, n, "density");
     if (rf_load_bounded(L, mass, "mass", r->mass, 0.0, RF_ROCK_MASS_MAX, "kg") ||
         (density && rf_load_bounded(L, density, "density", r->density, RF_ROCK_DENSITY_MIN,

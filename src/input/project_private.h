@@ -85,6 +85,8 @@ int rf_load_release_source(loader *L, const rf_ynode *n, rf_release *r, const ch
 int rf_load_rock_mass(loader *L, const rf_ynode *n, rf_rock *r, const char *what,
                       rf_ynode **where);
 int rf_place_release(loader *L, rf_release *r, const rf_ynode *where);
+/* Each mass of a rock's mass list gives a radius within the bounds (its density read). */
+int rf_check_mass_radii(loader *L, const rf_ynode *mass, const rf_rock *r);
 void rf_release_free(rf_release *r);
 
 #endif

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "rockfall/body.h"
+
 #include "input/bounds.h"
 #include "input/project_private.h"
 #include "input/terrain_io.h"
@@ -316,6 +318,23 @@ int rf_load_rock_mass(loader *L, const rf_ynode *n, rf_rock *r, const char *what
         rf_ydoc_number(&L->d, sd, "sd", RF_YR_NONNEG, &r->mass_sd, L->err) ||
         rf_load_bounded(L, sd, "sd", r->mass_sd, 0.0, RF_ROCK_MASS_MAX, "kg"))
         return -1;
+    if (!(r->mass_sd <= RF_MASS_CV_MAX * r->mass))
+        return rf_ydoc_error(&L->d, sd, L->err, "'sd' is %g times the mean; it may be at most "
+                                                "%g times",
+                             r->mass_sd / r->mass, RF_MASS_CV_MAX);
     r->mass_kind = RF_MASS_LOGNORMAL;
+    return 0;
+}
+
+int rf_check_mass_radii(loader *L, const rf_ynode *mass, const rf_rock *r)
+{
+    for (size_t i = 0; i < r->nmasses; i++) {
+        double radius = rf_body_make(r->masses[i], r->density, RF_MODEL_SPHERE).radius;
+        if (!(radius >= RF_ROCK_RADIUS_MIN && radius <= RF_ROCK_RADIUS_MAX))
+            return rf_ydoc_error(&L->d, rf_ydoc_seq_item(&L->d, mass, i), L->err,
+                                 "'mass' %g kg and 'density' give a rock of radius %g m; it "
+                                 "must be %g to %g m",
+                                 r->masses[i], radius, RF_ROCK_RADIUS_MIN, RF_ROCK_RADIUS_MAX);
+    }
     return 0;
 }
