@@ -632,3 +632,13 @@ TEST(cli_interrupted_run_is_failed_and_leaves_no_stray_files)
         sqlite3_close(h);
     }
 }
+
+/* --count is per cell of a `cells` release: a count that gives a mask release over
+ * 10^9 trajectories is refused before the run, as the project file's own count is. */
+TEST(cli_count_per_cell_of_a_mask_release_is_bounded)
+{
+    char out[8192];
+    ENSURE(rf_test_rockfall("run tests/data/project/release_cells.yaml --count 400000000 --quiet -o "
+                            "/nonexistent/never.db", out, sizeof out) == 2);
+    ENSURE_MSG(strstr(out, "over 1000000000 trajectories (its cells times the count)"), "%s", out);
+}

@@ -54,7 +54,8 @@ static const char RUN_HELP[] =
     "\n"
     "  -o, --output FILE   results database (default: results.db)\n"
     "  --seed N            override the project's seed\n"
-    "  --count N           trajectories per release (overrides the project's counts)\n"
+    "  --count N           trajectories per release, per cell of a `cells` release\n"
+    "                      (overrides the project's counts)\n"
     "  --threads N         worker threads (default 1; results do not depend on it)\n"
     "  -q, --quiet         no progress or summary\n";
 
@@ -254,8 +255,19 @@ static int cmd_run(int argc, char **argv)
     if (seed >= 0)
         p.seed = (uint64_t)seed;
     if (count > 0)
-        for (size_t i = 0; i < p.nreleases; i++)
+        for (size_t i = 0; i < p.nreleases; i++) {
             p.releases[i].count = count;
+            /* a mask release runs count trajectories in each of its cells */
+            if (rf_release_trajectories(&p.releases[i]) > RF_COUNT_MAX) {
+                char name[256];
+                rf_term_escape(p.releases[i].name, name, sizeof name);
+                rf_project_free(&p);
+                return usage_error("run",
+                                   "--count gives release '%s' over 1000000000 trajectories "
+                                   "(its cells times the count)",
+                                   name);
+            }
+        }
 
     /* The project's rules are read before the simulation: a bad rule file costs
      * nothing. */
