@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_randist.h>
+
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "results/store.h"
@@ -294,6 +296,35 @@ TEST(run_masses_drawn_log_normal_and_from_a_list)
         chi2 += (n[i] - e) * (n[i] - e) / e;
     printf("    list: chi-square %.2f (3 dof, 0.001 critical 16.27)\n", chi2);
     ENSURE_MSG(chi2 < 16.27, "chi-square %g", chi2);
+    gsl_rng_free(rng);
+    rf_project_free(&p);
+}
+
+/* A log-normal mass is truncated to the masses a rock may have: with mean 5e8 kg and
+ * sd 5e9 kg about 8 % of the log-normal lies above the 1e9 kg bound; every drawn mass
+ * stays within it. */
+TEST(run_log_normal_masses_stay_within_the_rock_bounds)
+{
+    rf_project p;
+    load_or_fail("tests/data/project/release_area.yaml", &p);
+    p.rocks[0].mass = 5e8;
+    p.rocks[0].mass_sd = 5e9;
+    gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
+    double sigma2 = log1p(100.0), mu = log(5e8) - 0.5 * sigma2;
+    long above = 0, N = 20000;
+    double lo = 4.0 / 3.0 * M_PI * p.rocks[0].density * 1e-9, top = 0.0, bottom = INFINITY;
+    for (long k = 0; k < N; k++) {
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
+        above += gsl_ran_lognormal(rng, mu, sqrt(sigma2)) > 1e9; /* the stream's first draw */
+        gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
+        double m = rf_release_mass(&p, 0, rng);
+        top = fmax(top, m);
+        bottom = fmin(bottom, m);
+    }
+    printf("    %ld of %ld first draws above 1e9 kg; drawn masses %.3g to %.3g kg\n", above, N,
+           bottom, top);
+    ENSURE(above > N / 20);
+    ENSURE(top <= 1e9 && bottom >= lo);
     gsl_rng_free(rng);
     rf_project_free(&p);
 }

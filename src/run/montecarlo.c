@@ -13,6 +13,8 @@
 
 #include <gsl/gsl_randist.h>
 
+#include "base/tolerances.h"
+#include "input/bounds.h"
 #include "run/hazard.h"
 #include "results/store.h"
 #include "base/util.h"
@@ -57,10 +59,21 @@ double rf_release_mass(const rf_project *p, size_t release, gsl_rng *rng)
     const rf_rock *rock = &p->rocks[p->releases[release].rock];
     switch (rock->mass_kind) {
     case RF_MASS_LOGNORMAL: {
-        /* the log-normal with the given mean and sd of the mass */
+        /* the log-normal with the given mean and sd of the mass, truncated to the masses a
+         * rock may have (its radius and mass bounds, input/bounds.h): drawn again when
+         * outside, the bound itself after RF_DRAW_MAX_TRIES */
         double cv = rock->mass_sd / rock->mass;
         double sigma2 = log1p(cv * cv);
-        return gsl_ran_lognormal(rng, log(rock->mass) - 0.5 * sigma2, sqrt(sigma2));
+        double ball = 4.0 / 3.0 * RF_PI * rock->density;
+        double lo = ball * pow(RF_ROCK_RADIUS_MIN, 3.0);
+        double hi = fmin(RF_ROCK_MASS_MAX, ball * pow(RF_ROCK_RADIUS_MAX, 3.0));
+        double m = rock->mass;
+        for (int k = 0; k < RF_DRAW_MAX_TRIES; k++) {
+            m = gsl_ran_lognormal(rng, log(rock->mass) - 0.5 * sigma2, sqrt(sigma2));
+            if (m >= lo && m <= hi)
+                return m;
+        }
+        return fmin(fmax(m, lo), hi);
     }
     case RF_MASS_LIST:
         return rock->masses[gsl_rng_uniform_int(rng, rock->nmasses)];
