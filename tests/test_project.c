@@ -248,6 +248,34 @@ TEST(project_barrier_and_rolling_defaults)
     rf_project_free(&p);
 }
 
+/* roughness: default 0; a zone keeps the surface's unless it gives its own. */
+TEST(project_roughness)
+{
+    static const char text[] =
+        "name: r\nterrain:\n  profile: {points: [[0, 100], [100, 0]], width: 50}\n"
+        "  surface: {roughness: 0.2}\n"
+        "  zones:\n"
+        "    - {name: a, polygon: [[0, 0], [10, 0], [10, 10]]}\n"
+        "    - {name: b, polygon: [[0, 0], [10, 0], [10, 10]], roughness: 0}\n"
+        "rocks:\n  - {name: r, mass: 100}\n"
+        "releases:\n  - {name: A, point: [5, 25], rock: r}\n";
+    rf_project p;
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_project_load_from_memory(text, strlen(text), "mem/p.yaml", &p, &err) == 0,
+               "%s", err.message);
+    ENSURE(p.terrain_spec.surface.roughness == 0.2);
+    ENSURE(p.terrain_spec.zones[0].surface.roughness == 0.2);
+    ENSURE(p.terrain_spec.zones[1].surface.roughness == 0.0);
+    rf_project_free(&p);
+    static const char plain[] =
+        "name: r\nterrain:\n  profile: {points: [[0, 100], [100, 0]], width: 50}\n"
+        "rocks:\n  - {name: r, mass: 100}\n"
+        "releases:\n  - {name: A, point: [5, 25], rock: r}\n";
+    ENSURE(rf_project_load_from_memory(plain, strlen(plain), "mem/p.yaml", &p, &err) == 0);
+    ENSURE(p.terrain_spec.surface.roughness == 0.0);
+    rf_project_free(&p);
+}
+
 /* ---- a fully specified project --------------------------------------------------- */
 
 TEST(project_full_read_back)

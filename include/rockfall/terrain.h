@@ -22,11 +22,12 @@ typedef struct rf_dist {
 } rf_dist;
 
 /* Contact properties of a surface; drawn per impact, truncated (restitution to [0, 1],
- * friction and rolling resistance to [0, inf)). */
+ * friction and rolling resistance to [0, inf)).  A zeroed roughness is the default. */
 typedef struct rf_surface {
     rf_dist restitution; /* normal coefficient of restitution e_n (Eq. 8) */
     rf_dist friction;    /* Coulomb friction mu at impacts and in sliding */
     rf_dist rolling;     /* rolling resistance coefficient mu_r of a rolling sphere */
+    double roughness;    /* r_s (m, >= 0): the contact normal's random tilt at a bounce */
 } rf_surface;
 
 /* Table 2: recommended equivalent friction coefficient of slope classes 'A'..'D'.

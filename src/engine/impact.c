@@ -6,7 +6,8 @@
  * it, from the zone's surface or the forest, in that order.  Eq. 8: the normal
  * impulse reverses the normal velocity with restitution e_n; the tangential Coulomb
  * impulse reduces the slip of the contact point and stops at rolling.  Both only
- * remove kinetic energy.
+ * remove kinetic energy.  A zone may tilt the slope's contact normal by its roughness
+ * (roughness.c), opt-in; without it no random number is drawn beyond Eq. 8's.
  *
  * Pivot: a slow sphere that reaches a convex edge or vertex rolls over it onto the
  * next face.  The roll about the edge is short (the angle between the faces) and is
@@ -19,6 +20,7 @@
 
 #include "engine/geometry.h"
 #include "engine/rock.h"
+#include "engine/roughness.h"
 
 /* The surface of triangle tri's zone (zone 0 for a triangle without one). */
 static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
@@ -124,6 +126,27 @@ static double impact_law(rf_motion *m, rf_vec3 n, double e, double mu)
     return e * (-vn);
 }
 
+/* A slope impact: Eq. 8 along the contact normal, tilted by the
+ * zone's roughness (roughness.c) at a real bounce: an approach speed vin above v_stay,
+ * the speed of a RF_STAY_HEIGHT hop, below which the rock stays on the surface anyway -
+ * so a rock rolling across the grid's edges, meeting the next face at a speed below it,
+ * is not deflected there.  No random number is drawn without roughness.  The rebound
+ * speed returned decides the flight along the real normal n: after a tilted impact it
+ * is the velocity's component along n, and never more than e_n vin, so the tilt never
+ * launches a rock that the real normal keeps on the surface. */
+static double slope_impact(rf_motion *m, const rf_impact_site *site, impact_coeffs k,
+                           double vin)
+{
+    const rf_surface *s = surface_of(m, site->id);
+    rf_vec3 n = site->n;
+    int tilted = s->roughness > 0.0 && vin > m->cfg.v_stay &&
+                 rf_rough_normal(m->rng, site->n, m->rock.s.v, s->roughness,
+                                 m->cfg.body->radius, &n, NULL);
+    double rebound = impact_law(m, n, k.e, k.mu);
+    if (tilted)
+        rebound = fmin(k.e * vin, rf_v3_dot(m->rock.s.v, site->n));
+    return rebound;
+}
 
 /* Centre mode, a column's wall (Eq. 6-7: the face under the centre alone counts, and
  * the rock cannot pay the lift onto the next one): the velocity into the wall (along
@@ -198,7 +221,7 @@ double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out)
     switch (site->kind) {
     case RF_IMPACT_SLOPE:
         vin = -rf_v3_dot(m->rock.s.v, site->n);
-        rebound = impact_law(m, site->n, k.e, k.mu);
+        rebound = slope_impact(m, site, k, vin);
         break;
     case RF_IMPACT_WALL:
         vin = wall_law(m, site, k.e);

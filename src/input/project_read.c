@@ -221,6 +221,13 @@ int rf_load_polyline(loader *L, const rf_ynode *n, const char *key, size_t min_p
     return rf_load_points(L, n, key, min_points, &out->xy, &out->n);
 }
 
+/* roughness of a surface (absent: that of the base). */
+static int load_impact(loader *L, const rf_ynode *map, rf_surface *out)
+{
+    return rf_ydoc_opt_number(&L->d, map, "roughness", RF_YR_BETWEEN(0.0, RF_ROUGHNESS_MAX),
+                              &out->roughness, L->err);
+}
+
 int rf_load_surface(loader *L, const rf_ynode *map, const rf_surface *base, int inherit_rolling,
                     rf_surface *out, int *rolling_given)
 {
@@ -253,5 +260,5 @@ int rf_load_surface(loader *L, const rf_ynode *map, const rf_surface *base, int 
     }
     if (rolling_given)
         *rolling_given = rolling != NULL;
-    return 0;
+    return load_impact(L, map, out);
 }
