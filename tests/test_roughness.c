@@ -1,6 +1,6 @@
 /* test_roughness.c - slope roughness, the random tilt of the contact normal at a bounce
  * (roughness.c, impact.c): the drawn angle follows theta = U1 atan(r_s / R); kinetic
- * energy never rises at an impact with roughness; a
+ * energy never rises at an impact, under Eq. 8 and the rt law, with roughness; a
  * project without the new keys and one with their defaults give the same trajectory to
  * the byte; the lateral spread of the stops does not depend on the grid's cell size. */
 #include "test.h"
@@ -60,14 +60,15 @@ TEST(roughness_tilt_angle_follows_u1_atan_rs_over_r)
 }
 
 /* Over at least 10^4 impacts of rocks thrown onto a rough 35 degree incline (random
- * restitution and friction; sphere and point mass; Eq. 8) the
+ * restitution, friction and R_t; sphere and point mass; Eq. 8 and the rt law) the
  * kinetic energy right after an impact never exceeds that right before it. */
 TEST(roughness_energy_never_rises_over_1e4_impacts)
 {
     const double th = 35.0 * RF_PI / 180.0;
-    for (int law = 0; law < 1; law++) {
+    for (int law = 0; law < 2; law++) {
         for (int model = 0; model < 2; model++) {
-            rf_surface s = {{0.5, 0.25}, {0.5, 0.3}, {0.3, 0.0}, 0.5};
+            rf_surface s = {{0.5, 0.25}, {0.5, 0.3}, {0.3, 0.0}, 0.5,
+                            law ? RF_IMPACT_RT : RF_IMPACT_EQ8, {0.7, 0.3}};
             rf_terrain t;
             mt_incline(&t, th, 400.0, 400.0, s);
             rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
@@ -111,7 +112,7 @@ static void run_project_terrain(const char *yaml, mt_run *r, rf_surface *zone0)
 }
 
 /* The same project without the new keys and with their defaults written out
- * (roughness 0): the same surface and the same trajectory, every path point
+ * (roughness 0, impact eq8): the same surface and the same trajectory, every path point
  * equal to the byte (no random number drawn for the tilt, Eq. 8 unchanged). */
 TEST(roughness_zero_gives_the_same_trajectory_to_the_byte)
 {
@@ -122,14 +123,14 @@ TEST(roughness_zero_gives_the_same_trajectory_to_the_byte)
         "releases:\n  - {name: A, point: [5, 20], rock: r}\n",
         "name: a\nterrain:\n  profile: {points: [[0, 60], [40, 30], [70, 25], [120, 0]], "
         "width: 40}\n  surface: {restitution: {mean: 0.4, sd: 0.1}, friction: 0.5, "
-        "roughness: 0}\n"
+        "roughness: 0, impact: eq8}\n"
         "rocks:\n  - {name: r, mass: 1500}\n"
         "releases:\n  - {name: A, point: [5, 20], rock: r}\n"};
     mt_run r[2];
     rf_surface s[2];
     for (int i = 0; i < 2; i++)
         run_project_terrain(texts[i], &r[i], &s[i]);
-    ENSURE(s[1].roughness == 0.0);
+    ENSURE(s[1].roughness == 0.0 && s[1].law == RF_IMPACT_EQ8);
     ENSURE(!memcmp(&s[0].restitution, &s[1].restitution, 3 * sizeof(rf_dist)));
     ENSURE(r[0].n_impacts >= 3 && r[0].npoints == r[1].npoints);
     ENSURE(!memcmp(r[0].points, r[1].points, r[0].npoints * sizeof r[0].points[0]));
@@ -162,7 +163,7 @@ TEST(roughness_lateral_spread_does_not_depend_on_the_cell_size)
     for (int c = 0; c < 3; c++) {
         double cell = cells[c];
         int nx = (int)(80.0 / cell) + 1, ny = (int)(60.0 / cell) + 1;
-        rf_surface s = {{0.3, 0.1}, {0.6, 0.0}, {0.9, 0.0}, 0.15};
+        rf_surface s = {{0.3, 0.1}, {0.6, 0.0}, {0.9, 0.0}, 0.15, RF_IMPACT_EQ8, {0.0, 0.0}};
         rf_terrain t;
         mt_grid_terrain(&t, 0, nx, ny, cell, rough_plane_z, &cell, s);
         double sum = 0.0, sum2 = 0.0;
