@@ -172,3 +172,44 @@ TEST(impact_zero_restitution_lands_and_slides_on_an_incline)
     mt_run_free(&r);
     rf_terrain_free(&t);
 }
+
+/* The rt law (tangential restitution) on level ground, a rock without spin thrown at vx
+ * from height h: the normal speed e |v_n| as Eq. 8; the centre's tangential speed R_t vx
+ * for the point mass; for the sphere R_t vx and rolling (w = v_t / r) while that costs
+ * no more than the energy m vx^2 / 2 it had along the ground (R_t <= sqrt(5/7)), else
+ * rolling at sqrt(5/7) vx, the speed that energy pays.  The next flight lands 2 e |v_n|
+ * v_t / g further on. */
+TEST(impact_rt_law_landing_on_a_plane_by_hand)
+{
+    const double e = 0.45, h = 3.1, vx = 6.4, mass = 1200.0;
+    const double rts[3] = {0.3, 0.8, 0.95};
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(mass, 2650.0, md);
+        double r0 = rf_body_contact_radius(&b);
+        for (int k = 0; k < 3; k++) {
+            double rt = rts[k];
+            rf_terrain t;
+            mt_incline(&t, 0.0, 300.0, 60.0,
+                       (rf_surface){{e, 0.0}, {0.5, 0.0}, {0.1, 0.0}, 0.0, RF_IMPACT_RT,
+                                    {rt, 0.0}});
+            rf_state s = mt_state(rf_v3(30.0, 30.0, h + r0), rf_v3(vx, 0, 0));
+            mt_run r;
+            mt_simulate(&t, md, mass, RF_CONTACT_FULL, &s, 1, &r);
+            ENSURE(r.n_impacts >= 2);
+            double vn = sqrt(2.0 * G * h), vt = rt * vx, rot = 0.0;
+            if (md == RF_MODEL_SPHERE) {
+                vt = fmin(rt, sqrt(5.0 / 7.0)) * vx;
+                rot = 0.5 * b.inertia * (vt / b.radius) * (vt / b.radius);
+            }
+            const rf_path_point *p = &r.impacts[0];
+            ENSURE_REL(p->speed_ms, hypot(vt, e * vn), 1e-12);
+            ENSURE_REL(p->energy_kj, (0.5 * mass * (vt * vt + e * e * vn * vn) + rot) / 1000.0,
+                       1e-12);
+            ENSURE_REL(r.impacts[1].p.x - p->p.x, vt * 2.0 * e * vn / G, 1e-9);
+            ENSURE(r.energy_gain_kj <= 0.0);
+            mt_run_free(&r);
+            rf_terrain_free(&t);
+        }
+    }
+}

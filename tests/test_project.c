@@ -248,6 +248,45 @@ TEST(project_barrier_and_rolling_defaults)
     rf_project_free(&p);
 }
 
+/* roughness and the impact law: defaults (0, Eq. 8); a zone keeps the surface's values
+ * it does not give, takes its own, and may switch the law either way. */
+TEST(project_roughness_and_impact_law)
+{
+    static const char text[] =
+        "name: r\nterrain:\n  profile: {points: [[0, 100], [100, 0]], width: 50}\n"
+        "  surface: {roughness: 0.2, impact: rt, tangential: {mean: 0.8, sd: 0.05}}\n"
+        "  zones:\n"
+        "    - {name: a, polygon: [[0, 0], [10, 0], [10, 10]]}\n"
+        "    - {name: b, polygon: [[0, 0], [10, 0], [10, 10]], roughness: 0, impact: eq8}\n"
+        "    - {name: c, polygon: [[0, 0], [10, 0], [10, 10]], tangential: 0.6}\n"
+        "    - {name: d, polygon: [[0, 0], [10, 0], [10, 10]], impact: rt}\n"
+        "rocks:\n  - {name: r, mass: 100}\n"
+        "releases:\n  - {name: A, point: [5, 25], rock: r}\n";
+    rf_project p;
+    rf_error err = {{0}};
+    ENSURE_MSG(rf_project_load_from_memory(text, strlen(text), "mem/p.yaml", &p, &err) == 0,
+               "%s", err.message);
+    const rf_surface *s = &p.terrain_spec.surface;
+    ENSURE(s->roughness == 0.2 && s->law == RF_IMPACT_RT);
+    ENSURE(s->tangential.mean == 0.8 && s->tangential.sd == 0.05);
+    const rf_zone_spec *z = p.terrain_spec.zones;
+    ENSURE(z[0].surface.roughness == 0.2 && z[0].surface.law == RF_IMPACT_RT &&
+           z[0].surface.tangential.mean == 0.8);
+    ENSURE(z[1].surface.roughness == 0.0 && z[1].surface.law == RF_IMPACT_EQ8);
+    ENSURE(z[2].surface.law == RF_IMPACT_RT && z[2].surface.tangential.mean == 0.6 &&
+           z[2].surface.tangential.sd == 0.0);
+    ENSURE(z[3].surface.law == RF_IMPACT_RT && z[3].surface.tangential.mean == 0.8);
+    rf_project_free(&p);
+    static const char plain[] =
+        "name: r\nterrain:\n  profile: {points: [[0, 100], [100, 0]], width: 50}\n"
+        "rocks:\n  - {name: r, mass: 100}\n"
+        "releases:\n  - {name: A, point: [5, 25], rock: r}\n";
+    ENSURE(rf_project_load_from_memory(plain, strlen(plain), "mem/p.yaml", &p, &err) == 0);
+    ENSURE(p.terrain_spec.surface.roughness == 0.0);
+    ENSURE(p.terrain_spec.surface.law == RF_IMPACT_EQ8);
+    rf_project_free(&p);
+}
+
 /* ---- a fully specified project --------------------------------------------------- */
 
 TEST(project_full_read_back)

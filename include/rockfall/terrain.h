@@ -21,12 +21,22 @@ typedef struct rf_dist {
     double mean, sd;
 } rf_dist;
 
-/* Contact properties of a surface; drawn per impact, truncated (restitution to [0, 1],
- * friction and rolling resistance to [0, inf)). */
+/* The impact law of a surface (docs/engine.md, "Impact"). */
+typedef enum rf_impact_law {
+    RF_IMPACT_EQ8, /* the paper's Eq. 8: restitution e_n, Coulomb impulse up to rolling */
+    RF_IMPACT_RT   /* tangential restitution: the centre's tangential velocity times R_t */
+} rf_impact_law;
+
+/* Contact properties of a surface; drawn per impact, truncated (restitution and
+ * tangential to [0, 1], friction and rolling resistance to [0, inf)).  Zeroed fields
+ * beyond rolling are the defaults: Eq. 8, no roughness. */
 typedef struct rf_surface {
     rf_dist restitution; /* normal coefficient of restitution e_n (Eq. 8) */
     rf_dist friction;    /* Coulomb friction mu at impacts and in sliding */
     rf_dist rolling;     /* rolling resistance coefficient mu_r of a rolling sphere */
+    double roughness;    /* r_s (m, >= 0): the contact normal's random tilt at a bounce */
+    rf_impact_law law;   /* default RF_IMPACT_EQ8 */
+    rf_dist tangential;  /* R_t of RF_IMPACT_RT (unused by Eq. 8) */
 } rf_surface;
 
 /* Table 2: recommended equivalent friction coefficient of slope classes 'A'..'D'.

@@ -89,6 +89,8 @@
 #define RF_NEWTON_MAX_ITER 8       /* Newton steps from the parabola's estimate first */
 #define RF_HODOGRAPH_REL_TOL 4e-16 /* the hodograph's parameter of a time: relative precision */
 #define RF_HODOGRAPH_MAX_ITER 200  /* Newton steps of that inversion */
+#define RF_ROUGH_MAX_DRAWS 10      /* draws of a rough slope's tilted normal that must face the
+                                      incoming velocity; then the real normal is kept */
 #define RF_DRAW_MAX_TRIES 1000     /* rejections of a truncated normal draw before its mean is
                                       taken (clamped) */
 #define RF_MAX_ARC_SAMPLES 10000000 /* samples of one arc at most */

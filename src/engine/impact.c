@@ -6,7 +6,9 @@
  * it, from the zone's surface or the forest, in that order.  Eq. 8: the normal
  * impulse reverses the normal velocity with restitution e_n; the tangential Coulomb
  * impulse reduces the slip of the contact point and stops at rolling.  Both only
- * remove kinetic energy.
+ * remove kinetic energy.  A zone may take the rt law instead (tangential restitution,
+ * rt_law) and tilt the slope's contact normal by its roughness (roughness.c), both
+ * opt-in; without them no random number is drawn beyond Eq. 8's.
  *
  * Pivot: a slow sphere that reaches a convex edge or vertex rolls over it onto the
  * next face.  The roll about the edge is short (the angle between the faces) and is
@@ -19,6 +21,7 @@
 
 #include "engine/geometry.h"
 #include "engine/rock.h"
+#include "engine/roughness.h"
 
 /* The surface of triangle tri's zone (zone 0 for a triangle without one). */
 static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
@@ -40,21 +43,25 @@ void rf_support_draw(rf_motion *m, int32_t tri)
 
 /* The coefficients of one impact. */
 typedef struct impact_coeffs {
-    double e, mu;
+    double e, mu, rt;
 } impact_coeffs;
 
 /* The one place an impact's coefficients are drawn: e_n in [0, 1], then mu >= 0 where
- * the kind's law takes it (slope and tree: Eq. 8; a wall's reflection takes e_n alone,
- * its meeting along it nothing). */
+ * the kind's law takes it (slope under Eq. 8, and tree), or R_t in [0, 1] instead (slope
+ * under the rt law); a wall's reflection takes e_n alone, its meeting along it
+ * nothing. */
 static impact_coeffs draw_coefficients(rf_motion *m, const rf_impact_site *site)
 {
-    impact_coeffs k = {0.0, 0.0};
+    impact_coeffs k = {0.0, 0.0, 0.0};
     rf_dist e, mu;
+    int rt = 0;
     switch (site->kind) {
     case RF_IMPACT_SLOPE:
     case RF_IMPACT_WALL: {
         const rf_surface *s = surface_of(m, site->id);
         e = s->restitution, mu = s->friction;
+        if (site->kind == RF_IMPACT_SLOPE && s->law == RF_IMPACT_RT)
+            mu = s->tangential, rt = 1;
         break;
     }
     case RF_IMPACT_TREE: {
@@ -66,7 +73,9 @@ static impact_coeffs draw_coefficients(rf_motion *m, const rf_impact_site *site)
         return k; /* RF_IMPACT_WALL_MEET: no coefficient */
     }
     k.e = rf_draw_truncated(m->rng, e, 0.0, 1.0);
-    if (site->kind != RF_IMPACT_WALL)
+    if (rt)
+        k.rt = rf_draw_truncated(m->rng, mu, 0.0, 1.0);
+    else if (site->kind != RF_IMPACT_WALL)
         k.mu = rf_draw_truncated(m->rng, mu, 0.0, INFINITY);
     return k;
 }
@@ -124,6 +133,63 @@ static double impact_law(rf_motion *m, rf_vec3 n, double e, double mu)
     return e * (-vn);
 }
 
+/* The tangential-restitution law (RF_IMPACT_RT) with unit normal n, restitution e and
+ * tangential restitution rt, on the current state; returns the rebound normal speed.
+ * Normal as Eq. 8: v_n' = -e_n v_n.  Tangential (RocFall, Stevens 1998, and Rockyfor3D,
+ * Dorren 2016: v_t' = R_t v_t): the centre's tangential velocity is scaled by R_t, and
+ * the sphere leaves rolling on the surface (w' = w_n n + n x v_t' / r, the spin about n
+ * kept), as RocFall's rigid-body rebound does.  The centre's velocity, not the contact
+ * point's slip, is scaled: scaling the slip can take no more than Eq. 8's rolling cap
+ * (a sphere keeps 5/7 of its tangential speed), the loss this law exists to exceed.
+ * Energy: where rolling at R_t v_t needs more than the tangential and rotational
+ * energy before, m |v_t|^2 + I |w_t|^2 (a sphere without spin, R_t > sqrt(5/7)), v_t' is
+ * the rolling speed that energy pays; so kinetic energy never rises.  The point mass:
+ * v_t' = R_t v_t. */
+static double rt_law(rf_motion *m, rf_vec3 n, double e, double rt)
+{
+    const rf_body *b = m->cfg.body;
+    rf_vec3 v = m->rock.s.v;
+    double vn = rf_v3_dot(v, n);
+    if (vn >= 0.0)
+        return vn;
+    rf_vec3 vt0 = rf_v3_madd(v, -vn, n);
+    rf_vec3 vt = rf_v3_scale(vt0, rt);
+    double r = m->cfg.rho;
+    if (!m->cfg.point && r > 0.0) {
+        rf_vec3 w = m->rock.s.w;
+        double wn = rf_v3_dot(w, n);
+        double before = b->mass * rf_v3_norm2(vt0) + b->inertia * rf_v3_norm2(rf_v3_madd(w, -wn, n));
+        double after = (b->mass + b->inertia / (r * r)) * rf_v3_norm2(vt);
+        if (after > before)
+            vt = rf_v3_scale(vt, sqrt(before / after));
+        m->rock.s.w = rf_v3_madd(rf_v3_scale(rf_v3_cross(n, vt), 1.0 / r), wn, n);
+    }
+    m->rock.s.v = rf_v3_madd(vt, -e * vn, n);
+    return e * (-vn);
+}
+
+/* A slope impact: the zone's law (Eq. 8 or rt) along the contact normal, tilted by the
+ * zone's roughness (roughness.c) at a real bounce: an approach speed vin above v_stay,
+ * the speed of a RF_STAY_HEIGHT hop, below which the rock stays on the surface anyway -
+ * so a rock rolling across the grid's edges, meeting the next face at a speed below it,
+ * is not deflected there.  No random number is drawn without roughness.  The rebound
+ * speed returned decides the flight along the real normal n: after a tilted impact it
+ * is the velocity's component along n, and never more than e_n vin, so the tilt never
+ * launches a rock that the real normal keeps on the surface. */
+static double slope_impact(rf_motion *m, const rf_impact_site *site, impact_coeffs k,
+                           double vin)
+{
+    const rf_surface *s = surface_of(m, site->id);
+    rf_vec3 n = site->n;
+    int tilted = s->roughness > 0.0 && vin > m->cfg.v_stay &&
+                 rf_rough_normal(m->rng, site->n, m->rock.s.v, s->roughness,
+                                 m->cfg.body->radius, &n, NULL);
+    double rebound = s->law == RF_IMPACT_RT ? rt_law(m, n, k.e, k.rt)
+                                            : impact_law(m, n, k.e, k.mu);
+    if (tilted)
+        rebound = fmin(k.e * vin, rf_v3_dot(m->rock.s.v, site->n));
+    return rebound;
+}
 
 /* Centre mode, a column's wall (Eq. 6-7: the face under the centre alone counts, and
  * the rock cannot pay the lift onto the next one): the velocity into the wall (along
@@ -198,7 +264,7 @@ double rf_impact(rf_motion *m, const rf_impact_site *site, rf_impact_out *out)
     switch (site->kind) {
     case RF_IMPACT_SLOPE:
         vin = -rf_v3_dot(m->rock.s.v, site->n);
-        rebound = impact_law(m, site->n, k.e, k.mu);
+        rebound = slope_impact(m, site, k, vin);
         break;
     case RF_IMPACT_WALL:
         vin = wall_law(m, site, k.e);

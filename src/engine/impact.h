@@ -9,8 +9,9 @@
 /* The kinds of impact: each is a row of draw_coefficients (where e_n and mu come
  * from) and of rf_impact (its law). */
 typedef enum rf_impact_kind {
-    RF_IMPACT_SLOPE,     /* a face, edge or vertex of the terrain: Eq. 8, e_n and mu of
-                            triangle id's zone */
+    RF_IMPACT_SLOPE,     /* a face, edge or vertex of the terrain: the zone's law (Eq. 8,
+                            e_n and mu, or rt, e_n and R_t) of triangle id's zone, along
+                            the normal tilted by its roughness */
     RF_IMPACT_WALL,      /* centre mode, the border of a column the rock cannot pay the
                             lift onto, met in flight: reflection with e_n of id's zone */
     RF_IMPACT_WALL_MEET, /* centre mode, such a wall met by a rock on its face: the

@@ -54,6 +54,7 @@
 
 /* ---- surfaces and the simulation ------------------------------------------------ */
 #define RF_FRICTION_MAX 100.0       /* friction and rolling coefficients, their mean and sd */
+#define RF_ROUGHNESS_MAX 10.0       /* a surface's roughness length r_s (m) */
 #define RF_MAX_TIME_MAX 86400.0     /* simulation max_time (s) */
 #define RF_DT_MIN 1e-7              /* simulation dt, least (s) */
 #define RF_DT_MAX 1.0               /* simulation dt, most (s) */

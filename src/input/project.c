@@ -31,9 +31,10 @@ static const char *const terrain_keys[] = {"dem", "mesh", "profile", "up", "surf
                                            "zones", NULL};
 static const char *const profile_keys[] = {"points", "width", NULL};
 static const char *const surface_keys[] = {"restitution", "friction", "rolling", "class",
-                                           NULL};
+                                           "roughness", "impact", "tangential", NULL};
 static const char *const zone_keys[] = {"name", "polygon", "file", "restitution",
-                                        "friction", "rolling", "class", NULL};
+                                        "friction", "rolling", "class", "roughness",
+                                        "impact", "tangential", NULL};
 static const char *const forest_keys[] = {"name", "polygon", "density", "height", "diameter",
                                           "restitution", "friction", NULL};
 static const char *const rock_keys[] = {"name", "mass", "density", "action_level", NULL};

@@ -13,6 +13,7 @@
 
 static const char *const dist_keys[] = {"mean", "sd", NULL};
 static const char *const class_names[] = {"A", "B", "C", "D", NULL};
+static const char *const impact_names[] = {"eq8", "rt", NULL};
 
 /* ---- helpers ----------------------------------------------------------------- */
 
@@ -221,6 +222,36 @@ int rf_load_polyline(loader *L, const rf_ynode *n, const char *key, size_t min_p
     return rf_load_points(L, n, key, min_points, &out->xy, &out->n);
 }
 
+/* roughness, impact and tangential of a surface (absent: those of the base).  A zone
+ * that names no law keeps the base's law and R_t; `tangential` belongs to the rt law
+ * and is required with it (the zone's own or its base's). */
+static int load_impact(loader *L, const rf_ynode *map, rf_surface *out)
+{
+    if (rf_ydoc_opt_number(&L->d, map, "roughness", RF_YR_BETWEEN(0.0, RF_ROUGHNESS_MAX),
+                           &out->roughness, L->err))
+        return -1;
+    rf_ynode *law = rf_ydoc_get(&L->d, map, "impact");
+    rf_ynode *tangential = rf_ydoc_get(&L->d, map, "tangential");
+    int given_law = -1, had_rt = out->law == RF_IMPACT_RT;
+    if (law) {
+        if (rf_ydoc_enum(&L->d, law, "impact", impact_names, &given_law, L->err))
+            return -1;
+        out->law = given_law == 1 ? RF_IMPACT_RT : RF_IMPACT_EQ8;
+    }
+    if (tangential) {
+        if (out->law != RF_IMPACT_RT)
+            return rf_ydoc_error(&L->d, tangential, L->err,
+                                 "'tangential' is the rt impact law's R_t; give 'impact: rt' "
+                                 "with it");
+        if (rf_load_dist(L, tangential, "tangential", RF_YR_UNIT, 1.0, 1.0, &out->tangential))
+            return -1;
+    } else if (given_law == 1 && !had_rt) {
+        return rf_ydoc_error(&L->d, law, L->err,
+                             "'impact: rt' needs 'tangential' (R_t, from 0 to 1) beside it");
+    }
+    return 0;
+}
+
 int rf_load_surface(loader *L, const rf_ynode *map, const rf_surface *base, int inherit_rolling,
                     rf_surface *out, int *rolling_given)
 {
@@ -253,5 +284,5 @@ int rf_load_surface(loader *L, const rf_ynode *map, const rf_surface *base, int 
     }
     if (rolling_given)
         *rolling_given = rolling != NULL;
-    return 0;
+    return load_impact(L, map, out);
 }
