@@ -298,7 +298,7 @@ static int read_release(loader *L, const rf_ynode *n, size_t i, const char *what
 {
     rf_project *p = L->p;
     rf_release *r = &p->releases[i];
-    rf_ynode *point, *rock;
+    rf_ynode *point = NULL, *rock = NULL;
     const char *rock_name = NULL;
     if (rf_load_release_source(L, n, r, what, &point))
         return -1;
