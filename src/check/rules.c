@@ -130,7 +130,7 @@ char *rf_rules_reach_kinds_sql(void)
     return rf_reach_kinds_sql(); /* the same list the integrity counts use */
 }
 
-void rf_rules_run_free(rf_rules_run *L)
+static void rules_run_free(rf_rules_run *L)
 {
     for (size_t i = 0; i < L->n; i++)
         free(L->m[i].name);
@@ -498,6 +498,6 @@ int rf_rules_evaluate_verdict(sqlite3 *db, int64_t run, const rf_rules *r, FILE 
         status = rf_rules_print_run(db, run, r, &L, &got, out, err);
     if (res)
         *res = status == 0 ? got : (rf_rules_result){0};
-    rf_rules_run_free(&L);
+    rules_run_free(&L);
     return status;
 }

@@ -34,7 +34,6 @@ typedef struct rf_rules_run {
     int within[RF_N_INTEGRITY];    /* each kind within its allowance */
 } rf_rules_run;
 
-void rf_rules_run_free(rf_rules_run *L);
 
 /* Prepares sql; on failure err says what was being done. */
 int rf_rules_prepare_for(sqlite3 *db, const char *sql, sqlite3_stmt **st, const char *doing,

@@ -23,7 +23,8 @@ static inline float float_up(double x)
     return (double)f < x ? nextafterf(f, INFINITY) : f;
 }
 
-void rf_tri_box_build(const rf_terrain *t, float *box)
+/* Fills box (6 per triangle: xmin, xmax, ymin, ymax, zmin, zmax, rounded outwards). */
+static void tri_box_build(const rf_terrain *t, float *box)
 {
     for (size_t i = 0; i < t->ntri; i++, box += 6) {
         const rf_triangle *T = &t->tri[i];
@@ -36,7 +37,8 @@ void rf_tri_box_build(const rf_terrain *t, float *box)
     }
 }
 
-void rf_hedge_build(const rf_terrain *t, double *hedge)
+/* Fills hedge (3 per triangle: the horizontal lengths of edges ab, bc, ca). */
+static void hedge_build(const rf_terrain *t, double *hedge)
 {
     for (size_t i = 0; i < t->ntri; i++, hedge += 3) {
         const rf_triangle *T = &t->tri[i];
@@ -139,7 +141,9 @@ static int covers_ground(const rf_triangle *T)
     return fabs(ux * wy - uy * wx) > RF_VERTICAL_EPS * (ux * ux + uy * uy + wx * wx + wy * wy);
 }
 
-int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
+/* Fills the live-edge flags of terrain t (one per triangle: bit k, edge k can be met
+ * first; RF_EDGE_BORDER << k, edge k is a border in plan); 0, or -1 out of memory. */
+static int edge_live_build(const rf_terrain *t, uint8_t *live)
 {
     if (t->is_grid) {
         for (size_t i = 0; i < t->ntri; i++)
@@ -180,10 +184,9 @@ int rf_edge_live_build(const rf_terrain *t, uint8_t *live)
     return 0;
 }
 
-
 /* 1 when terrain t has holes: a nodata triangle of a grid; a border edge in plan of a
  * mesh (RF_EDGE_BORDER) whose ends do not both lie on one side of the bounding box. */
-int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live)
+static int terrain_has_gaps(const rf_terrain *t, const uint8_t *live)
 {
     if (t->is_grid) {
         size_t ncell = 2 * (t->nx - 1) * (t->ny - 1);
@@ -217,13 +220,13 @@ rf_terrain_tables *rf_terrain_tables_build(const rf_terrain *t)
     tt->edge_live = malloc(n);
     tt->tri_box = malloc(6 * n * sizeof *tt->tri_box);
     tt->hedge = malloc(3 * n * sizeof *tt->hedge);
-    if (!tt->edge_live || !tt->tri_box || !tt->hedge || rf_edge_live_build(t, tt->edge_live)) {
+    if (!tt->edge_live || !tt->tri_box || !tt->hedge || edge_live_build(t, tt->edge_live)) {
         rf_terrain_tables_free(tt);
         return NULL;
     }
-    rf_tri_box_build(t, tt->tri_box);
-    rf_hedge_build(t, tt->hedge);
-    tt->has_gaps = rf_terrain_has_gaps(t, tt->edge_live);
+    tri_box_build(t, tt->tri_box);
+    hedge_build(t, tt->hedge);
+    tt->has_gaps = terrain_has_gaps(t, tt->edge_live);
     tt->nz_min = 1.0;
     for (size_t k = 0; k < t->ntri; k++)
         tt->nz_min = fmin(tt->nz_min, t->tri[k].n.z);

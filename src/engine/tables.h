@@ -9,20 +9,8 @@
 
 #include "engine/state.h"
 
-/* The tables of terrain t (rf_terrain_tables_build of sim.h), and their release, are
- * public; the engine reads them through its workspace. */
-
-/* Fills box (6 per triangle: xmin, xmax, ymin, ymax, zmin, zmax, rounded outwards)
- * for terrain t. */
-void rf_tri_box_build(const rf_terrain *t, float *box);
-/* Fills hedge (3 per triangle: the horizontal lengths of edges ab, bc, ca) for t. */
-void rf_hedge_build(const rf_terrain *t, double *hedge);
-/* Fills the live-edge flags of terrain t (live: one per triangle); 0, or -1 out of
- * memory. */
-int rf_edge_live_build(const rf_terrain *t, uint8_t *live);
-/* 1 when terrain t has holes (see rf_terrain_tables.has_gaps); live: from
- * rf_edge_live_build. */
-int rf_terrain_has_gaps(const rf_terrain *t, const uint8_t *live);
+/* The tables of terrain t are built and released by rf_terrain_tables_build and
+ * rf_terrain_tables_free (sim.h); the engine reads them through its workspace. */
 
 /* Bit k: edge k of triangle idx can be met first. */
 static inline unsigned rf_edge_live(const rf_workspace *ws, int32_t idx)
