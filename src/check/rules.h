@@ -83,9 +83,9 @@ typedef struct rf_rules {
 #define RF_ALLOWANCE_LEFT_TERRAIN 0.01
 #define RF_ALLOWANCE_REST_STEEP 0.0
 
-/* By rf_integrity_kind: the key of `allowance:` and the rule of its checks row. */
+/* By rf_integrity_kind: the key of `allowance:` (the rule of its checks row is
+ * rf_integrity_rules, results/integrity.h). */
 extern const char *const rf_allowance_keys[RF_N_INTEGRITY + 1];
-extern const char *const rf_integrity_rules[RF_N_INTEGRITY + 1];
 
 /* A checked run's verdict.  INCONCLUSIVE wins over FAIL (docs/rules.md). */
 typedef enum rf_verdict { RF_VERDICT_PASS, RF_VERDICT_FAIL, RF_VERDICT_INCONCLUSIVE } rf_verdict;

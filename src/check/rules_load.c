@@ -20,9 +20,6 @@ static const char *const value_names[] = {"share_within", "share_meeting_require
 static const char *const verdict_names[] = {"fail", "pass", NULL};
 const char *const rf_allowance_keys[RF_N_INTEGRITY + 1] = {"max_time", "left_terrain",
                                                            "rest_on_steep_face", NULL};
-const char *const rf_integrity_rules[RF_N_INTEGRITY + 1] = {
-    "trajectories_max_time", "trajectories_left_terrain", "trajectories_rest_on_steep_face",
-    NULL};
 
 /* ---- loading ------------------------------------------------------------------ */
 

@@ -8,6 +8,10 @@
 #include "results/schema.h"
 #include "results/schema_legacy.h"
 
+const char *const rf_integrity_rules[RF_N_INTEGRITY + 1] = {
+    "trajectories_max_time", "trajectories_left_terrain", "trajectories_rest_on_steep_face",
+    NULL};
+
 char *rf_reach_kinds_sql(void)
 {
     char *list = NULL;

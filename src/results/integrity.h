@@ -22,6 +22,9 @@ typedef enum rf_integrity_kind {
     RF_N_INTEGRITY
 } rf_integrity_kind;
 
+/* By rf_integrity_kind: the rule of its row in `checks` (measure_id NULL). */
+extern const char *const rf_integrity_rules[RF_N_INTEGRITY + 1];
+
 typedef struct rf_run_integrity {
     long n_trajectories;
     long count[RF_N_INTEGRITY];

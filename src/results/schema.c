@@ -16,6 +16,7 @@
 
 #include "base/util.h"
 #include "input/measure_kinds.h"
+#include "results/integrity.h"
 #include "results/schema_legacy.h"
 #include "rockfall/version.h"
 
@@ -496,14 +497,23 @@ static int upgrade_2_to_3(sqlite3 *db, const char *path, rf_error *err)
     static const char sql[] =
         "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V3_COLUMN ";\n"
         "ALTER TABLE checks ADD COLUMN " CHECKS_V3_COLUMN ";\n"
-        /* the integrity checks a check of version 3 wrote into the version-2 file */
-        "UPDATE checks SET on_failure = 'inconclusive' WHERE measure_id IS NULL AND rule IN"
-        " ('trajectories_max_time', 'trajectories_left_terrain',"
-        " 'trajectories_rest_on_steep_face');\n"
         "UPDATE rockfall_schema SET version = 3;\n"
         "PRAGMA user_version = 3;\n";
-    return exec_sql(db, path, sql, "upgrading the results database from schema version 2",
-                    err);
+    const char *doing = "upgrading the results database from schema version 2";
+    if (exec_sql(db, path, sql, doing, err))
+        return -1;
+    /* the integrity checks a check of version 3 wrote into the version-2 file */
+    sqlite3_stmt *st;
+    int rc = sqlite3_prepare_v2(db,
+                                "UPDATE checks SET on_failure = 'inconclusive'"
+                                " WHERE measure_id IS NULL AND rule = ?1",
+                                -1, &st, NULL);
+    for (int k = 0; rc == SQLITE_OK && k < RF_N_INTEGRITY; k++) {
+        sqlite3_bind_text(st, 1, rf_integrity_rules[k], -1, SQLITE_STATIC);
+        rc = sqlite3_step(st) == SQLITE_DONE ? sqlite3_reset(st) : SQLITE_ERROR;
+    }
+    sqlite3_finalize(st);
+    return rf_sql_status(db, path, rc, doing, err);
 }
 
 /* Version 3 to 4, within the caller's transaction: each trajectory's drawn mass and
