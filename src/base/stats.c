@@ -206,6 +206,30 @@ static void to_frame(const double *xy, size_t n, double x0, double y0, double ux
     }
 }
 
+double rf_w1_distance(const double *a, size_t n, const double *b, size_t m)
+{
+    /* walk both samples in order: between consecutive values x the distribution
+     * functions are constant at i / n and j / m */
+    size_t i = 0, j = 0;
+    double area = 0.0, x = fmin(a[0], b[0]);
+    while (i < n || j < m) {
+        double next = j >= m || (i < n && a[i] <= b[j]) ? a[i] : b[j];
+        area += fabs((double)i / (double)n - (double)j / (double)m) * (next - x);
+        x = next;
+        if (i < n && a[i] == next)
+            i++;
+        else
+            j++;
+    }
+    return area;
+}
+
+/* IQR / 1.349 of n values sorted ascending: a normal sample's sd, robust to outliers. */
+static double robust_sigma(const double *sorted, size_t n)
+{
+    return (rf_quantile(sorted, n, 0.75) - rf_quantile(sorted, n, 0.25)) / 1.349;
+}
+
 int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_t ns, double x0,
                          double y0, rf_agreement *out)
 {
@@ -229,6 +253,15 @@ int rf_agreement_compute(const double *meas, size_t nm, const double *sim, size_
         mean_sd(ls, ns, &out->lateral_mean_sim, &out->lateral_sd_sim);
         qsort(rm, nm, sizeof *rm, rf_cmp_double);
         qsort(rs, ns, sizeof *rs, rf_cmp_double);
+        qsort(lm, nm, sizeof *lm, rf_cmp_double);
+        qsort(ls, ns, sizeof *ls, rf_cmp_double);
+        out->ks_lateral = rf_ks_distance(lm, nm, ls, ns);
+        out->w1_runout = rf_w1_distance(rm, nm, rs, ns);
+        out->w1_lateral = rf_w1_distance(lm, nm, ls, ns);
+        double rmean;
+        mean_sd(rm, nm, &rmean, &out->runout_sd_meas);
+        out->lateral_rsigma_meas = robust_sigma(lm, nm);
+        out->lateral_rsigma_sim = robust_sigma(ls, ns);
         const double q[3] = {0.05, 0.5, 0.95};
         for (int k = 0; k < 3; k++) {
             out->runout_meas[k] = rf_quantile(rm, nm, q[k]);

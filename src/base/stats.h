@@ -6,7 +6,9 @@
  * release are taken in a frame of their own: the runout is the horizontal distance
  * from the release centre, the lateral offset the signed distance across the mean
  * direction of the measured stops.  The measures of agreement: runout percentiles,
- * the lateral mean and spread, the two-sample Kolmogorov-Smirnov distance on runout,
+ * the lateral mean and spread (the sample sd, and the robust sigma IQR / 1.349, which
+ * is the sd for a normal sample and ignores a few far stops), the two-sample
+ * Kolmogorov-Smirnov distances on runout and on the lateral offset,
  * and the share of measured stops inside the simulated 95 % envelope (the convex hull
  * of the 95 % of simulated stops nearest their mean in the Mahalanobis distance). */
 #ifndef ROCKFALL_STATS_H
@@ -28,6 +30,11 @@ double rf_quantile(const double *sorted, size_t n, double q);
  * ascending (n, m >= 1). */
 double rf_ks_distance(const double *a, size_t n, const double *b, size_t m);
 
+/* Wasserstein-1 (earth mover's) distance between two samples sorted ascending (n, m >=
+ * 1): the area between their empirical distribution functions, in their unit.  Unlike
+ * the Kolmogorov-Smirnov distance it moves continuously with the values. */
+double rf_w1_distance(const double *a, size_t n, const double *b, size_t m);
+
 /* Convex hull of n points xy[2k], xy[2k+1] into hull (room for 2 (n + 1) numbers),
  * counter-clockwise, without collinear points; returns its number of vertices. */
 size_t rf_convex_hull(const double *xy, size_t n, double *hull);
@@ -46,7 +53,11 @@ typedef struct rf_agreement {
     double runout_meas[3], runout_sim[3]; /* 5th percentile, median, 95th (m) */
     double lateral_mean_meas, lateral_mean_sim;
     double lateral_sd_meas, lateral_sd_sim; /* sample standard deviations (m) */
+    double lateral_rsigma_meas, lateral_rsigma_sim; /* robust sigma: IQR / 1.349 (m) */
     double ks;                              /* Kolmogorov-Smirnov distance on runout */
+    double ks_lateral;                      /* the same on the lateral offset */
+    double w1_runout, w1_lateral;           /* Wasserstein-1 distances (m) */
+    double runout_sd_meas;                  /* the measured runouts' sample sd (m) */
     double ks_crit;                         /* its 5 % critical value, 1.358 sqrt((n+m)/(n m)) */
     double inside;                          /* share of measured stops in the 95 % envelope */
 } rf_agreement;
