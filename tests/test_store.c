@@ -315,6 +315,10 @@ TEST(store_schema_has_every_table_and_column)
         {"path_points", "trajectory_id", "seq", "t_s", "x", "y", "z", "speed_ms", "energy_kj"},
         {"tree_hits", "id", "run_id", "trajectory_id", "t_s", "x", "y", "z", "speed_before_ms",
          "speed_after_ms", "energy_lost_kj"},
+        {"calibrations", "id", "project", "project_path", "observed_path", "n_observed", "seed",
+         "created_at", "version", "objective", "value", "ks_runout", "ks_lateral",
+         "inside_share", "n_simulations", "n_trajectories", "converged"},
+        {"calibration_values", "calibration_id", "key", "start", "value"},
     };
     const char *path = rf_test_path("schema.db");
     rf_store *s = open_store(path);
@@ -704,7 +708,9 @@ TEST(store_rejects_another_schema_version)
     ENSURE(rf_store_open(path, &s, &err) != 0);
     ENSURE(s == NULL);
     ENSURE(strcmp(err.file, path) == 0);
-    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 4"), "%s",
+    char versions[32];
+    snprintf(versions, sizeof versions, "versions 1 to %d", RF_SCHEMA_VERSION);
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, versions), "%s",
                err.message);
 
     /* Still version 7: nothing was written. */
@@ -1109,8 +1115,8 @@ TEST(store_upgrades_a_version_2_file_in_place)
 
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 4);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
     char *after = v2_dump(db);
     ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories") == 25);
@@ -1153,7 +1159,7 @@ TEST(store_upgrade_from_version_2_keeps_an_inconclusive_check_inconclusive)
     sqlite3_close(db);
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
     ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
                        " rule LIKE 'trajectories_%%' AND on_failure = 'inconclusive'") == 3);
     ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 5);
@@ -1212,8 +1218,8 @@ TEST(store_upgrades_a_version_3_file_in_place)
 
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 4);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
     ENSURE(has_column(db, "trajectories", "mass_kg") && has_column(db, "trajectories", "start_x") &&
            has_column(db, "trajectories", "start_y") && has_column(db, "trajectories", "start_z"));
     char *after = v2_dump(db);
@@ -1229,4 +1235,37 @@ TEST(store_upgrades_a_version_3_file_in_place)
     free(after);
     free(steep_before);
     free(steep_after);
+}
+
+#define V4_FIXTURE "tests/data/results-v4.db"
+
+/* Version 4 to 5 in place: the calibration tables added, empty; every row kept. */
+TEST(store_upgrades_a_version_4_file_in_place)
+{
+    const char *path = copy_fixture(V4_FIXTURE, "v4.db");
+    sqlite3 *db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM sqlite_master WHERE name = 'calibrations'") == 0);
+    char *before = v2_dump(db);
+    char *starts = dump(db, "SELECT group_concat(quote(mass_kg) || quote(start_x)) FROM trajectories");
+    sqlite3_close(db);
+
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 5);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 5);
+    ENSURE(has_column(db, "calibrations", "objective") && has_column(db, "calibrations", "value") &&
+           has_column(db, "calibration_values", "key"));
+    ENSURE(dbt_int(db, "SELECT count(*) FROM calibrations") == 0);
+    char *after = v2_dump(db);
+    char *starts_after =
+        dump(db, "SELECT group_concat(quote(mass_kg) || quote(start_x)) FROM trajectories");
+    ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
+    ENSURE(strcmp(starts, starts_after) == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
+    sqlite3_close(db);
+    free(before);
+    free(after);
+    free(starts);
+    free(starts_after);
 }

@@ -108,6 +108,32 @@
  * its start (NULL for a trajectory written before version 4). */
 #define TRAJECTORIES_V4_COLUMNS "mass_kg REAL, start_x REAL, start_y REAL, start_z REAL"
 
+/* The tables version 5 adds: the fits of `rockfall calibrate -o` (docs/calibration.md),
+ * one row per fit and one per fitted value. */
+#define CALIBRATION_TABLES \
+    "CREATE TABLE calibrations (\n" \
+    "  id INTEGER PRIMARY KEY AUTOINCREMENT,\n" \
+    "  project TEXT NOT NULL,\n" \
+    "  project_path TEXT,\n" \
+    "  observed_path TEXT NOT NULL,\n" \
+    "  n_observed INTEGER NOT NULL,\n" \
+    "  seed NOT NULL,  -- as runs.seed\n" \
+    "  created_at TEXT NOT NULL,\n" \
+    "  version TEXT NOT NULL,\n" \
+    "  objective TEXT NOT NULL,\n" \
+    "  value REAL NOT NULL,\n" \
+    "  ks_runout REAL, ks_lateral REAL, inside_share REAL,\n" \
+    "  n_simulations INTEGER NOT NULL,\n" \
+    "  n_trajectories INTEGER NOT NULL,\n" \
+    "  converged INTEGER NOT NULL CHECK (converged IN (0, 1))\n" \
+    ");\n" \
+    "CREATE TABLE calibration_values (\n" \
+    "  calibration_id INTEGER NOT NULL REFERENCES calibrations(id),\n" \
+    "  key TEXT NOT NULL,\n" \
+    "  start REAL, value REAL NOT NULL,\n" \
+    "  PRIMARY KEY (calibration_id, key)\n" \
+    ") WITHOUT ROWID;\n"
+
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
     "INSERT INTO rockfall_schema VALUES (" RF_STR(RF_SCHEMA_VERSION) ", 'rockfall');\n"
@@ -214,7 +240,7 @@ static const char schema_sql[] =
     ");\n"
     "CREATE INDEX tree_hits_run ON tree_hits(run_id);\n"
     "CREATE INDEX tree_hits_trajectory ON tree_hits(trajectory_id);\n"
-    KINDS_TABLE V2_TABLES
+    KINDS_TABLE V2_TABLES CALIBRATION_TABLES
     "PRAGMA user_version = " RF_STR(RF_SCHEMA_VERSION) ";\n";
 
 /* Views for the questions planners ask (docs/database.md, README).  Part of every
@@ -532,6 +558,17 @@ static int upgrade_3_to_4(sqlite3 *db, const char *path, rf_error *err)
                     err);
 }
 
+/* Version 4 to 5, within the caller's transaction: the calibration tables. */
+static int upgrade_4_to_5(sqlite3 *db, const char *path, rf_error *err)
+{
+    static const char sql[] =
+        CALIBRATION_TABLES
+        "UPDATE rockfall_schema SET version = 5;\n"
+        "PRAGMA user_version = 5;\n";
+    return exec_sql(db, path, sql, "upgrading the results database from schema version 4",
+                    err);
+}
+
 /* Switches the file to the WAL journal.  The switch needs the file to itself, and
  * SQLite returns "locked" at once, without waiting, when another connection opening
  * the file at the same moment holds it too: tried again until the busy timeout has
@@ -580,13 +617,18 @@ int rf_schema_prepare(sqlite3 *db, const char *path, rf_error *err)
                      : 0;
     else if (status == 0 && version == 1)
         status = upgrade_1_to_2(db, path, err) || upgrade_2_to_3(db, path, err) ||
-                         upgrade_3_to_4(db, path, err)
+                         upgrade_3_to_4(db, path, err) || upgrade_4_to_5(db, path, err)
                      ? -1
                      : 0;
     else if (status == 0 && version == 2)
-        status = upgrade_2_to_3(db, path, err) || upgrade_3_to_4(db, path, err) ? -1 : 0;
+        status = upgrade_2_to_3(db, path, err) || upgrade_3_to_4(db, path, err) ||
+                         upgrade_4_to_5(db, path, err)
+                     ? -1
+                     : 0;
     else if (status == 0 && version == 3)
-        status = upgrade_3_to_4(db, path, err);
+        status = upgrade_3_to_4(db, path, err) || upgrade_4_to_5(db, path, err) ? -1 : 0;
+    else if (status == 0 && version == 4)
+        status = upgrade_4_to_5(db, path, err);
     if (status == 0)
         status = refresh_views(db, path, err);
     return end_transaction(db, path, status, doing, err);

@@ -582,3 +582,65 @@ int64_t rf_store_measure_id(const rf_store *s, size_t measure_index)
     assert(measure_index < s->nmeasures);
     return s->measure_ids[measure_index];
 }
+
+/* ---- calibrations ---------------------------------------------------------------- */
+
+int rf_store_calibration(rf_store *s, const rf_project *p, const rf_calibration_record *c,
+                         int64_t *id, rf_error *err)
+{
+    static const char row[] =
+        "INSERT INTO calibrations (project, project_path, observed_path, n_observed, seed,"
+        " created_at, version, objective, value, ks_runout, ks_lateral, inside_share,"
+        " n_simulations, n_trajectories, converged) VALUES (?1, ?2, ?3, ?4, ?5,"
+        " strftime('%Y-%m-%dT%H:%M:%SZ', 'now'), ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14)";
+    static const char value[] =
+        "INSERT INTO calibration_values (calibration_id, key, start, value)"
+        " VALUES (?1, ?2, ?3, ?4)";
+    const char *doing = "writing the calibration";
+    sqlite3_stmt *st = NULL, *sv = NULL;
+    if (exec_sql(s, "BEGIN IMMEDIATE", doing, err))
+        return -1;
+    int rc = sqlite3_prepare_v2(s->db, row, -1, &st, NULL);
+    if (rc == SQLITE_OK)
+        rc = sqlite3_prepare_v2(s->db, value, -1, &sv, NULL);
+    char *abs_path = realpath(p->path, NULL), *obs = realpath(c->observed_path, NULL);
+    if (rc == SQLITE_OK) {
+        bind_text(st, 1, p->name);
+        bind_text(st, 2, abs_path ? abs_path : p->path);
+        bind_text(st, 3, obs ? obs : c->observed_path);
+        bind_int(st, 4, (int64_t)c->n_observed);
+        assert(p->seed <= (uint64_t)INT64_MAX);
+        bind_int(st, 5, (int64_t)p->seed);
+        bind_text(st, 6, ROCKFALL_VERSION);
+        bind_text(st, 7, c->objective);
+        bind_real(st, 8, c->value);
+        bind_real(st, 9, c->ks_runout);
+        bind_real(st, 10, c->ks_lateral);
+        bind_real(st, 11, c->inside_share);
+        bind_int(st, 12, c->n_simulations);
+        bind_int(st, 13, c->n_trajectories);
+        bind_int(st, 14, c->converged != 0);
+        rc = sqlite3_step(st);
+    }
+    if (rc == SQLITE_DONE) {
+        *id = sqlite3_last_insert_rowid(s->db);
+        rc = SQLITE_OK;
+    }
+    for (size_t i = 0; rc == SQLITE_OK && i < c->nkeys; i++) {
+        bind_int(sv, 1, *id);
+        bind_text(sv, 2, c->keys[i]);
+        bind_real(sv, 3, c->start[i]);
+        bind_real(sv, 4, c->fitted[i]);
+        rc = sqlite3_step(sv);
+        rc = rc == SQLITE_DONE ? sqlite3_reset(sv) : rc;
+    }
+    int status = sql_status(s->db, s->path, rc, doing, err);
+    sqlite3_finalize(st);
+    sqlite3_finalize(sv);
+    free(abs_path);
+    free(obs);
+    if (status == 0)
+        return exec_sql(s, "COMMIT", doing, err);
+    sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
+    return -1;
+}

@@ -54,6 +54,23 @@ int rf_store_add_tree_hit(rf_store *s, int64_t trajectory_id, const rf_tree_hit_
                           rf_error *err);
 int rf_store_add_hazard_cell(rf_store *s, const rf_hazard_cell_record *r, rf_error *err);
 
+/* A fit of `rockfall calibrate` (run/calibrate.h): what was fitted, to what, how well. */
+typedef struct rf_calibration_record {
+    const char *observed_path;
+    size_t n_observed;
+    const char *objective;   /* its name, e.g. "ks_runout + ks_lateral" */
+    double value, ks_runout, ks_lateral, inside_share;
+    long n_simulations, n_trajectories;
+    int converged;
+    size_t nkeys;
+    const char *const *keys;  /* per key: its path, start and fitted value */
+    const double *start, *fitted;
+} rf_calibration_record;
+
+/* Writes one calibrations row and its values in one transaction; its id into *id. */
+int rf_store_calibration(rf_store *s, const rf_project *p, const rf_calibration_record *c,
+                         int64_t *id, rf_error *err);
+
 /* Ids of the current run and of its release and measure rows (by project index). */
 int64_t rf_store_run_id(const rf_store *s);
 int64_t rf_store_release_id(const rf_store *s, size_t release_index);
