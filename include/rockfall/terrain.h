@@ -37,6 +37,8 @@ typedef struct rf_surface {
     double roughness;    /* r_s (m, >= 0): the contact normal's random tilt at a bounce */
     rf_impact_law law;   /* default RF_IMPACT_EQ8 */
     rf_dist tangential;  /* R_t of RF_IMPACT_RT (unused by Eq. 8) */
+    int rolling_is_friction; /* the project gave no rolling resistance: it is the
+                                friction (a calibration moving one moves both) */
 } rf_surface;
 
 /* Table 2: recommended equivalent friction coefficient of slope classes 'A'..'D'.

@@ -22,7 +22,7 @@
 #include "results/schema.h"
 #include "results/store.h"
 
-enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_BAD_INPUT = 2 };
+#include "cli/cli.h"
 
 static const char USAGE[] =
     "usage: rockfall COMMAND [OPTIONS]\n"
@@ -38,6 +38,8 @@ static const char USAGE[] =
     "      DIR/index.html with the run's summary\n"
     "  empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L]\n"
     "      Eq. 1-2 velocity at the slope foot and the attainment width of Fig. 1b\n"
+    "  calibrate PROJECT.yaml --observed STOPS --fit KEY [--fit KEY ...]\n"
+    "      fit surface values to observed stop points; prints them as YAML\n"
     "\n"
     "  rockfall COMMAND --help   help on one command\n"
     "  rockfall --version\n"
@@ -104,7 +106,7 @@ static const char EMPIRICAL_HELP[] =
     "  --distance L   horizontal distance from the release to the foot (m)\n"
     "  --beta DEG     spreading angle (default 45)\n";
 
-static int usage_error(const char *cmd, const char *fmt, const char *arg)
+int usage_error(const char *cmd, const char *fmt, const char *arg)
 {
     fprintf(stderr, "rockfall%s%s: ", cmd ? " " : "", cmd ? cmd : "");
     fprintf(stderr, fmt, arg);
@@ -113,7 +115,7 @@ static int usage_error(const char *cmd, const char *fmt, const char *arg)
 }
 
 /* Parses a whole number in [lo, hi]; returns 0 on success. */
-static int parse_long(const char *s, long lo, long hi, long *out)
+int parse_long(const char *s, long lo, long hi, long *out)
 {
     char *end;
     errno = 0;
@@ -150,7 +152,7 @@ static int is_decimal(const char *s)
 }
 
 /* A finite decimal number (is_decimal); 0 on success. */
-static int parse_double(const char *s, double *out)
+int parse_double(const char *s, double *out)
 {
     if (!is_decimal(s))
         return -1;
@@ -537,6 +539,7 @@ static const struct command {
     {"check", cmd_check, CHECK_HELP},
     {"report", cmd_report, REPORT_HELP},
     {"empirical", cmd_empirical, EMPIRICAL_HELP},
+    {"calibrate", cmd_calibrate, CALIBRATE_HELP},
 };
 
 int main(int argc, char **argv)

@@ -279,8 +279,10 @@ int rf_load_surface(loader *L, const rf_ynode *map, const rf_surface *base, int 
         if (rf_load_dist(L, rolling, "rolling", RF_YR_NONNEG, RF_FRICTION_MAX, RF_FRICTION_MAX,
                          &out->rolling))
             return -1;
+        out->rolling_is_friction = 0;
     } else if (!inherit_rolling) {
         out->rolling = out->friction;
+        out->rolling_is_friction = 1;
     }
     if (rolling_given)
         *rolling_given = rolling != NULL;
