@@ -32,24 +32,22 @@
 #include "input/terrain_io.h"
 #include "rockfall/project.h"
 #include "run/calibrate.h"
+#include "fixtures/field.h"
 
 typedef struct setting {
     const char *name;
     rf_rock_model model;
     int own;                       /* 1: the projects' values as they are */
-    double e, mu, rolling, rs;     /* else every zone's means and roughness */
+    double e, mu, rolling, rs;     /* else every zone's means and roughness (a rolling
+                                      resistance < 0: the projects') */
 } setting;
 
-/* Values fitted on P1 by `rockfall calibrate` (docs/validation.md): the sphere without
- * roughness (restitution, friction, rolling from 0.05 / 0.7 / 0.7), the point mass
- * (restitution, friction, roughness from the projects' values). */
-#define POINT_E 0.4406
-#define POINT_MU 0.3191
-#define POINT_RS 0.2122
-static const setting SETTINGS[] = {
+/* The other settings' values were fitted on P1 by `rockfall calibrate` (field.h). */static const setting SETTINGS[] = {
     {"sphere, Eq. 8, roughness (the projects)", RF_MODEL_SPHERE, 1, 0, 0, 0, 0},
-    {"sphere, Eq. 8, no roughness", RF_MODEL_SPHERE, 0, 0.0291, 0.791, 0.683, 0.0},
-    {"point mass, roughness", RF_MODEL_POINT, 0, POINT_E, POINT_MU, 0.5264, POINT_RS},
+    {"sphere, Eq. 8, no roughness", RF_MODEL_SPHERE, 0, RF_AUTHUME_SPHERE0_E,
+     RF_AUTHUME_SPHERE0_MU, RF_AUTHUME_SPHERE0_ROLLING, 0.0},
+    {"point mass, roughness", RF_MODEL_POINT, 0, RF_AUTHUME_POINT_E, RF_AUTHUME_POINT_MU,
+     -1.0, RF_AUTHUME_POINT_RS},
 };
 
 enum { M_INSIDE, M_KS, M_KS_LAT, M_SD_RATIO, M_RSIG_RATIO, M_P5, M_P50, M_P95, M_DMED, NM };
@@ -122,7 +120,8 @@ static void apply(rf_project *p, const setting *s)
         rf_surface *f = &p->terrain.zones[z].surface;
         f->restitution.mean = s->e;
         f->friction.mean = s->mu;
-        f->rolling.mean = s->rolling;
+        if (s->rolling >= 0.0)
+            f->rolling.mean = s->rolling;
         f->roughness = s->rs;
     }
 }
