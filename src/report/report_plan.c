@@ -287,15 +287,30 @@ static void legend_line(legend *l, const char *stroke_attrs, const char *label)
     l->y += 19;
 }
 
+/* The measures in the legend: the structures under their heading, the control lines
+ * (dashed, thinner: lines whose crossings are counted) under theirs. */
 static void legend_measures(report *r, legend *l)
 {
-    for (size_t k = 0; k < r->nmea; k++) {
-        const rep_measure *m = &r->mea[k];
-        char attrs[160], label[300];
-        snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"%s\"%s", rep_measure_colour(m),
-                 rep_is_control(m) ? "3" : "5", rep_is_control(m) ? " stroke-dasharray=\"8 4\"" : "");
-        snprintf(label, sizeof label, "%s (%s)", m->name, m->kind_name);
-        legend_line(l, attrs, label);
+    for (int control = 0; control < 2; control++) {
+        int any = 0;
+        for (size_t k = 0; k < r->nmea; k++) {
+            const rep_measure *m = &r->mea[k];
+            if (rep_is_control(m) != control)
+                continue;
+            if (!any++) {
+                l->y += 8;
+                legend_title(l, control ? "Control lines" : "Structures");
+            }
+            char attrs[160], label[300];
+            snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"%s\"%s",
+                     rep_measure_colour(m), control ? "3" : "5",
+                     control ? " stroke-dasharray=\"8 4\"" : "");
+            if (control)
+                snprintf(label, sizeof label, "%s", m->name);
+            else
+                snprintf(label, sizeof label, "%s (%s)", m->name, m->kind_name);
+            legend_line(l, attrs, label);
+        }
     }
 }
 
@@ -350,8 +365,6 @@ legend rep_plan_overlays(report *r, rf_svg *s)
  * end of the plan. */
 int rep_close_plan(report *r, legend *l)
 {
-    l->y += 8;
-    legend_title(l, "Measures");
     legend_measures(r, l);
     l->y += 8;
     legend_contours(r, l);
@@ -360,10 +373,21 @@ int rep_close_plan(report *r, legend *l)
 
 /* ---- figure: plan view (Fig. 9, 11) -------------------------------------------------- */
 
-int rep_figure_plan(report *r)
+/* The plan view's caption: what it draws, counted. */
+void rep_plan_caption(const report *r, char *buf, size_t n)
+{
+    snprintf(buf, n,
+             "Fig. 9 and 11: the sampled paths of %ld of the %ld trajectories, coloured by "
+             "release, the end points of %ld, the release points and the measures in plan%s",
+             r->n_path_traj, r->n_traj, r->n_stop_points,
+             r->grid.z ? ", over the terrain contours" : "");
+}
+
+
+int rep_figure_plan(report *r, const char *file)
 {
     rf_svg s;
-    if (rep_open_plan(r, &s, "plan.svg", "Plan view: trajectories, releases and measures"))
+    if (rep_open_plan(r, &s, file, "Plan view: trajectories, releases and measures"))
         return -1;
     rep_draw_contours(r, &s, 0);
 
@@ -422,9 +446,10 @@ int rep_figure_plan(report *r)
         return -1;
     }
     rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" fill=\"black\" fill-opacity=\"0.55\">\n");
+    r->n_stop_points = 0;
     while (sqlite3_step(st) == SQLITE_ROW) {
         double x = rf_query_column_real(st, 0), y = rf_query_column_real(st, 1);
-        if (isfinite(x) && isfinite(y))
+        if (isfinite(x) && isfinite(y) && ++r->n_stop_points)
             rf_svg_raw(&s, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.8\"/>\n", rf_svg_px(&s, x),
                        rf_svg_py(&s, y));
     }
