@@ -13,7 +13,9 @@
 #include "rockfall/empirical.h"
 #include "rockfall/montecarlo.h"
 #include "rockfall/records.h"
+#include "results/run_view.h"
 #include "results/store.h"
+#include "db_test_util.h"
 #include "svg_test_util.h"
 
 /* ---- a small slope, built by hand ------------------------------------------------ */
@@ -655,6 +657,86 @@ TEST(report_on_national_coordinates_states_its_origin)
     free(html);
     rf_store_close(s);
     rf_project_free(&p);
+}
+
+/* Two layout variants side by side: each run's verdict from its stored checks, every
+ * structure's crossings and percentiles with "not in this run" where a run lacks it,
+ * the arrivals at the road, one plan view each; the same runs compared again give the
+ * same page. */
+TEST(report_compares_layout_variants)
+{
+    test_project t;
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "variants.db");
+    int64_t a = write_run(s, &t, 1, 1);
+    t.p.name = "without B1";
+    t.p.nmeasures = 2; /* road and E1 */
+    int64_t b = write_run(s, &t, 1, 0);
+    char sql[1024];
+    snprintf(sql, sizeof sql,
+             "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+             " VALUES (%lld, NULL, 'layout_serviceability_share', 0.5, 0.9, 0);"
+             "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed, on_failure)"
+             " VALUES (%lld, NULL, 'layout_serviceability_share', 0.95, 0.9, 1, 'fail'),"
+             " (%lld, NULL, 'trajectories_max_time', 0.2, 0.0, 0, 'inconclusive');",
+             (long long)a, (long long)b, (long long)b);
+    sqlite3 *db = rf_store_db(s);
+    ENSURE_MSG(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(db));
+    const char *dir = rf_test_path("variants");
+    int64_t runs[2] = {a, b};
+    rf_error err = {0};
+    ENSURE_MSG(rf_report_compare(db, runs, 2, dir, &err) == 0, "%s: %s", err.file, err.message);
+    char path[700];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    char *html = read_text(path);
+    /* one column per run, headed by its project and id */
+    char head[200];
+    snprintf(head, sizeof head, "<th>slope &lt;test&gt; &amp; &#39;co&#39;<br>run %lld</th>"
+                                "<th>without B1<br>run %lld</th>", (long long)a, (long long)b);
+    ENSURE_MSG(strstr(html, head), "no %s", head);
+    ENSURE(strstr(html, "<td class=\"verdict fail\">FAIL</td><td class=\"verdict fail\">"
+                        "INCONCLUSIVE</td>"));
+    ENSURE(strstr(html, "<td>0 / 1</td><td>1 / 1</td>"));
+    /* B1: 3 crossings of each release's 5 in run a, none in run b */
+    const char *b1 = strstr(html, "B&lt;1&gt;&amp;&quot;x&quot; (barrier)");
+    ENSURE(b1);
+    ENSURE_MSG(strstr(b1, "<td class=\"t\">crossings</td><td>6</td><td class=\"absent\">not in "
+                          "this run</td>"), "%.400s", b1);
+    /* E1 in both, with the statistics of its interceptions */
+    const char *e1 = strstr(html, ">E1 (embankment)</th>");
+    ENSURE(e1);
+    rf_measure_stats st;
+    int64_t e1_id = dbt_int(db, "SELECT id FROM measures WHERE run_id = %lld AND name = 'E1'",
+                            (long long)a);
+    ENSURE(rf_query_measure_stats(db, e1_id, &st, &err) == 0);
+    char want[200];
+    snprintf(want, sizeof want, "<td class=\"t\">E95 (kJ)</td><td>%.0f</td><td>%.0f</td>",
+             st.energy_p95, st.energy_p95);
+    ENSURE_MSG(strstr(e1, want), "no %s", want);
+    snprintf(want, sizeof want, "<td class=\"t\">Emax (kJ)</td><td>%.0f</td><td>%.0f</td>",
+             st.energy_max, st.energy_max);
+    ENSURE_MSG(strstr(e1, want), "no %s", want);
+    /* the road: 10 trajectories cross it in each run, twice each */
+    const char *road = strstr(html, "<h2 id=\"control-lines\">");
+    ENSURE(road && strstr(road, "<td class=\"t\">trajectories crossing</td><td>10</td><td>10</td>"));
+    ENSURE(strstr(road, "<td class=\"t\">crossings</td><td>20</td><td>20</td>"));
+    ENSURE(!strstr(html, "<td class=\"t\">E1</td>")); /* structures are rows, not columns */
+    /* one plan each; hazard cells only in run a */
+    for (int k = 0; k < 2; k++) {
+        char file[64];
+        snprintf(file, sizeof file, "plan-run-%lld.svg", (long long)runs[k]);
+        free(svg_ok(dir, file, html));
+    }
+    ENSURE(strstr(html, "<td class=\"t\">hazard cells crossed</td><td>6</td><td>0</td>"));
+    /* the same again, byte for byte */
+    char dir2[600];
+    snprintf(dir2, sizeof dir2, "%.500s", rf_test_path("variants-again"));
+    ENSURE(rf_report_compare(db, runs, 2, dir2, &err) == 0);
+    snprintf(path, sizeof path, "%s/index.html", dir2);
+    char *again = read_text(path);
+    ENSURE(!strcmp(html, again));
+    free(again);
+    free(html);
+    rf_store_close(s);
 }
 
 /* `report --out DIR` wrote through symbolic links already in DIR: a link named
