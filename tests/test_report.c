@@ -643,6 +643,21 @@ TEST(report_on_national_coordinates_states_its_origin)
             ENSURE(ty[i - 1].lo - ty[i].hi >= 0.0);
         double px, py;
         release_marker(svg, "#1f77b4", &px, &py);
+        /* the contours run along y: their labels sit halfway up the plan (20 - 60 m of
+         * about 0 - 80), not on its lower edge */
+        size_t nlabels = 0;
+        for (const char *c = strstr(svg, "fill=\"#6b5a47\""); c;
+             c = strstr(c + 1, "fill=\"#6b5a47\"")) {
+            const char *el = c;
+            while (el > svg && strncmp(el, "<text ", 6))
+                el--;
+            double ly;
+            ENSURE(sscanf(el, "<text x=\"%*f\" y=\"%lf\"", &ly) == 1);
+            double v = tick_value_at(ty, ny, 1, ly - 4.0);
+            ENSURE_MSG(v > 20.0 && v < 60.0, "%s: a contour label at y %.1f", figures[k], v);
+            nlabels++;
+        }
+        ENSURE(nlabels >= 3 || k > 0); /* the plan labels its bold contours */
         ENSURE_MSG(fabs(tick_value_at(tx, nx, 0, px) - 5.0) < 0.2, "%s: C at x %.2f", figures[k],
                    tick_value_at(tx, nx, 0, px));
         ENSURE_MSG(fabs(tick_value_at(ty, ny, 1, py) - 30.0) < 0.2, "%s: C at y %.2f",

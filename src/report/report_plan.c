@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Two contour segments this close (m) to the labels' x are equally near. */
+#define RF_LABEL_TIE 1e-6
 /* Most stop points drawn on the plan. */
 #define MAX_STOP_POINTS 20000
 
@@ -138,14 +140,14 @@ void rep_draw_contours(report *r, rf_svg *s, int faint)
     const contour_grid *g = &r->grid;
     if (!g->z)
         return;
-    double label_x = r->bx0 + 0.1 * (r->bx1 - r->bx0);
+    double label_x = r->bx0 + 0.1 * (r->bx1 - r->bx0), label_y = 0.5 * (r->by0 + r->by1);
     rf_svg_raw(s, "<g fill=\"none\" stroke=\"%s\" stroke-linejoin=\"round\">\n",
                faint ? "#b0a597" : "#8c7b68");
     for (double level = ceil(g->zmin / g->interval) * g->interval; level <= g->zmax;
          level += g->interval) {
         int major = labs(lround(level / g->interval)) % 5 == 0;
         rf_svg_path_begin(s, major ? "stroke-width=\"1.2\"" : "stroke-width=\"0.5\"");
-        double best = INFINITY, lx = 0, ly = 0;
+        double best = INFINITY, best_dy = INFINITY, lx = 0, ly = 0;
         for (size_t j = 0; j + 1 < g->ny; j++)
             for (size_t i = 0; i + 1 < g->nx; i++) {
                 double c[4] = {g->z[j * g->nx + i], g->z[j * g->nx + i + 1],
@@ -160,9 +162,14 @@ void rep_draw_contours(report *r, rf_svg *s, int faint)
                     edge_point(g, i, j, c, seg[2 * k + 1], level, &xb, &yb);
                     rf_svg_path_move(s, xa, ya);
                     rf_svg_path_line(s, xb, yb);
+                    /* nearest the label's x; of equals (a contour along y), the one
+                     * nearest the plot's middle height */
                     double d = fabs(0.5 * (xa + xb) - label_x);
-                    if (major && d < best) {
+                    double dy = fabs(0.5 * (ya + yb) - label_y);
+                    if (major && (d < best - RF_LABEL_TIE || (d <= best + RF_LABEL_TIE &&
+                                                              dy < best_dy))) {
                         best = d;
+                        best_dy = dy;
                         lx = 0.5 * (xa + xb);
                         ly = 0.5 * (ya + yb);
                     }
