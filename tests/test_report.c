@@ -343,6 +343,12 @@ TEST(report_full_run_writes_every_figure)
             ENSURE_MSG(count(m, fill) == maps[k].want[c], "%s: %zu of %s, not %zu", maps[k].file,
                        count(m, fill), fill, maps[k].want[c]);
         }
+        if (k == 2) /* passages are whole numbers from 1: classes as such */
+            for (size_t c = 0; c < 5; c++)
+                ENSURE_MSG(strstr(m, (const char *[]){">1</text>", ">2 - 4</text>",
+                                                      ">5 - 19</text>", ">20 - 99</text>",
+                                                      ">&gt;= 100</text>"}[c]),
+                           "passages legend class %zu", c);
         free(m);
     }
     ENSURE(strstr(html, "E95: the 95th percentile (nearest rank) of the kinetic energy"));

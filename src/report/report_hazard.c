@@ -105,6 +105,7 @@ typedef struct hazard_map {
     const double *lim;   /* ascending class limits */
     int nlim;
     double scale;        /* the legend shows scale times the limits */
+    int counts;          /* whole numbers from 1: the legend shows "1", "2 - 4", ... */
     const char *unit;
     const char *const *colours;
     const char *swatch_class;
@@ -116,25 +117,25 @@ typedef struct hazard_map {
 static const hazard_map MAPS[] = {
     {MAP_ENERGY_MAX, "hazard-energy.svg",
      "Hazard map: largest kinetic energy per %g m cell (Fig. 12)", "Largest energy (kJ)",
-     rf_report_energy_limits, RF_REPORT_N_ENERGY_LIMITS, 1.0, "kJ", ENERGY_COLOURS,
+     rf_report_energy_limits, RF_REPORT_N_ENERGY_LIMITS, 1.0, 0, "kJ", ENERGY_COLOURS,
      "class=\"class\" ",
      "Fig. 12: hazard map, the largest kinetic energy of the rocks that crossed each cell "
      "(kJ), in classes"},
     {MAP_ENERGY_P95, "hazard-energy-p95.svg",
      "E95: 95th percentile of the kinetic energy per %g m cell", "E95 (kJ)",
-     rf_report_energy_limits, RF_REPORT_N_ENERGY_LIMITS, 1.0, "kJ", ENERGY_COLOURS, "",
+     rf_report_energy_limits, RF_REPORT_N_ENERGY_LIMITS, 1.0, 0, "kJ", ENERGY_COLOURS, "",
      "E95: the 95th percentile (nearest rank) of the kinetic energy of the rocks that "
      "crossed each cell (kJ), in the classes of Fig. 12"},
     {MAP_HEIGHT_P95, "hazard-height-p95.svg",
      "Passing height: 95th percentile per %g m cell", "Passing height p95 (m)", HEIGHT_LIMITS,
-     N_HEIGHT_CLASSES - 1, 1.0, "m", HEIGHT_COLOURS, "",
+     N_HEIGHT_CLASSES - 1, 1.0, 0, "m", HEIGHT_COLOURS, "",
      "Passing height: the 95th percentile (nearest rank) of the rocks' height above the "
      "ground in each cell (m), in classes"},
     {MAP_PASSES, "hazard-passages.svg", "Passages: trajectories that crossed each %g m cell",
-     "Passages", PASS_LIMITS, N_PASS_CLASSES - 1, 1.0, "", PASS_COLOURS, "",
+     "Passages", PASS_LIMITS, N_PASS_CLASSES - 1, 1.0, 1, "", PASS_COLOURS, "",
      "Passages: the number of trajectories that crossed each cell, in classes"},
     {MAP_REACH, "hazard-reach.svg", "Reach probability per %g m cell", "Reach probability",
-     REACH_LIMITS, N_REACH_CLASSES - 1, 100.0, "%", REACH_COLOURS, "",
+     REACH_LIMITS, N_REACH_CLASSES - 1, 100.0, 0, "%", REACH_COLOURS, "",
      "Reach probability: the share of all trajectories that crossed each cell, in classes"},
 };
 #define N_MAPS (sizeof MAPS / sizeof MAPS[0])
@@ -180,8 +181,11 @@ static int figure_hazard(report *r, const hazard_map *m, const map_cell *cells, 
     rf_svg_raw(&s, "</g>\n");
     rep_draw_contours(r, &s, 1);
     legend l = rep_plan_overlays(r, &s);
-    rep_legend_classes(&l, m->legend, m->lim, m->nlim, m->scale, m->unit, m->colours,
-                       m->swatch_class);
+    if (m->counts)
+        rep_legend_counts(&l, m->legend, m->lim, m->nlim, m->colours);
+    else
+        rep_legend_classes(&l, m->legend, m->lim, m->nlim, m->scale, m->unit, m->colours,
+                           m->swatch_class);
     return rep_close_plan(r, &l);
 }
 

@@ -357,6 +357,27 @@ void rep_legend_classes(legend *l, const char *title, const double *lim, int nli
     }
 }
 
+/* The classes of a map of counts from 1 (whole numbers), the highest first: "1" (or
+ * "1 - a-1"), "a - b-1", ">= b". */
+void rep_legend_counts(legend *l, const char *title, const double *lim, int nlim,
+                       const char *const *colours)
+{
+    legend_title(l, title);
+    for (int c = nlim; c >= 0; c--) {
+        char label[120], attrs[120];
+        double lo = c ? lim[c - 1] : 1.0, hi = c < nlim ? lim[c] - 1.0 : INFINITY;
+        if (c == nlim)
+            snprintf(label, sizeof label, ">= %g", lo);
+        else if (hi > lo)
+            snprintf(label, sizeof label, "%g - %g", lo, hi);
+        else
+            snprintf(label, sizeof label, "%g", lo);
+        snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#444\" stroke-width=\"0.5\"",
+                 colours[c]);
+        rep_legend_swatch(l, attrs, label);
+    }
+}
+
 /* Over a plan's own layers: the measures, the releases, the north arrow, the scale bar
  * and the axes.  Returns the legend beside the plot, for the plan's own entries. */
 legend rep_plan_overlays(report *r, rf_svg *s)

@@ -124,6 +124,8 @@ void rep_plan_caption(const report *r, char *buf, size_t n);
 void rep_legend_classes(legend *l, const char *title, const double *lim, int nlim,
                         double scale, const char *unit, const char *const *colours,
                         const char *swatch_class);
+void rep_legend_counts(legend *l, const char *title, const double *lim, int nlim,
+                       const char *const *colours);
 void rep_legend_swatch(legend *l, const char *swatch_attrs, const char *label);
 int rep_open_plan(report *r, rf_svg *s, const char *file, const char *title);
 legend rep_plan_overlays(report *r, rf_svg *s);
