@@ -376,6 +376,17 @@ TEST(report_full_run_writes_every_figure)
                "%.600s", ctl);
     const char *structures = strstr(html, "<table class=\"measures\">");
     ENSURE(structures && structures < ctl);
+    /* the structures' numbers fit the page: two tables of at most 10 columns */
+    size_t ntables = 0;
+    for (const char *tb = structures; tb; tb = strstr(tb + 1, "<table class=\"measures\">")) {
+        const char *row_end = strstr(tb, "</tr>");
+        size_t cols = 0;
+        for (const char *th = strstr(tb, "<th>"); th && th < row_end; th = strstr(th + 1, "<th>"))
+            cols++;
+        ENSURE_MSG(cols >= 9 && cols <= 10, "a structures' table of %zu columns", cols);
+        ntables++;
+    }
+    ENSURE(ntables == 2);
     ENSURE(strstr(structures, "<td class=\"t\">E1</td><td class=\"t\">embankment</td>"));
 
     /* the passing height at each structure against its height, and the 95th
