@@ -6,7 +6,7 @@
 #   make test SANITIZE=1   the same under AddressSanitizer and UBSan
 #   make bench      speed against error of the motion engines
 #   make validate   the engine against the Authume quarry's measured stop points
-#   make report-check   the demo report rendered by headless chromium (a PNG to look at)
+#   make report-check   the demo report, its maps and a comparison of variants rendered by headless chromium (PNGs to look at)
 #   make layers     the layer rule of src/ (docs/architecture.md), on sources and objects
 #   make bench-memory   peak memory of a run at 2 000 and 200 000 trajectories (flat)
 #   make bench-load the project loader on large inputs (times, not tests)
@@ -158,24 +158,15 @@ validate:
 	@$(MAKE) --no-print-directory $(BUILD)/tools/validate
 	$(BUILD)/tools/validate
 
-# The report in a real browser: the demo run's report rendered by Debian's headless
-# chromium (installed when missing) to $(BUILD)/report/screenshot.png.  Look at it.
-CHROMIUM_FLAGS := --headless --no-sandbox --disable-gpu --disable-quic --no-first-run \
-                  --disable-background-networking --disable-component-update --disable-sync \
-                  --window-size=1200,3000
+# The report in a real browser: the demo's report, its hazard maps and passing-height
+# figures one by one, and the comparison of runs 3 and 4, rendered by Debian's headless
+# chromium (installed when missing) to PNGs (tools/report_check.sh).  Look at them.
 report-check:
 	@$(MAKE) --no-print-directory demo
 	@[ -x /usr/bin/chromium ] || { echo "installing chromium"; \
 	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
 	  $(SUDO) apt-get install -y -qq chromium; }
-	rm -rf $(BUILD)/report
-	$(BUILD)/rockfall report noto.db --out $(BUILD)/report
-	profile=$$(mktemp -d); \
-	timeout 300 chromium $(CHROMIUM_FLAGS) --user-data-dir=$$profile \
-	  --screenshot=$(BUILD)/report/screenshot.png file://$(abspath $(BUILD)/report/index.html); \
-	status=$$?; rm -rf $$profile; exit $$status
-	@test -s $(BUILD)/report/screenshot.png
-	@echo "report: $(BUILD)/report/index.html, screenshot: $(BUILD)/report/screenshot.png"
+	sh tools/report_check.sh $(BUILD) noto.db
 
 install: $(BUILD)/rockfall
 	install -d $(DESTDIR)$(PREFIX)/bin

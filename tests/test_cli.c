@@ -642,3 +642,59 @@ TEST(cli_count_per_cell_of_a_mask_release_is_bounded)
                             "/nonexistent/never.db", out, sizeof out) == 2);
     ENSURE_MSG(strstr(out, "over 1000000000 trajectories (its cells times the count)"), "%s", out);
 }
+
+/* `report --runs` compares layout variants: 2 to 8 distinct runs of the database, apart
+ * by commas; not with --run, not an option of check; a run that is not there is named.
+ * --run alone still writes the one run's report. */
+TEST(cli_report_runs_compares_variants_and_keeps_run)
+{
+    char dir[512], db[600], args[2048], out[16384];
+    snprintf(dir, sizeof dir, "%s", rf_test_tmpdir());
+    snprintf(db, sizeof db, "%s/variants.db", dir);
+    const char *projects[2] = {"noto-3.2", "noto-3.3"};
+    for (int k = 0; k < 2; k++) {
+        snprintf(args, sizeof args, "run projects/noto/%s.yaml --count 2 --quiet -o %s",
+                 projects[k], db);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) <= 1, "%s", out);
+    }
+    snprintf(args, sizeof args, "report %s --runs 1,2 --out %s/cmp", db, dir);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    char path[700];
+    snprintf(path, sizeof path, "%s/cmp/index.html", dir);
+    char *html = rf_test_read_text(path);
+    ENSURE(html && strstr(html, "<th>noto-3.2<br>run 1</th><th>noto-3.3<br>run 2</th>"));
+    ENSURE(strstr(html, "<img src=\"plan-run-1.svg\"") && strstr(html, "<img src=\"plan-run-2.svg\""));
+    ENSURE(strstr(html, ">B1 (barrier)</th>") && strstr(html, "not in this run"));
+    free(html);
+    snprintf(path, sizeof path, "%s/cmp/plan-run-2.svg", dir);
+    ENSURE(exists_file(path));
+
+    static const struct {
+        const char *opts, *says;
+    } bad[] = {
+        {"--runs 1", "2 to 8 run ids"},
+        {"--runs 1,x", "2 to 8 run ids"},
+        {"--runs 1,,2", "2 to 8 run ids"},
+        {"--runs 1,2,", "2 to 8 run ids"},
+        {"--runs 1,2,1", "names a run twice"},
+        {"--runs 1,2,3,4,5,6,7,8,9", "2 to 8 run ids"},
+        {"--run 1 --runs 1,2", "exclude each other"},
+        {"--runs 1,7", "no run 7"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        snprintf(args, sizeof args, "report %s %s --out %s/bad", db, bad[k].opts, dir);
+        ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 2, "%s: %s", bad[k].opts, out);
+        ENSURE_MSG(strstr(out, bad[k].says), "%s: %s", bad[k].opts, out);
+    }
+    snprintf(path, sizeof path, "%s/bad", dir);
+    ENSURE(!exists_file(path));
+    snprintf(args, sizeof args, "check %s --runs 1,2", db);
+    ENSURE(rf_test_rockfall(args, out, sizeof out) == 2 && strstr(out, "option of report"));
+
+    snprintf(args, sizeof args, "report %s --run 1 --out %s/one", db, dir);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    snprintf(path, sizeof path, "%s/one/index.html", dir);
+    html = rf_test_read_text(path);
+    ENSURE(html && strstr(html, "<h1>noto-3.2</h1>") && strstr(html, "plan.svg"));
+    free(html);
+}

@@ -11,8 +11,12 @@
 
 #include "report/report.h"
 #include "rockfall/empirical.h"
+#include "rockfall/montecarlo.h"
 #include "rockfall/records.h"
+#include "results/run_view.h"
 #include "results/store.h"
+#include "db_test_util.h"
+#include "svg_test_util.h"
 
 /* ---- a small slope, built by hand ------------------------------------------------ */
 
@@ -34,7 +38,7 @@ static const char PROJECT_YAML[] =
 typedef struct test_project {
     rf_project p;
     rf_rock rocks[1];
-    rf_release releases[2];
+    rf_release releases[4];
     rf_measure measures[3];
     double lines[3][4];
     rf_project loaded; /* the project file, loaded for its terrain when it exists */
@@ -136,7 +140,7 @@ static int64_t write_run(rf_store *s, const test_project *t, int with_paths, int
                                          .outcome = i == 4 ? RF_OUT_OVERTOPPED : RF_OUT_PASSED};
             int64_t iid = 0;
             ENSURE(rf_store_add_interception(s, tid, &ic, &iid, &err) == 0);
-            if (i % 2 == 0) {
+            if (i % 2 == 0 && b1 < (int)t->p.nmeasures) {
                 ic.measure = b1;
                 ic.p = (rf_vec3){60.0, y, 40.74};
                 ic.t_s = 5.0;
@@ -312,6 +316,43 @@ TEST(report_full_run_writes_every_figure)
     ENSURE(strstr(html, "3 reach 3000 kJ or more, 1 reach 6000 kJ or more"));
     free(svg_ok(dir, "hazard-reach.svg", html));
 
+    /* beside it E95, passing height p95 and passages, each cell in the colour of its
+     * class (the counts hold the legend's swatch too) */
+    static const struct {
+        const char *file, *title;
+        const char *fills[5];
+        size_t want[5];
+    } maps[3] = {
+        /* E95 = 0.9 of the largest: 225, 899.1, 900, 2700, 5399.1, 6525 kJ */
+        {"hazard-energy-p95.svg", "E95: 95th percentile of the kinetic energy per 5 m cell",
+         {"#fecc5c", "#fd8d3c", "#e31a1c", "#800026", NULL}, {4, 2, 2, 2, 0}},
+        /* 1.25 m everywhere: the class 1 - 2 m */
+        {"hazard-height-p95.svg", "Passing height: 95th percentile per 5 m cell",
+         {"#edf8e9", "#bae4b3", "#74c476", "#31a354", "#006d2c"}, {1, 7, 1, 1, 1}},
+        /* 1 to 6 passes: classes < 2, 2 - 5, 5 - 20 */
+        {"hazard-passages.svg", "Passages: trajectories that crossed each 5 m cell",
+         {"#f2f0f7", "#cbc9e2", "#9e9ac8", "#756bb1", "#54278f"}, {2, 4, 3, 1, 1}},
+    };
+    for (size_t k = 0; k < 3; k++) {
+        char *m = svg_ok(dir, maps[k].file, html);
+        ENSURE_MSG(strstr(m, maps[k].title), "%s: no title", maps[k].file);
+        ENSURE_MSG(count(m, "class=\"cell\"") == 6, "%s", maps[k].file);
+        for (size_t c = 0; c < 5 && maps[k].fills[c]; c++) {
+            char fill[40];
+            snprintf(fill, sizeof fill, "fill=\"%s\"", maps[k].fills[c]);
+            ENSURE_MSG(count(m, fill) == maps[k].want[c], "%s: %zu of %s, not %zu", maps[k].file,
+                       count(m, fill), fill, maps[k].want[c]);
+        }
+        if (k == 2) /* passages are whole numbers from 1: classes as such */
+            for (size_t c = 0; c < 5; c++)
+                ENSURE_MSG(strstr(m, (const char *[]){">1</text>", ">2 - 4</text>",
+                                                      ">5 - 19</text>", ">20 - 99</text>",
+                                                      ">&gt;= 100</text>"}[c]),
+                           "passages legend class %zu", c);
+        free(m);
+    }
+    ENSURE(strstr(html, "E95: the 95th percentile (nearest rank) of the kinetic energy"));
+
     /* energy at the measures against their capacities */
     char *e1 = svg_ok(dir, "measure-1-energy.svg", html);
     ENSURE(count(e1, "class=\"capacity\"") == 3);
@@ -321,7 +362,61 @@ TEST(report_full_run_writes_every_figure)
     ENSURE(count(b1, "class=\"capacity\"") == 2);
     ENSURE(strstr(b1, "SEL 1000 kJ") && strstr(b1, "MEL 3000 kJ"));
     ENSURE(strstr(b1, "Energy at B&lt;1&gt;&amp;&quot;x&quot; (barrier)"));
-    free(svg_ok(dir, "measure-0-energy.svg", html));
+    /* the control line is no structure: no energy or height figure, no row in the
+     * structures' tables, a row of its own among the control lines */
+    char path[700];
+    snprintf(path, sizeof path, "%s/measure-0-energy.svg", dir);
+    ENSURE(!exists(path) && !strstr(html, "measure-0-"));
+    ENSURE(!strstr(html, "<td class=\"t\">control</td>"));
+    ENSURE(!strstr(html, "Energy at road") && !strstr(html, "<h3>road (control)</h3>"));
+    const char *ctl = strstr(html, "<table class=\"control\">");
+    ENSURE(ctl);
+    /* 10 trajectories, 100 % of them, 20 crossings (each crosses twice) */
+    ENSURE_MSG(strstr(ctl, "<td class=\"t\">road</td><td>10</td><td>100.0</td><td>20</td>"),
+               "%.600s", ctl);
+    const char *structures = strstr(html, "<table class=\"measures\">");
+    ENSURE(structures && structures < ctl);
+    /* the structures' numbers fit the page: two tables of at most 10 columns */
+    size_t ntables = 0;
+    for (const char *tb = structures; tb; tb = strstr(tb + 1, "<table class=\"measures\">")) {
+        const char *row_end = strstr(tb, "</tr>");
+        size_t cols = 0;
+        for (const char *th = strstr(tb, "<th>"); th && th < row_end; th = strstr(th + 1, "<th>"))
+            cols++;
+        ENSURE_MSG(cols >= 9 && cols <= 10, "a structures' table of %zu columns", cols);
+        ntables++;
+    }
+    ENSURE(ntables == 2);
+    ENSURE(strstr(structures, "<td class=\"t\">E1</td><td class=\"t\">embankment</td>"));
+
+    /* the passing height at each structure against its height, and the 95th
+     * percentile of the crossings' heights (all 0.74 m) */
+    char *e1h = svg_ok(dir, "measure-1-height.svg", html);
+    ENSURE(strstr(e1h, "Passing height at E1 (embankment) against its height"));
+    ENSURE(count(e1h, "class=\"structure-height\"") == 1);
+    ENSURE(strstr(e1h, ">height 6.0 m</text>") && strstr(e1h, ">h95 0.74 m</text>"));
+    ENSURE_MSG(count(e1h, "fill=\"#9ecae1\"") == 2, "%zu", count(e1h, "fill=\"#9ecae1\""));
+    char *b1h = svg_ok(dir, "measure-2-height.svg", html);
+    ENSURE(strstr(b1h, ">height 5.0 m</text>"));
+    ENSURE(strstr(html, "Passing height of the 10 of 10 crossings of E1 that have one, by "
+                        "outcome, with its height 6.0 m (dashed) and their 95th percentile "
+                        "(dotted)"));
+    ENSURE(strstr(html, "Energy of the rocks crossing E1 by outcome, with its 3 capacities"));
+    ENSURE(strstr(html, "crossing B&lt;1&gt;&amp;&quot;x&quot; by outcome, with its 2 "
+                        "capacities"));
+
+    /* the plan's legend sets the control line apart from the structures */
+    ENSURE(strstr(plan, ">Structures</text>") && strstr(plan, ">Control lines</text>"));
+    ENSURE(strstr(plan, ">E1 (embankment)</text>") && !strstr(plan, "road (control)"));
+    ENSURE(strstr(plan, ">x (m)</text>") && !strstr(plan, "\xe2\x88\x92")); /* no origin */
+
+    /* captions say what is drawn: 10 sampled paths and end points; 2 attainment ranges;
+     * 2 releases, 2 Eq. 1 lines each */
+    ENSURE(strstr(html, "the sampled paths of 10 of the 10 trajectories, coloured by release, "
+                        "the end points of 10,"));
+    ENSURE(strstr(html, "with the empirical attainment range of 2 releases"));
+    ENSURE(strstr(html, "with 4 Eq. 1 velocities of the releases"));
+    ENSURE(count(vel, "stroke-dasharray=\"8 4\"") == 2 && count(vel, "stroke-dasharray=\"3 3\"") == 2);
 
     /* classifications and checks */
     ENSURE(strstr(html, "limit state reached"));
@@ -367,6 +462,8 @@ TEST(report_full_run_writes_every_figure)
     free(haz);
     free(e1);
     free(b1);
+    free(e1h);
+    free(b1h);
     free(html);
     rf_store_close(s);
     rf_project_free(&t.loaded);
@@ -437,6 +534,239 @@ TEST(report_of_an_empty_run)
     ENSURE(strstr(html, "0 of 0 trajectories"));
     ENSURE(strstr(html, "No rock reached this line"));
     free(svg_ok(dir, "plan.svg", html));
+    free(html);
+    rf_store_close(s);
+}
+
+/* With more releases than Fig. 10b labels Eq. 1 lines for, the figure draws none and
+ * its caption says so, and where the velocities are instead. */
+TEST(report_captions_say_what_is_drawn)
+{
+    test_project t;
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "captions.db");
+    t.releases[2] = (rf_release){.name = "E", .x = 5.0, .y = 60.0, .z = 95.0, .count = 5};
+    t.releases[3] = (rf_release){.name = "F", .x = 5.0, .y = 70.0, .z = 95.0, .count = 5};
+    t.p.nreleases = 4;
+    int64_t run = write_run(s, &t, 0, 1);
+    const char *dir = rf_test_path("captions");
+    char *html = report_html(s, run, dir);
+    ENSURE(strstr(html, "Fig. 10b: velocity of the rocks crossing road, by release; the Eq. 1 "
+                        "velocities of the 4 releases are not drawn (more than 3): they are in "
+                        "the crosscheck table below"));
+    ENSURE(!strstr(html, "Eq. 1 velocities of the releases (long dashes"));
+    char *vel = svg_ok(dir, "road-0-velocity.svg", html);
+    ENSURE(!strstr(vel, "Eq. 1 from"));
+    ENSURE(strstr(html, "<td class=\"t\">F</td>")); /* the crosscheck has every release */
+    ENSURE(strstr(html, "the sampled paths of 0 of the 10 trajectories"));
+    ENSURE(!strstr(html, "over the terrain contours</fig")); /* no terrain stored */
+    free(vel);
+    free(html);
+    rf_store_close(s);
+}
+
+/* The test's slope (PROJECT_YAML) as a DEM in LV95: 100 m falling along +x over 100 m
+ * onto a flat strip, 130 m by 80 m in 5 m cells, its lower left corner at
+ * (2 600 000, 1 200 000); the releases and measures shifted with it. */
+static const char *lv95_project(void)
+{
+    char dem[4096] = "ncols 27\nnrows 17\nxllcorner 2600000\nyllcorner 1200000\ncellsize 5\n"
+                     "NODATA_value -9999\n";
+    for (int j = 0; j < 17; j++) {
+        for (int i = 0; i < 27; i++) {
+            char v[16];
+            snprintf(v, sizeof v, "%s%d", i ? " " : "", i < 20 ? 100 - 5 * i : 0);
+            strcat(dem, v);
+        }
+        strcat(dem, "\n");
+    }
+    rf_test_write("lv95.asc", dem);
+    return rf_test_write(
+        "lv95.yaml",
+        "name: lv95\n"
+        "seed: 7\n"
+        "terrain:\n"
+        "  dem: lv95.asc\n"
+        "  surface: {restitution: {mean: 0.15, sd: 0.05}, friction: {mean: 0.3, sd: 0.05}}\n"
+        "rocks:\n"
+        "  - {name: r4500, mass: 4500}\n"
+        "releases:\n"
+        "  - {name: C, point: [2600005, 1200030], rock: r4500, count: 4}\n"
+        "  - {name: D, point: [2600005, 1200050], rock: r4500, count: 4}\n"
+        "measures:\n"
+        "  - {name: E1, kind: embankment, line: [[2600095, 1200000], [2600095, 1200080]],\n"
+        "     height: 6, capacity: {serviceability: 3000, restorability: 6000}}\n"
+        "  - {name: road, kind: control, line: [[2600105, 1200000], [2600105, 1200080]]}\n"
+        "simulation: {paths: 8}\n"
+        "hazard: {cell: 5.0}\n");
+}
+
+/* The pixel position of the release marker of colour `fill` (its apex is 8 px above
+ * the release). */
+static void release_marker(const char *svg, const char *fill, double *px, double *py)
+{
+    char key[80];
+    snprintf(key, sizeof key, "fill=\"%s\" stroke=\"black\"", fill);
+    const char *p = strstr(svg, key);
+    ENSURE_MSG(p, "no release marker %s", fill);
+    while (p > svg && strncmp(p, "<path d=\"M", 10))
+        p--;
+    ENSURE(sscanf(p, "<path d=\"M%lf %lf", px, py) == 2);
+    *py += 8.0;
+}
+
+/* The data coordinate (from the axis's origin) at pixel px of an axis, from its first
+ * two tick labels. */
+static double tick_value_at(const svg_tick *t, size_t n, int y, double px)
+{
+    ENSURE(n >= 2);
+    double a = y ? t[0].y - 4.0 : t[0].x, b = y ? t[1].y - 4.0 : t[1].x;
+    double va = atof(t[0].text), vb = atof(t[1].text);
+    return va + (px - a) * (vb - va) / (b - a);
+}
+
+/* A run on a terrain in national coordinates (LV95): every plan-like figure labels
+ * its axes from the stated origin 2 600 000 / 1 200 000, in labels that do not overlap,
+ * and a release drawn at (2 600 005, 1 200 030) reads as (5, 30) against them. */
+TEST(report_on_national_coordinates_states_its_origin)
+{
+    const char *yaml = lv95_project();
+    rf_project p;
+    rf_error err = {0};
+    ENSURE_MSG(rf_project_load(yaml, &p, &err) == 0, "%s:%d:%d: %s", err.file, err.line,
+               err.column, err.message);
+    rf_store *s = open_store(rf_test_path("lv95.db"));
+    rf_run_options o = {.threads = 1};
+    rf_run_summary sum;
+    ENSURE_MSG(rf_montecarlo_run(&p, s, &o, &sum, &err) == 0, "%s", err.message);
+    const char *dir = rf_test_path("lv95-report");
+    char *html = report_html(s, sum.run_id, dir);
+    static const char *const figures[] = {"plan.svg", "hazard-energy.svg",
+                                          "hazard-energy-p95.svg", "hazard-height-p95.svg",
+                                          "hazard-passages.svg", "hazard-reach.svg"};
+    for (size_t k = 0; k < sizeof figures / sizeof *figures; k++) {
+        char *svg = svg_ok(dir, figures[k], html);
+        ENSURE_MSG(strstr(svg, ">x \xe2\x88\x92 2 600 000 (m)</text>") &&
+                       strstr(svg, ">y \xe2\x88\x92 1 200 000 (m)</text>"),
+                   "%s states no origin", figures[k]);
+        size_t nx = svgt_x_ticks_apart(svg, 0.0, 5);
+        svg_tick tx[64], ty[64];
+        ENSURE(svgt_ticks(svg, "xtick", tx, 64) == nx);
+        size_t ny = svgt_ticks(svg, "ytick", ty, 64);
+        for (size_t i = 0; i < nx; i++)
+            ENSURE_MSG(strlen(tx[i].text) <= 3, "%s: x label %s", figures[k], tx[i].text);
+        for (size_t i = 0; i < ny; i++)
+            ENSURE_MSG(strlen(ty[i].text) <= 3, "%s: y label %s", figures[k], ty[i].text);
+        for (size_t i = 1; i < ny; i++) /* y labels, one above the other, apart */
+            ENSURE(ty[i - 1].lo - ty[i].hi >= 0.0);
+        double px, py;
+        release_marker(svg, "#1f77b4", &px, &py);
+        /* the contours run along y: their labels sit halfway up the plan (20 - 60 m of
+         * about 0 - 80), not on its lower edge */
+        size_t nlabels = 0;
+        for (const char *c = strstr(svg, "fill=\"#6b5a47\""); c;
+             c = strstr(c + 1, "fill=\"#6b5a47\"")) {
+            const char *el = c;
+            while (el > svg && strncmp(el, "<text ", 6))
+                el--;
+            double ly;
+            ENSURE(sscanf(el, "<text x=\"%*f\" y=\"%lf\"", &ly) == 1);
+            double v = tick_value_at(ty, ny, 1, ly - 4.0);
+            ENSURE_MSG(v > 20.0 && v < 60.0, "%s: a contour label at y %.1f", figures[k], v);
+            nlabels++;
+        }
+        ENSURE(nlabels >= 3 || k > 0); /* the plan labels its bold contours */
+        ENSURE_MSG(fabs(tick_value_at(tx, nx, 0, px) - 5.0) < 0.2, "%s: C at x %.2f", figures[k],
+                   tick_value_at(tx, nx, 0, px));
+        ENSURE_MSG(fabs(tick_value_at(ty, ny, 1, py) - 30.0) < 0.2, "%s: C at y %.2f",
+                   figures[k], tick_value_at(ty, ny, 1, py));
+        free(svg);
+    }
+    /* the histograms keep their own numbers: energies from 0 have no origin */
+    char *e1 = svg_ok(dir, "measure-0-energy.svg", html);
+    ENSURE(!strstr(e1, "\xe2\x88\x92"));
+    svgt_x_ticks_apart(e1, 0.0, 3);
+    free(e1);
+    free(html);
+    rf_store_close(s);
+    rf_project_free(&p);
+}
+
+/* Two layout variants side by side: each run's verdict from its stored checks, every
+ * structure's crossings and percentiles with "not in this run" where a run lacks it,
+ * the arrivals at the road, one plan view each; the same runs compared again give the
+ * same page. */
+TEST(report_compares_layout_variants)
+{
+    test_project t;
+    rf_store *s = project_store(&t, "/nonexistent/slope.yaml", 1, "variants.db");
+    int64_t a = write_run(s, &t, 1, 1);
+    t.p.name = "without B1";
+    t.p.nmeasures = 2; /* road and E1 */
+    int64_t b = write_run(s, &t, 1, 0);
+    char sql[1024];
+    snprintf(sql, sizeof sql,
+             "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed)"
+             " VALUES (%lld, NULL, 'layout_serviceability_share', 0.5, 0.9, 0);"
+             "INSERT INTO checks (run_id, measure_id, rule, value, threshold, passed, on_failure)"
+             " VALUES (%lld, NULL, 'layout_serviceability_share', 0.95, 0.9, 1, 'fail'),"
+             " (%lld, NULL, 'trajectories_max_time', 0.2, 0.0, 0, 'inconclusive');",
+             (long long)a, (long long)b, (long long)b);
+    sqlite3 *db = rf_store_db(s);
+    ENSURE_MSG(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(db));
+    const char *dir = rf_test_path("variants");
+    int64_t runs[2] = {a, b};
+    rf_error err = {0};
+    ENSURE_MSG(rf_report_compare(db, runs, 2, dir, &err) == 0, "%s: %s", err.file, err.message);
+    char path[700];
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    char *html = read_text(path);
+    /* one column per run, headed by its project and id */
+    char head[200];
+    snprintf(head, sizeof head, "<th>slope &lt;test&gt; &amp; &#39;co&#39;<br>run %lld</th>"
+                                "<th>without B1<br>run %lld</th>", (long long)a, (long long)b);
+    ENSURE_MSG(strstr(html, head), "no %s", head);
+    ENSURE(strstr(html, "<td class=\"verdict fail\">FAIL</td><td class=\"verdict fail\">"
+                        "INCONCLUSIVE</td>"));
+    ENSURE(strstr(html, "<td>0 / 1</td><td>1 / 1</td>"));
+    /* B1: 3 crossings of each release's 5 in run a, none in run b */
+    const char *b1 = strstr(html, "B&lt;1&gt;&amp;&quot;x&quot; (barrier)");
+    ENSURE(b1);
+    ENSURE_MSG(strstr(b1, "<td class=\"t\">crossings</td><td>6</td><td class=\"absent\">not in "
+                          "this run</td>"), "%.400s", b1);
+    /* E1 in both, with the statistics of its interceptions */
+    const char *e1 = strstr(html, ">E1 (embankment)</th>");
+    ENSURE(e1);
+    rf_measure_stats st;
+    int64_t e1_id = dbt_int(db, "SELECT id FROM measures WHERE run_id = %lld AND name = 'E1'",
+                            (long long)a);
+    ENSURE(rf_query_measure_stats(db, e1_id, &st, &err) == 0);
+    char want[200];
+    snprintf(want, sizeof want, "<td class=\"t\">E95 (kJ)</td><td>%.0f</td><td>%.0f</td>",
+             st.energy_p95, st.energy_p95);
+    ENSURE_MSG(strstr(e1, want), "no %s", want);
+    snprintf(want, sizeof want, "<td class=\"t\">Emax (kJ)</td><td>%.0f</td><td>%.0f</td>",
+             st.energy_max, st.energy_max);
+    ENSURE_MSG(strstr(e1, want), "no %s", want);
+    /* the road: 10 trajectories cross it in each run, twice each */
+    const char *road = strstr(html, "<h2 id=\"control-lines\">");
+    ENSURE(road && strstr(road, "<td class=\"t\">trajectories crossing</td><td>10</td><td>10</td>"));
+    ENSURE(strstr(road, "<td class=\"t\">crossings</td><td>20</td><td>20</td>"));
+    ENSURE(!strstr(html, "<td class=\"t\">E1</td>")); /* structures are rows, not columns */
+    /* one plan each; hazard cells only in run a */
+    for (int k = 0; k < 2; k++) {
+        char file[64];
+        snprintf(file, sizeof file, "plan-run-%lld.svg", (long long)runs[k]);
+        free(svg_ok(dir, file, html));
+    }
+    ENSURE(strstr(html, "<td class=\"t\">hazard cells crossed</td><td>6</td><td>0</td>"));
+    /* the same again, byte for byte */
+    char dir2[600];
+    snprintf(dir2, sizeof dir2, "%.500s", rf_test_path("variants-again"));
+    ENSURE(rf_report_compare(db, runs, 2, dir2, &err) == 0);
+    snprintf(path, sizeof path, "%s/index.html", dir2);
+    char *again = read_text(path);
+    ENSURE(!strcmp(html, again));
+    free(again);
     free(html);
     rf_store_close(s);
 }

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "report/svg.h"
+#include "svg_test_util.h"
 #include "test.h"
 
 /* What f holds from its start, NUL-terminated and malloc'd (the file is left open). */
@@ -168,6 +169,118 @@ TEST(svg_axes_labels_round_and_never_negative_zero)
     ENSURE(strstr(t, ">x &lt;m&gt;</text>"));
     ENSURE(strstr(t, "rotate(-90 48.0 200.0)\">n &amp; m</text>"));
     free(t);
+}
+
+/* The width of text as DejaVu Sans sets it: digits 1303/2048 em, '.' and ' ' 651/2048,
+ * '-' 739/2048, the minus sign U+2212 1716/2048, any other character (one, whatever its
+ * UTF-8 length) 0.7 em. */
+TEST(svg_text_width_of_digits_signs_and_other_characters)
+{
+    ENSURE_REL(rf_svg_text_width("2600000", 13.0), 7.0 * 1303.0 / 2048.0 * 13.0, 1e-12);
+    ENSURE_REL(rf_svg_text_width("-1.5", 10.0), (739.0 + 2 * 1303.0 + 651.0) / 2048.0 * 10.0,
+               1e-12);
+    ENSURE_REL(rf_svg_text_width("\xe2\x88\x92" "5", 13.0), (1716.0 + 1303.0) / 2048.0 * 13.0,
+               1e-12);
+    ENSURE_REL(rf_svg_text_width("\xc3\xa9x", 13.0), 2 * 0.7 * 13.0, 1e-12);
+    ENSURE(rf_svg_text_width("", 13.0) == 0.0 && rf_svg_text_width(NULL, 13.0) == 0.0);
+}
+
+/* An axis is labelled from an origin only when its values are large against its span:
+ * national coordinates (LV95, Lambert-93, UTM) get the round number at or below the
+ * low end that is a multiple of the power of ten above the span; local coordinates,
+ * energies from 0 and axes across 0 keep 0. */
+TEST(svg_axis_origin_only_for_national_coordinates)
+{
+    ENSURE(rf_svg_axis_origin(2600000.0, 2600130.0) == 2600000.0);   /* LV95 easting */
+    ENSURE(rf_svg_axis_origin(1200002.5, 1200082.5) == 1200000.0);   /* LV95 northing */
+    ENSURE(rf_svg_axis_origin(2600950.0, 2601080.0) == 2600000.0);   /* across a thousand */
+    ENSURE(rf_svg_axis_origin(6600123.0, 6600423.0) == 6600000.0);   /* Lambert-93 */
+    ENSURE(rf_svg_axis_origin(700000.0, 750000.0) == 700000.0);      /* 50 km of UTM */
+    ENSURE(rf_svg_axis_origin(-2600130.0, -2600000.0) == -2601000.0);
+    ENSURE(rf_svg_axis_origin(2600000.0, 2600000.4) == 2600000.0);   /* a span below 1 m */
+    ENSURE(rf_svg_axis_origin(0.0, 300.0) == 0.0);
+    ENSURE(rf_svg_axis_origin(0.0, 32000.0) == 0.0);                 /* energies from 0 */
+    ENSURE(rf_svg_axis_origin(5000.0, 5100.0) == 0.0);               /* short labels */
+    ENSURE(rf_svg_axis_origin(10000.0, 20000.0) == 0.0);             /* span a tenth or more */
+    ENSURE(rf_svg_axis_origin(-50000.0, 50000.0) == 0.0);            /* both signs */
+    ENSURE(rf_svg_axis_origin(NAN, 3.0) == 0.0);
+}
+
+TEST(svg_format_grouped_sets_thousands_apart)
+{
+    char b[64];
+    rf_svg_format_grouped(b, sizeof b, 2600000.0, 0);
+    ENSURE_MSG(!strcmp(b, "2 600 000"), "%s", b);
+    rf_svg_format_grouped(b, sizeof b, -1234.5, 1);
+    ENSURE_MSG(!strcmp(b, "-1 234.5"), "%s", b);
+    rf_svg_format_grouped(b, sizeof b, 999.0, 0);
+    ENSURE_MSG(!strcmp(b, "999"), "%s", b);
+    rf_svg_format_grouped(b, sizeof b, 123456.0, 0);
+    ENSURE_MSG(!strcmp(b, "123 456"), "%s", b);
+    rf_svg_format_grouped(b, 5, 2600000.0, 0); /* cut to the buffer, terminated */
+    ENSURE_MSG(strlen(b) == 4, "%s", b);
+}
+
+/* On LV95 coordinates the ticks are labelled in metres from the stated origin: the
+ * titles say "x - 2 600 000 (m)" (with a minus sign) and "y - 1 200 000 (m)", no label
+ * repeats the millions, and each label sits where its coordinate is. */
+TEST(svg_axes_on_national_coordinates_label_from_a_stated_origin)
+{
+    rf_svg s;
+    const char *name = "lv95.svg";
+    open_plain(&s, name);
+    rf_svg_frame(&s, 100, 50, 500, 350, 2600000.0, 2600130.0, 1200000.0, 1200080.0);
+    rf_svg_axes(&s, "x (m)", "y (m)");
+    ENSURE(s.x_origin == 2600000.0 && s.y_origin == 1200000.0);
+    double px20 = rf_svg_px(&s, 2600020.0), py40 = rf_svg_py(&s, 1200040.0);
+    char *t = close_and_read(&s, name);
+    ENSURE_MSG(strstr(t, ">x \xe2\x88\x92 2 600 000 (m)</text>"), "%s", t);
+    ENSURE(strstr(t, ">y \xe2\x88\x92 1 200 000 (m)</text>"));
+    svg_tick k[64];
+    size_t nx = svgt_ticks(t, "xtick", k, 64);
+    ENSURE_MSG(nx >= 4 && !strcmp(k[0].text, "0"), "%zu: %s", nx, nx ? k[0].text : "");
+    int found = 0;
+    for (size_t i = 0; i < nx; i++) {
+        ENSURE_MSG(strlen(k[i].text) <= 3, "label %s", k[i].text);
+        if (!strcmp(k[i].text, "20"))
+            found = fabs(k[i].x - px20) < 0.06;
+    }
+    ENSURE_MSG(found, "no label 20 at %.1f px", px20);
+    size_t ny = svgt_ticks(t, "ytick", k, 64);
+    found = 0;
+    for (size_t i = 0; i < ny; i++) {
+        ENSURE_MSG(strlen(k[i].text) <= 3, "label %s", k[i].text);
+        if (!strcmp(k[i].text, "40"))
+            found = fabs(k[i].y - 4.0 - py40) < 0.06;
+    }
+    ENSURE_MSG(found, "no label 40 at %.1f px", py40);
+    svgt_x_ticks_apart(t, 0.0, 4);
+    ENSURE(!strstr(t, "2600"));
+    free(t);
+}
+
+/* Whatever the plot's width and the values, no two x tick labels overlap (read back with
+ * a width per character above DejaVu Sans's widest digit): the step widens until they
+ * fit, down to a single label on a plot too narrow for two. */
+TEST(svg_x_tick_labels_never_overlap)
+{
+    static const double widths[] = {110, 160, 220, 300, 450, 760};
+    static const double ranges[][2] = {{0, 1e6}, {123456, 987654}, {0, 0.0037}, {-3.3, 2.1},
+                                       {2600000, 2600130}, {700000, 712345.6}, {0, 32000},
+                                       {-0.0071, -0.0012}, {1234567, 7654321}};
+    for (size_t w = 0; w < sizeof widths / sizeof *widths; w++)
+        for (size_t r = 0; r < sizeof ranges / sizeof *ranges; r++) {
+            rf_svg s;
+            const char *name = "ticks.svg";
+            open_plain(&s, name);
+            rf_svg_frame(&s, 100, 50, 100 + widths[w], 350, ranges[r][0], ranges[r][1], 0, 1);
+            rf_svg_axes(&s, "x", "y");
+            char *t = close_and_read(&s, name);
+            /* two labels at least where two fit: 0.64 em a digit, 8 px apart */
+            size_t n = svgt_x_ticks_apart(t, 0.0, 1);
+            ENSURE_MSG(n >= 2 || widths[w] < 300, "%zu labels on %g px", n, widths[w]);
+            free(t);
+        }
 }
 
 /* Stacked bars: one rectangle per positive count, each series on top of the ones

@@ -34,8 +34,8 @@ static const char USAGE[] =
     "      simulate the project's releases into a results database\n"
     "  check results.db [--rules FILE] [--run ID]\n"
     "      classify every interception (Table 3 limit states) and run the design checks\n"
-    "  report results.db [--run ID] --out DIR\n"
-    "      DIR/index.html with the run's summary\n"
+    "  report results.db [--run ID | --runs ID,ID,...] --out DIR\n"
+    "      DIR/index.html with the run's summary, or layout variants side by side\n"
     "  empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L]\n"
     "      Eq. 1-2 velocity at the slope foot and the attainment width of Fig. 1b\n"
     "  calibrate PROJECT.yaml --observed STOPS --fit KEY [--fit KEY ...]\n"
@@ -81,13 +81,16 @@ static const char CHECK_HELP[] =
     "trajectories cannot support a verdict (INCONCLUSIVE), 2 bad usage or input\n";
 
 static const char REPORT_HELP[] =
-    "usage: rockfall report results.db [--run ID] --out DIR\n"
+    "usage: rockfall report results.db [--run ID | --runs ID,ID,...] --out DIR\n"
     "\n"
     "Writes DIR/index.html: the run, where its trajectories ended and what every\n"
     "measure saw.\n"
     "\n"
-    "  --run ID    the run (default: the newest complete run)\n"
-    "  --out DIR   output folder (created when missing)\n";
+    "  --run ID         the run (default: the newest complete run)\n"
+    "  --runs ID,ID,... layout variants side by side (2 to 8 runs): verdicts,\n"
+    "                   interceptions and energy percentiles per structure,\n"
+    "                   arrivals at the control lines, one plan view each\n"
+    "  --out DIR        output folder (created when missing)\n";
 
 static const char EMPIRICAL_HELP[] =
     "usage: rockfall empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L] [--beta DEG]\n"
@@ -332,6 +335,7 @@ typedef struct db_args {
     const char *db;
     long run;
     const char *out, *rules;
+    const char *runs; /* report --runs: the list as given */
 } db_args;
 
 /* Opens an existing database as the command may (docs/database.md, "Schema policy":
@@ -359,6 +363,7 @@ static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int
     static const struct option opts[] = {{"run", required_argument, 0, 'r'},
                                          {"out", required_argument, 0, 'o'},
                                          {"rules", required_argument, 0, 'R'},
+                                         {"runs", required_argument, 0, 'n'},
                                          {0, 0, 0, 0}};
     memset(a, 0, sizeof *a);
     a->run = -1;
@@ -380,6 +385,11 @@ static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int
                 return usage_error(cmd, "%s", "--rules is an option of check");
             a->rules = optarg;
             break;
+        case 'n':
+            if (!want_out)
+                return usage_error(cmd, "%s", "--runs is an option of report");
+            a->runs = optarg;
+            break;
         default: return usage_error(cmd, "%s", "bad option");
         }
     }
@@ -388,6 +398,8 @@ static int parse_db_args(const char *cmd, int argc, char **argv, db_args *a, int
     a->db = argv[optind];
     if (want_out && !a->out)
         return usage_error(cmd, "%s", "--out DIR is required");
+    if (a->runs && a->run > 0)
+        return usage_error(cmd, "%s", "--run and --runs exclude each other");
     if (access(a->db, R_OK) != 0) {
         fprintf(stderr, "%s: error: cannot open results database: %s\n", a->db, strerror(errno));
         return EXIT_BAD_INPUT;
@@ -435,10 +447,56 @@ static int cmd_check(int argc, char **argv)
     return db_command("check", argc, argv, 0, check_body);
 }
 
+/* Most runs `report --runs` compares. */
+#define MAX_COMPARED_RUNS 8
+
+/* The ids of --runs ("3,4"): 2 to MAX_COMPARED_RUNS distinct ids >= 1, each a run of
+ * the database.  Returns EXIT_OK or an exit status. */
+static int parse_runs(const char *list, sqlite3 *db, int64_t *ids, size_t *n)
+{
+    char buf[256];
+    size_t len = strlen(list);
+    if (len >= sizeof buf || !len || list[0] == ',' || list[len - 1] == ',' || strstr(list, ",,"))
+        return usage_error("report", "--runs takes 2 to 8 run ids >= 1 apart by commas, "
+                                     "got '%s'", list);
+    snprintf(buf, sizeof buf, "%s", list);
+    *n = 0;
+    char *save = NULL;
+    for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+        long id;
+        if (*n == MAX_COMPARED_RUNS || parse_long(tok, 1, 0x7fffffffffffffffL, &id))
+            return usage_error("report", "--runs takes 2 to 8 run ids >= 1 apart by commas, "
+                                         "got '%s'", list);
+        for (size_t k = 0; k < *n; k++)
+            if (ids[k] == id)
+                return usage_error("report", "--runs names a run twice: '%s'", list);
+        ids[(*n)++] = id;
+    }
+    if (*n < 2)
+        return usage_error("report", "--runs takes 2 to 8 run ids apart by commas, got '%s'",
+                           list);
+    for (size_t k = 0; k < *n; k++) {
+        rf_error err;
+        if (rf_query_resolve_run(db, (long)ids[k], &ids[k], &err)) {
+            rf_error_print(&err, stderr);
+            return EXIT_BAD_INPUT;
+        }
+    }
+    return EXIT_OK;
+}
+
 static int report_body(const db_args *a, sqlite3 *db, int64_t run)
 {
     rf_error err;
-    if (rf_report_write(db, run, a->out, &err)) {
+    int64_t ids[MAX_COMPARED_RUNS];
+    size_t n = 0;
+    if (a->runs) {
+        int rc = parse_runs(a->runs, db, ids, &n);
+        if (rc)
+            return rc;
+    }
+    if (a->runs ? rf_report_compare(db, ids, n, a->out, &err)
+                : rf_report_write(db, run, a->out, &err)) {
         rf_error_print(&err, stderr);
         return EXIT_BAD_INPUT;
     }

@@ -18,12 +18,10 @@
 
 /* ---- the other sections -------------------------------------------------------------- */
 
-static void section_head(report *r, FILE *f)
+void rep_page_head(FILE *f, const char *title)
 {
-    fputs("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>rockfall "
-          "report: ",
-          f);
-    rf_svg_escape(f, r->project);
+    fputs("<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>", f);
+    rf_svg_escape(f, title);
     fputs("</title>\n<style>\n"
           "body{font-family:\"DejaVu Sans\",Arial,Helvetica,sans-serif;max-width:72em;"
           "margin:1.5em auto;padding:0 1em;color:#222;line-height:1.4}\n"
@@ -32,14 +30,25 @@ static void section_head(report *r, FILE *f)
           "table{border-collapse:collapse;margin:.6em 0;font-size:.92em;display:block;"
           "overflow-x:auto;max-width:100%}\n"
           "td,th{border:1px solid #aaa;padding:.2em .5em;text-align:right}\n"
-          "td.t{text-align:left}th{background:#eee}\n"
+          "th{background:#eee;max-width:11em;vertical-align:bottom}\n"
+          "td.t,th.t{text-align:left}tr.line th{background:#dde4ee}\n"
           "td.pass{color:#1a7f1a;font-weight:bold}td.fail{color:#b00;font-weight:bold}\n"
+          "td.absent{color:#888;font-style:italic}\n"
           "figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd}\n"
           "figcaption{font-size:.9em;color:#444}\n"
+          ".plans{display:flex;flex-wrap:wrap;gap:1em}.plans figure{flex:1 1 30em;margin:0}\n"
           ".summary{background:#f5f7fa;border:1px solid #d0d7e0;padding:.6em 1.2em}\n"
           ".notes{background:#fff8e5;border:1px solid #e6c96b;padding:.6em 1.2em}\n"
-          "</style></head><body>\n<h1>",
+          "</style></head><body>\n",
           f);
+}
+
+static void section_head(report *r, FILE *f)
+{
+    char title[600];
+    snprintf(title, sizeof title, "rockfall report: %s", r->project);
+    rep_page_head(f, title);
+    fputs("<h1>", f);
     rf_svg_escape(f, r->project);
     fputs("</h1>\n<p>Run ", f);
     fprintf(f, "%lld (", (long long)r->run);
@@ -114,7 +123,7 @@ static int section_ends(report *r, FILE *f)
 
 /* ---- the report ------------------------------------------------------------------------ */
 
-static int make_dirs(const char *dir, rf_error *err)
+int rep_make_dirs(const char *dir, rf_error *err)
 {
     char buf[4096];
     snprintf(buf, sizeof buf, "%s", dir);
@@ -134,7 +143,7 @@ static int make_dirs(const char *dir, rf_error *err)
     return 0;
 }
 
-static void free_report(report *r)
+void rep_free_report(report *r)
 {
     free(r->rel_fills);
     free(r->rel_names);
@@ -149,16 +158,17 @@ static int close_stream(FILE *f)
 
 static int write_sections(report *r, long *npass, long *nfail)
 {
-    if (rep_figure_plan(r))
+    if (rep_figure_plan(r, "plan.svg"))
         return -1;
     fputs("<h2 id=\"plan\">Plan view (Fig. 9, 11)</h2>\n", r->body);
     fprintf(r->body,
             "<p>The sampled paths (%ld trajectories with stored path points) over the terrain "
-            "contours, the release points, the measures and the points where every trajectory "
-            "ended. North is up; x and y in metres.</p>\n",
-            r->n_path_traj);
-    rep_figure_html(r->body, "plan.svg",
-                "Fig. 9 and 11: trajectories of the rocks in plan, with releases and measures");
+            "contours, the release points, the measures and the points where the "
+            "trajectories ended (%ld drawn). North is up; x and y in metres.</p>\n",
+            r->n_path_traj, r->n_stop_points);
+    char caption[600];
+    rep_plan_caption(r, caption, sizeof caption);
+    rep_figure_html(r->body, "plan.svg", caption);
     if (!r->n_path_traj)
         fputs("<li>No sampled paths are stored for this run (<code>simulation.paths</code>): the "
               "plan view shows only where the trajectories ended.</li>\n",
@@ -182,7 +192,7 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
     long npass = 0, nfail = 0;
     int status = rep_load_run(&r);
     if (!status)
-        status = make_dirs(dir, err);
+        status = rep_make_dirs(dir, err);
     if (!status)
         status = rep_load_releases(&r);
     if (!status) {
@@ -241,6 +251,6 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
     free(sum_text);
     free(notes_text);
     free(body_text);
-    free_report(&r);
+    rep_free_report(&r);
     return status;
 }

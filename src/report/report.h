@@ -24,4 +24,11 @@ extern const double rf_report_energy_limits[RF_REPORT_N_ENERGY_LIMITS];
  * without contours and the report says so.  Returns 0, or fills err. */
 int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
 
+/* Writes DIR/index.html comparing the runs (layout variants) side by side - each run's
+ * verdict from its stored checks, the crossings and energy percentiles of each
+ * structure, the arrivals at each control line, the hazard cells - and one plan view
+ * per run (DIR/plan-run-ID.svg).  Every run must exist.  Returns 0, or fills err. */
+int rf_report_compare(sqlite3 *db, const int64_t *runs, size_t nruns, const char *dir,
+                      rf_error *err);
+
 #endif

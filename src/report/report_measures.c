@@ -1,5 +1,7 @@
-/* report_measures.c - the measures section: the energy at each measure against its
- * capacities, its classifications and its checks. */
+/* report_measures.c - the measures section: the energy at each structure (barrier,
+ * embankment) against its capacities and its passing height against its height, its
+ * classifications and its checks; the control lines as what they are, lines whose
+ * crossings are counted. */
 #include "report/report_private.h"
 
 #include <math.h>
@@ -50,6 +52,8 @@ static size_t capacity_lines(const rep_measure *m, capacity_line *out)
     return n;
 }
 
+/* The energy figure of a structure: a histogram of its crossings' energies by outcome
+ * with its capacities as dashed lines.  Returns the number of capacities drawn, or -1. */
 static int figure_measure(report *r, const rep_measure *m, const rf_crossing_row *x, size_t n,
                           const char *file)
 {
@@ -80,7 +84,56 @@ static int figure_measure(report *r, const rep_measure *m, const rf_crossing_row
                         "class=\"capacity\" stroke=\"#000\" stroke-width=\"1.5\" "
                         "stroke-dasharray=\"6 3\"",
                         caps[k].label);
-    return rep_hist_close(r, &h, "kinetic energy at the crossing (kJ)", "number of crossings");
+    if (rep_hist_close(r, &h, "kinetic energy at the crossing (kJ)", "number of crossings"))
+        return -1;
+    return (int)ncaps;
+}
+
+/* The passing-height figure of a structure: a histogram of its crossings' passing
+ * heights by outcome, with its height (dashed) and the crossings' 95th percentile
+ * (dotted).  Returns the number of crossings drawn (those with a height), or -1. */
+static int figure_height(report *r, const rep_measure *m, const rf_crossing_row *x, size_t n,
+                         double h95, const char *file)
+{
+    double hi = 0.5;
+    long drawn = 0;
+    for (size_t i = 0; i < n; i++) {
+        rep_grow(&hi, &hi, x[i].height);
+        drawn += isfinite(x[i].height);
+    }
+    rep_grow(&hi, &hi, m->height);
+    hi *= 1.08;
+    double lo = 0.0, bw = rf_svg_nice_step(hi, 30);
+    hist_chart h = {.ns = N_OUTCOMES, .nlegend = N_OUTCOMES, .fills = OUTCOME_COLOURS,
+                    .labels = OUTCOME_LABELS};
+    if (rep_hist_bins(r, &h, &lo, &hi, bw))
+        return -1;
+    for (size_t i = 0; i < n; i++)
+        rep_hist_add(&h, (size_t)OUTCOME_STACK[x[i].outcome], x[i].height);
+    double cmax = rep_hist_top(&h);
+    char title[600], label[64];
+    snprintf(title, sizeof title, "Passing height at %s (%s) against its height", m->name,
+             m->kind_name);
+    if (rep_hist_open(r, &h, file, title, cmax * 1.12))
+        return -1;
+    if (isfinite(m->height)) {
+        snprintf(label, sizeof label, "height %.1f m", m->height);
+        rep_vertical_marker(&h.s, m->height,
+                            "class=\"structure-height\" stroke=\"#000\" stroke-width=\"1.5\" "
+                            "stroke-dasharray=\"6 3\"",
+                            label);
+    }
+    if (isfinite(h95)) {
+        snprintf(label, sizeof label, "h95 %.2f m", h95);
+        rep_vertical_marker(&h.s, h95,
+                            "class=\"h95\" stroke=\"#555\" stroke-width=\"1.5\" "
+                            "stroke-dasharray=\"2 3\"",
+                            label);
+    }
+    if (rep_hist_close(r, &h, "passing height above the ground at the crossing (m)",
+                       "number of crossings"))
+        return -1;
+    return (int)drawn;
 }
 
 /* A table of a query's rows: the table and its header row go out before the first
@@ -196,23 +249,26 @@ int rep_checks_table(report *r, FILE *f, int64_t measure_id, long *npass, long *
                        measure_id > 0 ? measure_id : r->run, check_cells, &c);
 }
 
-/* What the measure table found for a measure, kept for its section (its crossings
- * are read one measure at a time, for its statistics, share and figure). */
+/* What the section found of a measure (its crossings are read one measure at a time,
+ * for its statistics, share and figures). */
 typedef struct measure_found {
     rf_measure_stats stats;
-    double share; /* % within serviceability, not overtopped; NAN when not defined */
+    double share;   /* % within serviceability, not overtopped; NAN when not defined */
+    long ntraj;     /* trajectories that crossed it */
+    int ncaps;      /* capacities drawn on its energy figure */
+    long nheights;  /* crossings with a passing height, drawn on its height figure */
 } measure_found;
 
-/* The file of a measure's energy figure. */
-static void measure_figure_file(const rep_measure *m, char *file, size_t n)
+/* The file of a structure's figure: "measure-IDX-energy.svg", "measure-IDX-height.svg". */
+static void measure_figure_file(const rep_measure *m, const char *what, char *file, size_t n)
 {
-    snprintf(file, n, "measure-%ld-energy.svg", m->idx);
+    snprintf(file, n, "measure-%ld-%s.svg", m->idx, what);
 }
 
 /* The share of the crossings with an energy within `capacity` that are not
  * overtopped, counted as SQL's avg(energy_kj <= capacity AND outcome <> 'overtopped'):
  * a crossing without an energy counts (as outside) only when overtopped. */
-static double share_within(const rf_crossing_row *x, size_t n, double capacity)
+double rep_share_within(const rf_crossing_row *x, size_t n, double capacity)
 {
     long within = 0, counted = 0;
     for (size_t i = 0; i < n; i++) {
@@ -225,45 +281,66 @@ static double share_within(const rf_crossing_row *x, size_t n, double capacity)
     return counted ? (double)within / (double)counted : NAN;
 }
 
-int rep_section_measures(report *r, long *npass, long *nfail)
+static double serviceability_capacity(const rep_measure *m)
+{
+    return isfinite(m->cap[RF_SERVICEABILITY]) ? m->cap[RF_SERVICEABILITY] : m->sel;
+}
+
+static double ultimate_capacity(const rep_measure *m)
+{
+    return isfinite(m->cap[RF_ULTIMATE]) ? m->cap[RF_ULTIMATE] : m->mel;
+}
+
+/* Reads a measure's crossings into c; a structure (not a control line) crossed at
+ * least once gets its energy and passing-height figures. */
+static int read_measure(report *r, const rep_measure *m, measure_found *c)
+{
+    rf_crossing_row *x = NULL;
+    size_t nx = 0;
+    int failed = rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
+                 rf_measure_stats_of(x, nx, &c->stats, r->err);
+    double service = serviceability_capacity(m);
+    c->share = NAN;
+    if (!failed && !rep_is_control(m) && c->stats.n) {
+        char file[64];
+        if (isfinite(service))
+            c->share = 100.0 * rep_share_within(x, nx, service);
+        measure_figure_file(m, "energy", file, sizeof file);
+        int ncaps = figure_measure(r, m, x, nx, file);
+        measure_figure_file(m, "height", file, sizeof file);
+        int nheights = ncaps < 0 ? -1 : figure_height(r, m, x, nx, c->stats.height_p95, file);
+        failed = ncaps < 0 || nheights < 0;
+        c->ncaps = ncaps;
+        c->nheights = nheights;
+    }
+    free(x);
+    if (!failed) {
+        sqlite3_stmt *st = rep_prep(r, "SELECT count(DISTINCT trajectory_id) FROM interceptions"
+                                       " WHERE measure_id = ?1", m->id);
+        if (!st || sqlite3_step(st) != SQLITE_ROW)
+            failed = st ? rep_db_error(r) : -1;
+        else
+            c->ntraj = (long)sqlite3_column_int64(st, 0);
+        sqlite3_finalize(st);
+    }
+    return failed ? -1 : 0;
+}
+
+/* The structures' tables: their crossings, then their energies and heights (two
+ * tables, so that each fits the page's width). */
+static void structure_tables(report *r, const measure_found *mc)
 {
     FILE *f = r->body;
-    fputs("<h2 id=\"measures\">Energy at the measures</h2>\n", f);
-    if (!r->nmea) {
-        fputs("<p>The project has no measures.</p>\n", f);
-        return 0;
-    }
-    fputs("<table><tr><th>measure</th><th>kind</th><th>importance</th><th>height (m)</th>"
-          "<th>crossings</th><th>stopped</th><th>overtopped</th><th>broke through</th>"
-          "<th>passed</th><th>E50</th><th>E90</th><th>E95</th><th>E99</th><th>Emax (kJ)</th>"
-          "<th>h95 (m)</th><th>SEL / serviceability (kJ)</th><th>MEL / ultimate (kJ)</th>"
+    fputs("<table class=\"measures\"><tr><th>structure</th><th>kind</th><th>importance</th>"
+          "<th>height (m)</th><th>crossings</th><th>stopped</th><th>overtopped</th>"
+          "<th>broke through</th><th>passed</th>"
           "<th>within serviceability, not overtopped (%)</th></tr>\n",
           f);
-    measure_found *mc = calloc(r->nmea, sizeof *mc);
-    if (!mc)
-        return rep_oom(r);
     for (size_t k = 0; k < r->nmea; k++) {
         const rep_measure *m = &r->mea[k];
-        measure_found *c = &mc[k];
-        rf_crossing_row *x = NULL;
-        size_t nx = 0;
-        const rf_measure_stats *s = &c->stats;
-        double service = isfinite(m->cap[RF_SERVICEABILITY]) ? m->cap[RF_SERVICEABILITY] : m->sel;
-        int failed = rf_query_crossings(r->db, m->id, &x, &nx, r->err) ||
-                     rf_measure_stats_of(x, nx, &c->stats, r->err);
-        if (!failed) {
-            c->share = !rep_is_control(m) && isfinite(service) && s->n
-                           ? 100.0 * share_within(x, nx, service)
-                           : NAN;
-            char file[64];
-            measure_figure_file(m, file, sizeof file);
-            failed = s->n > 0 && figure_measure(r, m, x, nx, file);
-        }
-        free(x);
-        if (failed) {
-            free(mc);
-            return -1;
-        }
+        const rf_measure_stats *s = &mc[k].stats;
+        if (rep_is_control(m))
+            continue;
         fputs("<tr>", f);
         rep_td_text(f, m->name);
         rep_td_text(f, m->kind_name);
@@ -271,77 +348,173 @@ int rep_section_measures(report *r, long *npass, long *nfail)
         rep_td_num(f, m->height, 1);
         fprintf(f, "<td>%ld</td><td>%ld</td><td>%ld</td><td>%ld</td><td>%ld</td>", s->n,
                 s->n_stopped, s->n_overtopped, s->n_broke_through, s->n_passed);
+        rep_td_num(f, mc[k].share, 1);
+        fputs("</tr>\n", f);
+    }
+    fputs("</table>\n<table class=\"measures\"><tr><th>structure</th><th>E50 (kJ)</th>"
+          "<th>E90 (kJ)</th><th>E95 (kJ)</th><th>E99 (kJ)</th><th>Emax (kJ)</th>"
+          "<th>h95 (m)</th><th>SEL / serviceability (kJ)</th><th>MEL / ultimate (kJ)</th>"
+          "</tr>\n",
+          f);
+    for (size_t k = 0; k < r->nmea; k++) {
+        const rep_measure *m = &r->mea[k];
+        const rf_measure_stats *s = &mc[k].stats;
+        if (rep_is_control(m))
+            continue;
+        fputs("<tr>", f);
+        rep_td_text(f, m->name);
         rep_td_num(f, s->energy_p50, 0);
         rep_td_num(f, s->energy_p90, 0);
         rep_td_num(f, s->energy_p95, 0);
         rep_td_num(f, s->energy_p99, 0);
         rep_td_num(f, s->energy_max, 0);
         rep_td_num(f, s->height_p95, 2);
-        rep_td_num(f, service, 0);
-        rep_td_num(f, isfinite(m->cap[RF_ULTIMATE]) ? m->cap[RF_ULTIMATE] : m->mel, 0);
-        rep_td_num(f, c->share, 1);
+        rep_td_num(f, serviceability_capacity(m), 0);
+        rep_td_num(f, ultimate_capacity(m), 0);
         fputs("</tr>\n", f);
     }
-    fputs("</table>\n<p>Energies in kJ, nearest-rank percentiles over all crossings. The "
-          "paper's check: a layout passes when the serviceability limit state holds for over "
-          "90 % of the expected rockfalls.</p>\n",
+    fputs("</table>\n<p>Energies in kJ, nearest-rank percentiles over all crossings; h95 the "
+          "95th percentile of the passing height. The paper's check: a layout passes when the "
+          "serviceability limit state holds for over 90 % of the expected rockfalls.</p>\n",
           f);
-    int status = 0;
-    for (size_t k = 0; k < r->nmea && !status; k++) {
+}
+
+/* The control lines: no structure (no capacity, no height), only their crossings. */
+static int control_table(report *r, const measure_found *mc, long *npass, long *nfail)
+{
+    FILE *f = r->body;
+    fputs("<h3 id=\"control-lines\">Control lines</h3>\n<p>A control line (kind "
+          "<code>control</code>, such as the mountainside edge of the road) is no structure: "
+          "it stops nothing and has no capacity or height. Its crossings are counted, with "
+          "the rocks' energy and passing height there (the arrivals: the road section "
+          "above).</p>\n<table class=\"control\"><tr><th>control line</th>"
+          "<th>trajectories crossing</th><th>share of all (%)</th><th>crossings</th>"
+          "<th>E50 (kJ)</th><th>E95 (kJ)</th><th>Emax (kJ)</th><th>h95 (m)</th></tr>\n",
+          f);
+    for (size_t k = 0; k < r->nmea; k++) {
         const rep_measure *m = &r->mea[k];
         const rf_measure_stats *s = &mc[k].stats;
-        fputs("<h3>", f);
-        rf_svg_escape(f, m->name);
-        fputs(" (", f);
-        rf_svg_escape(f, m->kind_name);
-        fputs(")</h3>\n", f);
-        if (!rep_is_control(m)) {
-            fputs("<li>", r->summary);
-            rf_svg_escape(r->summary, m->name);
-            fprintf(r->summary,
-                    " (%s): %ld crossings, %ld stopped, %ld overtopped, %ld broke through",
-                    m->kind_name, s->n, s->n_stopped, s->n_overtopped, s->n_broke_through);
-            /* the verdict is the rules engine's, as stored in `checks` */
-            double stored = NAN, passed = NAN;
-            sqlite3_stmt *st = rep_prep(r,
-                                    "SELECT value, passed FROM checks WHERE measure_id = ?1 AND"
-                                    " rule = 'serviceability_share'",
-                                    m->id);
-            if (st && sqlite3_step(st) == SQLITE_ROW) {
-                stored = rf_query_column_real(st, 0);
-                passed = rf_query_column_real(st, 1);
-            }
-            sqlite3_finalize(st);
-            if (isfinite(stored)) {
-                fputs("; within serviceability: ", r->summary);
-                rep_put_num(r->summary, 100.0 * stored, 1);
-                fprintf(r->summary, " %% (%s the serviceability check)",
-                        passed == 1.0 ? "passes" : "fails");
-            } else if (isfinite(mc[k].share)) {
-                fputs("; within serviceability: ", r->summary);
-                rep_put_num(r->summary, mc[k].share, 1);
-                fputs(" % (no design check stored for this run: rockfall check)", r->summary);
-            }
-            fputs(".</li>\n", r->summary);
-        }
-        if (s->n == 0) {
-            fputs("<p>No rock crossed this measure.</p>\n", f);
+        if (!rep_is_control(m))
             continue;
-        }
-        char cap[600];
-        snprintf(cap, sizeof cap,
-                 "Energy of the rocks crossing %s by outcome, with its capacities (dashed)",
-                 m->name);
-        char file[64];
-        measure_figure_file(m, file, sizeof file);
-        rep_figure_html(f, file, cap);
-        if (!rep_is_control(m) && measure_classifications(r, m)) {
-            status = -1;
-            break;
-        }
-        if (rep_checks_table(r, f, m->id, npass, nfail) < 0)
-            status = -1;
+        fputs("<tr>", f);
+        rep_td_text(f, m->name);
+        fprintf(f, "<td>%ld</td>", mc[k].ntraj);
+        rep_td_num(f, rep_pct((double)mc[k].ntraj, (double)r->n_traj), 1);
+        fprintf(f, "<td>%ld</td>", s->n);
+        rep_td_num(f, s->energy_p50, 0);
+        rep_td_num(f, s->energy_p95, 0);
+        rep_td_num(f, s->energy_max, 0);
+        rep_td_num(f, s->height_p95, 2);
+        fputs("</tr>\n", f);
     }
+    fputs("</table>\n", f);
+    for (size_t k = 0; k < r->nmea; k++)
+        if (rep_is_control(&r->mea[k]) && rep_checks_table(r, f, r->mea[k].id, npass, nfail) < 0)
+            return -1;
+    return 0;
+}
+
+/* A structure's line in the summary: its crossings and its share within serviceability,
+ * the rules engine's as stored in `checks` when there. */
+static void structure_summary(report *r, const rep_measure *m, const measure_found *c)
+{
+    const rf_measure_stats *s = &c->stats;
+    fputs("<li>", r->summary);
+    rf_svg_escape(r->summary, m->name);
+    fprintf(r->summary, " (%s): %ld crossings, %ld stopped, %ld overtopped, %ld broke through",
+            m->kind_name, s->n, s->n_stopped, s->n_overtopped, s->n_broke_through);
+    double stored = NAN, passed = NAN;
+    sqlite3_stmt *st = rep_prep(r,
+                                "SELECT value, passed FROM checks WHERE measure_id = ?1 AND"
+                                " rule = 'serviceability_share'",
+                                m->id);
+    if (st && sqlite3_step(st) == SQLITE_ROW) {
+        stored = rf_query_column_real(st, 0);
+        passed = rf_query_column_real(st, 1);
+    }
+    sqlite3_finalize(st);
+    if (isfinite(stored)) {
+        fputs("; within serviceability: ", r->summary);
+        rep_put_num(r->summary, 100.0 * stored, 1);
+        fprintf(r->summary, " %% (%s the serviceability check)",
+                passed == 1.0 ? "passes" : "fails");
+    } else if (isfinite(c->share)) {
+        fputs("; within serviceability: ", r->summary);
+        rep_put_num(r->summary, c->share, 1);
+        fputs(" % (no design check stored for this run: rockfall check)", r->summary);
+    }
+    fputs(".</li>\n", r->summary);
+}
+
+/* A structure's part: its figures, with captions that say what each draws, its
+ * classifications and its checks. */
+static int structure_part(report *r, const rep_measure *m, const measure_found *c, long *npass,
+                          long *nfail)
+{
+    FILE *f = r->body;
+    fputs("<h3>", f);
+    rf_svg_escape(f, m->name);
+    fputs(" (", f);
+    rf_svg_escape(f, m->kind_name);
+    fputs(")</h3>\n", f);
+    structure_summary(r, m, c);
+    if (c->stats.n == 0) {
+        fputs("<p>No rock crossed this structure.</p>\n", f);
+        return rep_checks_table(r, f, m->id, npass, nfail) < 0 ? -1 : 0;
+    }
+    char cap[800], file[64];
+    if (c->ncaps)
+        snprintf(cap, sizeof cap,
+                 "Energy of the rocks crossing %s by outcome, with its %d capacit%s (dashed)",
+                 m->name, c->ncaps, c->ncaps == 1 ? "y" : "ies");
+    else
+        snprintf(cap, sizeof cap,
+                 "Energy of the rocks crossing %s by outcome (the run stores no capacity of it)",
+                 m->name);
+    measure_figure_file(m, "energy", file, sizeof file);
+    rep_figure_html(f, file, cap);
+    int n = snprintf(cap, sizeof cap,
+                     "Passing height of the %ld of %ld crossings of %s that have one, by outcome",
+                     c->nheights, c->stats.n, m->name);
+    if (isfinite(m->height))
+        snprintf(cap + n, sizeof cap - (size_t)n, ", with its height %.1f m (dashed)%s", m->height,
+                 isfinite(c->stats.height_p95) ? " and their 95th percentile (dotted)" : "");
+    else if (isfinite(c->stats.height_p95))
+        snprintf(cap + n, sizeof cap - (size_t)n,
+                 ", with their 95th percentile (dotted); the run stores no height of it");
+    measure_figure_file(m, "height", file, sizeof file);
+    rep_figure_html(f, file, cap);
+    if (measure_classifications(r, m))
+        return -1;
+    return rep_checks_table(r, f, m->id, npass, nfail) < 0 ? -1 : 0;
+}
+
+int rep_section_measures(report *r, long *npass, long *nfail)
+{
+    FILE *f = r->body;
+    fputs("<h2 id=\"measures\">The structures: energy and passing height</h2>\n", f);
+    if (!r->nmea) {
+        fputs("<p>The project has no measures.</p>\n", f);
+        return 0;
+    }
+    measure_found *mc = calloc(r->nmea, sizeof *mc);
+    if (!mc)
+        return rep_oom(r);
+    size_t ncontrol = 0;
+    int status = 0;
+    for (size_t k = 0; k < r->nmea && !status; k++) {
+        ncontrol += rep_is_control(&r->mea[k]);
+        status = read_measure(r, &r->mea[k], &mc[k]);
+    }
+    if (!status && ncontrol < r->nmea)
+        structure_tables(r, mc);
+    else if (!status)
+        fputs("<p>The project has no barrier or embankment.</p>\n", f);
+    if (!status && ncontrol)
+        status = control_table(r, mc, npass, nfail);
+    for (size_t k = 0; k < r->nmea && !status; k++)
+        if (!rep_is_control(&r->mea[k]))
+            status = structure_part(r, &r->mea[k], &mc[k], npass, nfail);
     free(mc);
     return status;
 }

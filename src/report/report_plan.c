@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Two contour segments this close (m) to the labels' x are equally near. */
+#define RF_LABEL_TIE 1e-6
 /* Most stop points drawn on the plan. */
 #define MAX_STOP_POINTS 20000
 
@@ -138,14 +140,14 @@ void rep_draw_contours(report *r, rf_svg *s, int faint)
     const contour_grid *g = &r->grid;
     if (!g->z)
         return;
-    double label_x = r->bx0 + 0.1 * (r->bx1 - r->bx0);
+    double label_x = r->bx0 + 0.1 * (r->bx1 - r->bx0), label_y = 0.5 * (r->by0 + r->by1);
     rf_svg_raw(s, "<g fill=\"none\" stroke=\"%s\" stroke-linejoin=\"round\">\n",
                faint ? "#b0a597" : "#8c7b68");
     for (double level = ceil(g->zmin / g->interval) * g->interval; level <= g->zmax;
          level += g->interval) {
         int major = labs(lround(level / g->interval)) % 5 == 0;
         rf_svg_path_begin(s, major ? "stroke-width=\"1.2\"" : "stroke-width=\"0.5\"");
-        double best = INFINITY, lx = 0, ly = 0;
+        double best = INFINITY, best_dy = INFINITY, lx = 0, ly = 0;
         for (size_t j = 0; j + 1 < g->ny; j++)
             for (size_t i = 0; i + 1 < g->nx; i++) {
                 double c[4] = {g->z[j * g->nx + i], g->z[j * g->nx + i + 1],
@@ -160,9 +162,14 @@ void rep_draw_contours(report *r, rf_svg *s, int faint)
                     edge_point(g, i, j, c, seg[2 * k + 1], level, &xb, &yb);
                     rf_svg_path_move(s, xa, ya);
                     rf_svg_path_line(s, xb, yb);
+                    /* nearest the label's x; of equals (a contour along y), the one
+                     * nearest the plot's middle height */
                     double d = fabs(0.5 * (xa + xb) - label_x);
-                    if (major && d < best) {
+                    double dy = fabs(0.5 * (ya + yb) - label_y);
+                    if (major && (d < best - RF_LABEL_TIE || (d <= best + RF_LABEL_TIE &&
+                                                              dy < best_dy))) {
                         best = d;
+                        best_dy = dy;
                         lx = 0.5 * (xa + xb);
                         ly = 0.5 * (ya + yb);
                     }
@@ -287,15 +294,30 @@ static void legend_line(legend *l, const char *stroke_attrs, const char *label)
     l->y += 19;
 }
 
+/* The measures in the legend: the structures under their heading, the control lines
+ * (dashed, thinner: lines whose crossings are counted) under theirs. */
 static void legend_measures(report *r, legend *l)
 {
-    for (size_t k = 0; k < r->nmea; k++) {
-        const rep_measure *m = &r->mea[k];
-        char attrs[160], label[300];
-        snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"%s\"%s", rep_measure_colour(m),
-                 rep_is_control(m) ? "3" : "5", rep_is_control(m) ? " stroke-dasharray=\"8 4\"" : "");
-        snprintf(label, sizeof label, "%s (%s)", m->name, m->kind_name);
-        legend_line(l, attrs, label);
+    for (int control = 0; control < 2; control++) {
+        int any = 0;
+        for (size_t k = 0; k < r->nmea; k++) {
+            const rep_measure *m = &r->mea[k];
+            if (rep_is_control(m) != control)
+                continue;
+            if (!any++) {
+                l->y += 8;
+                legend_title(l, control ? "Control lines" : "Structures");
+            }
+            char attrs[160], label[300];
+            snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"%s\"%s",
+                     rep_measure_colour(m), control ? "3" : "5",
+                     control ? " stroke-dasharray=\"8 4\"" : "");
+            if (control)
+                snprintf(label, sizeof label, "%s", m->name);
+            else
+                snprintf(label, sizeof label, "%s (%s)", m->name, m->kind_name);
+            legend_line(l, attrs, label);
+        }
     }
 }
 
@@ -335,6 +357,27 @@ void rep_legend_classes(legend *l, const char *title, const double *lim, int nli
     }
 }
 
+/* The classes of a map of counts from 1 (whole numbers), the highest first: "1" (or
+ * "1 - a-1"), "a - b-1", ">= b". */
+void rep_legend_counts(legend *l, const char *title, const double *lim, int nlim,
+                       const char *const *colours)
+{
+    legend_title(l, title);
+    for (int c = nlim; c >= 0; c--) {
+        char label[120], attrs[120];
+        double lo = c ? lim[c - 1] : 1.0, hi = c < nlim ? lim[c] - 1.0 : INFINITY;
+        if (c == nlim)
+            snprintf(label, sizeof label, ">= %g", lo);
+        else if (hi > lo)
+            snprintf(label, sizeof label, "%g - %g", lo, hi);
+        else
+            snprintf(label, sizeof label, "%g", lo);
+        snprintf(attrs, sizeof attrs, "fill=\"%s\" stroke=\"#444\" stroke-width=\"0.5\"",
+                 colours[c]);
+        rep_legend_swatch(l, attrs, label);
+    }
+}
+
 /* Over a plan's own layers: the measures, the releases, the north arrow, the scale bar
  * and the axes.  Returns the legend beside the plot, for the plan's own entries. */
 legend rep_plan_overlays(report *r, rf_svg *s)
@@ -350,8 +393,6 @@ legend rep_plan_overlays(report *r, rf_svg *s)
  * end of the plan. */
 int rep_close_plan(report *r, legend *l)
 {
-    l->y += 8;
-    legend_title(l, "Measures");
     legend_measures(r, l);
     l->y += 8;
     legend_contours(r, l);
@@ -360,10 +401,21 @@ int rep_close_plan(report *r, legend *l)
 
 /* ---- figure: plan view (Fig. 9, 11) -------------------------------------------------- */
 
-int rep_figure_plan(report *r)
+/* The plan view's caption: what it draws, counted. */
+void rep_plan_caption(const report *r, char *buf, size_t n)
+{
+    snprintf(buf, n,
+             "Fig. 9 and 11: the sampled paths of %ld of the %ld trajectories, coloured by "
+             "release, the end points of %ld, the release points and the measures in plan%s",
+             r->n_path_traj, r->n_traj, r->n_stop_points,
+             r->grid.z ? ", over the terrain contours" : "");
+}
+
+
+int rep_figure_plan(report *r, const char *file)
 {
     rf_svg s;
-    if (rep_open_plan(r, &s, "plan.svg", "Plan view: trajectories, releases and measures"))
+    if (rep_open_plan(r, &s, file, "Plan view: trajectories, releases and measures"))
         return -1;
     rep_draw_contours(r, &s, 0);
 
@@ -422,9 +474,10 @@ int rep_figure_plan(report *r)
         return -1;
     }
     rf_svg_raw(&s, "<g clip-path=\"url(#plot)\" fill=\"black\" fill-opacity=\"0.55\">\n");
+    r->n_stop_points = 0;
     while (sqlite3_step(st) == SQLITE_ROW) {
         double x = rf_query_column_real(st, 0), y = rf_query_column_real(st, 1);
-        if (isfinite(x) && isfinite(y))
+        if (isfinite(x) && isfinite(y) && ++r->n_stop_points)
             rf_svg_raw(&s, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.8\"/>\n", rf_svg_px(&s, x),
                        rf_svg_py(&s, y));
     }

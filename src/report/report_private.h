@@ -45,6 +45,7 @@ typedef struct report {
     rep_measure *mea;
     size_t nmea;
     long n_traj, n_path_traj;
+    long n_stop_points;      /* end points drawn on the plan */
     int have_terrain;        /* the run stored its terrain (terrain_grids) */
     double mu;               /* the surface's mean friction; NaN when not stored */
     contour_grid grid;
@@ -118,10 +119,13 @@ int rep_build_contour_grid(report *r);
 int rep_close_plan(report *r, legend *l);
 int rep_compute_extent(report *r);
 void rep_draw_contours(report *r, rf_svg *s, int faint);
-int rep_figure_plan(report *r);
+int rep_figure_plan(report *r, const char *file);
+void rep_plan_caption(const report *r, char *buf, size_t n);
 void rep_legend_classes(legend *l, const char *title, const double *lim, int nlim,
                         double scale, const char *unit, const char *const *colours,
                         const char *swatch_class);
+void rep_legend_counts(legend *l, const char *title, const double *lim, int nlim,
+                       const char *const *colours);
 void rep_legend_swatch(legend *l, const char *swatch_attrs, const char *label);
 int rep_open_plan(report *r, rf_svg *s, const char *file, const char *title);
 legend rep_plan_overlays(report *r, rf_svg *s);
@@ -138,7 +142,15 @@ void rep_vertical_marker(rf_svg *s, double x, const char *line_attrs, const char
 /* report_hazard.c */
 int rep_section_hazard(report *r);
 
+/* report.c */
+int rep_make_dirs(const char *dir, rf_error *err);
+void rep_free_report(report *r);
+/* The page's head: <html>, the title (escaped), the style sheet, <body>. */
+void rep_page_head(FILE *f, const char *title);
+
 /* report_measures.c */
+/* The share of the crossings within `capacity` and not overtopped, as the checks count it. */
+double rep_share_within(const rf_crossing_row *x, size_t n, double capacity);
 int rep_checks_table(report *r, FILE *f, int64_t measure_id, long *npass, long *nfail);
 int rep_section_measures(report *r, long *npass, long *nfail);
 

@@ -12,6 +12,9 @@
 
 /* Fig. 1b: the largest empirical spreading angle. */
 #define ATTAINMENT_BETA_DEG 45.0
+/* Most releases whose Eq. 1 velocities Fig. 10b draws (two lines each, labelled along
+ * them); with more the crosscheck table holds them. */
+#define MAX_EQ1_RELEASES 3
 /* Right edge of the plot area of the 820 px charts; their legend goes beside it. */
 #define CHART_RIGHT 670
 
@@ -221,9 +224,12 @@ void rep_vertical_marker(rf_svg *s, double x, const char *line_attrs, const char
     rf_svg_text(s, px, py, attrs, "%s", label);
 }
 
+/* Fig. 10a with the attainment range of each release that has one; returns the number
+ * of ranges drawn, or -1. */
 static int figure_road_position(report *r, const rep_measure *m, const road_stats *rs,
                                 const crosscheck *cc, const char *file)
 {
+    int ndrawn = 0;
     double lo = rs->s_min, hi = rs->s_max;
     double spread = hi - lo;
     for (size_t k = 0; k < r->nrel; k++) {
@@ -251,6 +257,7 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     for (size_t k = 0; k < r->nrel; k++) {
         if (!isfinite(cc[k].L))
             continue;
+        ndrawn++;
         double y = cmax * 1.08 + band * ((double)k + 0.5);
         double a = fmax(lo, cc[k].s_centre - cc[k].width / 2);
         double b = fmin(hi, cc[k].s_centre + cc[k].width / 2);
@@ -267,13 +274,15 @@ static int figure_road_position(report *r, const rep_measure *m, const road_stat
     }
     char xlabel[600];
     snprintf(xlabel, sizeof xlabel, "position along %s from its first point (m)", m->name);
-    return rep_hist_close(r, &h, xlabel, "number of rocks");
+    return rep_hist_close(r, &h, xlabel, "number of rocks") ? -1 : ndrawn;
 }
 
+/* Fig. 10b with the Eq. 1 velocities of each release as lines when there are at most
+ * MAX_EQ1_RELEASES releases; returns the number of lines drawn, or -1. */
 static int figure_road_velocity(report *r, const rep_measure *m, const road_stats *rs,
                                 const crosscheck *cc, const char *file)
 {
-    int lines = r->nrel <= 3;
+    int lines = r->nrel <= MAX_EQ1_RELEASES, ndrawn = 0;
     double hi = rs->v_max;
     for (size_t k = 0; lines && k < r->nrel; k++) {
         rep_grow(&hi, &hi, cc[k].v_class_d);
@@ -303,6 +312,7 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
         for (int j = 0; j < 2; j++) {
             if (!isfinite(v[j]))
                 continue;
+            ndrawn++;
             char attrs[120];
             snprintf(attrs, sizeof attrs, "stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"",
                      j ? "#555" : "#000", j ? "3 3" : "8 4");
@@ -314,7 +324,7 @@ static int figure_road_velocity(report *r, const rep_measure *m, const road_stat
     }
     char xlabel[600];
     snprintf(xlabel, sizeof xlabel, "velocity at %s (m/s)", m->name);
-    return rep_hist_close(r, &h, xlabel, "number of rocks");
+    return rep_hist_close(r, &h, xlabel, "number of rocks") ? -1 : ndrawn;
 }
 
 /* ---- section: the road ---------------------------------------------------------------- */
@@ -375,17 +385,31 @@ static int road_figures(report *r, const rep_measure *m, const road_stats *rs,
         char fpos[64], fvel[64];
         snprintf(fpos, sizeof fpos, "road-%ld-position.svg", m->idx);
         snprintf(fvel, sizeof fvel, "road-%ld-velocity.svg", m->idx);
-        if (figure_road_position(r, m, rs, cc, fpos) ||
-            figure_road_velocity(r, m, rs, cc, fvel))
+        int nranges = figure_road_position(r, m, rs, cc, fpos);
+        int nlines = nranges < 0 ? -1 : figure_road_velocity(r, m, rs, cc, fvel);
+        if (nranges < 0 || nlines < 0)
             return -1;
-        char cap[600];
-        snprintf(cap, sizeof cap,
-                 "Fig. 10a: where the rocks cross %s, with the empirical attainment range "
-                 "of each release (Fig. 1b, 2 L tan 45 deg)",
-                 m->name);
+        char cap[800];
+        int n = snprintf(cap, sizeof cap, "Fig. 10a: where the rocks cross %s, by release",
+                         m->name);
+        if (nranges)
+            snprintf(cap + n, sizeof cap - (size_t)n,
+                     ", with the empirical attainment range of %d release%s (Fig. 1b, "
+                     "2 L tan 45 deg)",
+                     nranges, nranges == 1 ? "" : "s");
         rep_figure_html(f, fpos, cap);
-        snprintf(cap, sizeof cap,
-                 "Fig. 10b: velocity of the rocks crossing %s, with Eq. 1 velocities", m->name);
+        n = snprintf(cap, sizeof cap, "Fig. 10b: velocity of the rocks crossing %s, by release",
+                     m->name);
+        if (nlines)
+            snprintf(cap + n, sizeof cap - (size_t)n,
+                     ", with %d Eq. 1 velocit%s of the releases (long dashes: mu of Table 2, "
+                     "class D; short dashes: the project's mu)",
+                     nlines, nlines == 1 ? "y" : "ies");
+        else if (r->nrel > MAX_EQ1_RELEASES)
+            snprintf(cap + n, sizeof cap - (size_t)n,
+                     "; the Eq. 1 velocities of the %zu releases are not drawn (more than %d): "
+                     "they are in the crosscheck table below",
+                     r->nrel, MAX_EQ1_RELEASES);
         rep_figure_html(f, fvel, cap);
     } else {
         fputs("<p>No rock reached this line: no arrival figures.</p>\n", f);

@@ -2,6 +2,7 @@
 #include "report/svg.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <string.h>
@@ -10,6 +11,9 @@
 #include "base/util.h"
 
 #define SVG_FONT "font-family=\"DejaVu Sans, Arial, Helvetica, sans-serif\""
+/* The axes' tick labels: the document's font size, and the least gap between two. */
+#define AXIS_FONT_PX 13.0
+#define TICK_LABEL_GAP 8.0
 
 int rf_svg_open(rf_svg *s, const char *path, double width, double height, const char *title,
                 rf_error *err)
@@ -128,6 +132,137 @@ static int step_decimals(double step)
     return d < 0 ? 0 : d > 6 ? 6 : d;
 }
 
+/* Advance widths of DejaVu Sans (the figures' first font), in em: digits 1303 of its
+ * 2048 units per em, '.' and ' ' 651, '-' 739, U+2212 1716. */
+#define EM_DIGIT (1303.0 / 2048.0)
+#define EM_POINT (651.0 / 2048.0)
+#define EM_HYPHEN (739.0 / 2048.0)
+#define EM_MINUS (1716.0 / 2048.0)
+#define EM_OTHER 0.7
+
+double rf_svg_text_width(const char *text, double font_size)
+{
+    double em = 0.0;
+    for (const unsigned char *c = (const unsigned char *)text; c && *c; c++) {
+        if (*c >= '0' && *c <= '9')
+            em += EM_DIGIT;
+        else if (*c == '.' || *c == ' ' || *c == ',')
+            em += EM_POINT;
+        else if (*c == '-')
+            em += EM_HYPHEN;
+        else if (c[0] == 0xe2 && c[1] == 0x88 && c[2] == 0x92) {
+            em += EM_MINUS;
+            c += 2;
+        } else if ((*c & 0xc0) != 0x80)
+            em += EM_OTHER; /* one per character: UTF-8 continuation bytes add nothing */
+    }
+    return em * font_size;
+}
+
+double rf_svg_axis_origin(double lo, double hi)
+{
+    double span = hi - lo, big = fmax(fabs(lo), fabs(hi));
+    if (!isfinite(span) || !(span >= 0.0) || big < 1e4 || lo * hi <= 0.0 || big < 10.0 * span)
+        return 0.0;
+    double p = span > 1.0 ? pow(10.0, ceil(log10(span))) : 1.0;
+    return floor(lo / p) * p;
+}
+
+void rf_svg_format_grouped(char *buf, size_t n, double v, int decimals)
+{
+    char raw[64];
+    snprintf(raw, sizeof raw, "%.*f", decimals, fabs(v) < 1e300 ? v : 0.0);
+    const char *digits = raw + (raw[0] == '-');
+    size_t nint = strcspn(digits, ".");
+    size_t o = 0;
+    if (raw[0] == '-' && o + 1 < n)
+        buf[o++] = '-';
+    for (size_t i = 0; digits[i] && o + 1 < n; i++) {
+        if (i > 0 && i < nint && (nint - i) % 3 == 0 && o + 2 < n)
+            buf[o++] = ' ';
+        buf[o++] = digits[i];
+    }
+    if (n)
+        buf[o < n ? o : n - 1] = '\0';
+}
+
+/* The first tick at or above lo, a whole number of steps from 0. */
+static double first_tick(double lo, double step)
+{
+    return ceil(lo / step - RF_TICK_SNAP) * step;
+}
+
+/* The label of the tick at v: v - origin with the step's decimals, never "-0". */
+static void tick_label(char *buf, size_t n, double v, double origin, double step)
+{
+    double shown = v - origin;
+    snprintf(buf, n, "%.*f", step_decimals(step), fabs(shown) < RF_TICK_SNAP * step ? 0.0 : shown);
+}
+
+/* The widest x tick label at this step (px, the axes' 13 px font). */
+static double widest_label(const rf_svg *s, double step)
+{
+    double w = 0.0;
+    char buf[64];
+    for (double v = first_tick(s->x0, step); v <= s->x1 + RF_TICK_SNAP * step; v += step) {
+        tick_label(buf, sizeof buf, v, s->x_origin, step);
+        w = fmax(w, rf_svg_text_width(buf, AXIS_FONT_PX));
+    }
+    return w;
+}
+
+/* The next round step above `step`: 1 -> 2 -> 5 -> 10 times a power of ten. */
+static double next_step(double step)
+{
+    double p = pow(10.0, floor(log10(step) + RF_TICK_SNAP));
+    double m = step / p;
+    return (m < 1.5 ? 2.0 : m < 3.5 ? 5.0 : 10.0) * p;
+}
+
+/* The number of ticks at this step within [x0, x1]. */
+static long tick_count(const rf_svg *s, double step)
+{
+    return (long)(floor(s->x1 / step + RF_TICK_SNAP) - ceil(s->x0 / step - RF_TICK_SNAP)) + 1;
+}
+
+/* The x tick step: about one per 90 px, widened until the widest label and a gap of
+ * TICK_LABEL_GAP px fit between two ticks.  *nmax gets the number of ticks to draw:
+ * all of them, or 1 on a plot too narrow for two labels. */
+static double x_tick_step(const rf_svg *s, long *nmax)
+{
+    double px_per_unit = (s->right - s->left) / (s->x1 - s->x0);
+    double step = rf_svg_nice_step(s->x1 - s->x0, (int)((s->right - s->left) / 90.0) + 1);
+    *nmax = LONG_MAX;
+    while (tick_count(s, step) > 1 &&
+           widest_label(s, step) + TICK_LABEL_GAP > step * px_per_unit) {
+        if (tick_count(s, next_step(step)) < 1) {
+            *nmax = 1;
+            break;
+        }
+        step = next_step(step);
+    }
+    return step;
+}
+
+/* An axis title with the origin its labels count from: "x (m)" and 2 600 000 give
+ * "x \u2212 2 600 000 (m)" (the origin before a closing "(unit)"). */
+static void origin_title(char *buf, size_t n, const char *label, double origin)
+{
+    if (origin == 0.0) {
+        snprintf(buf, n, "%s", label);
+        return;
+    }
+    char num[64];
+    rf_svg_format_grouped(num, sizeof num, fabs(origin), 0);
+    const char *sign = origin > 0 ? "\xe2\x88\x92" : "+";
+    size_t len = strlen(label);
+    const char *unit = len && label[len - 1] == ')' ? strrchr(label, '(') : NULL;
+    if (unit && unit > label && unit[-1] == ' ')
+        snprintf(buf, n, "%.*s %s %s %s", (int)(unit - label - 1), label, sign, num, unit);
+    else
+        snprintf(buf, n, "%s %s %s", label, sign, num);
+}
+
 void rf_svg_axes(rf_svg *s, const char *xlabel, const char *ylabel)
 {
     FILE *f = s->f;
@@ -135,38 +270,53 @@ void rf_svg_axes(rf_svg *s, const char *xlabel, const char *ylabel)
             "<rect x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" fill=\"none\" "
             "stroke=\"#333\" stroke-width=\"1\"/>\n",
             s->left, s->top, s->right - s->left, s->bottom - s->top);
-    double xstep = rf_svg_nice_step(s->x1 - s->x0, (int)((s->right - s->left) / 90.0) + 1);
+    s->x_origin = rf_svg_axis_origin(s->x0, s->x1);
+    s->y_origin = rf_svg_axis_origin(s->y0, s->y1);
+    long nxmax;
+    double xstep = x_tick_step(s, &nxmax);
     double ystep = rf_svg_nice_step(s->y1 - s->y0, (int)((s->bottom - s->top) / 60.0) + 1);
     if (s->y_counts && ystep < 1.0)
         ystep = 1.0;
-    int xd = step_decimals(xstep), yd = step_decimals(ystep);
     fputs("<g stroke=\"#333\" stroke-width=\"1\">\n", f);
-    for (double v = ceil(s->x0 / xstep - RF_TICK_SNAP) * xstep; v <= s->x1 + RF_TICK_SNAP * xstep; v += xstep) {
+    long nx = 0;
+    for (double v = first_tick(s->x0, xstep); v <= s->x1 + RF_TICK_SNAP * xstep && nx++ < nxmax;
+         v += xstep) {
         double px = rf_svg_px(s, v);
         fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", px, s->bottom, px,
                 s->bottom + 5);
     }
-    for (double v = ceil(s->y0 / ystep - RF_TICK_SNAP) * ystep; v <= s->y1 + RF_TICK_SNAP * ystep; v += ystep) {
+    for (double v = first_tick(s->y0, ystep); v <= s->y1 + RF_TICK_SNAP * ystep; v += ystep) {
         double py = rf_svg_py(s, v);
         fprintf(f, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\"/>\n", s->left - 5, py,
                 s->left, py);
     }
     fputs("</g>\n", f);
-    for (double v = ceil(s->x0 / xstep - RF_TICK_SNAP) * xstep; v <= s->x1 + RF_TICK_SNAP * xstep; v += xstep)
-        rf_svg_text(s, rf_svg_px(s, v), s->bottom + 19, "text-anchor=\"middle\"", "%.*f", xd,
-                    fabs(v) < RF_TICK_SNAP * xstep ? 0.0 : v);
-    for (double v = ceil(s->y0 / ystep - RF_TICK_SNAP) * ystep; v <= s->y1 + RF_TICK_SNAP * ystep; v += ystep)
-        rf_svg_text(s, s->left - 8, rf_svg_py(s, v) + 4, "text-anchor=\"end\"", "%.*f", yd,
-                    fabs(v) < RF_TICK_SNAP * ystep ? 0.0 : v);
-    if (xlabel)
+    char label[64];
+    nx = 0;
+    for (double v = first_tick(s->x0, xstep); v <= s->x1 + RF_TICK_SNAP * xstep && nx++ < nxmax;
+         v += xstep) {
+        tick_label(label, sizeof label, v, s->x_origin, xstep);
+        rf_svg_text(s, rf_svg_px(s, v), s->bottom + 19, "class=\"xtick\" text-anchor=\"middle\"",
+                    "%s", label);
+    }
+    for (double v = first_tick(s->y0, ystep); v <= s->y1 + RF_TICK_SNAP * ystep; v += ystep) {
+        tick_label(label, sizeof label, v, s->y_origin, ystep);
+        rf_svg_text(s, s->left - 8, rf_svg_py(s, v) + 4, "class=\"ytick\" text-anchor=\"end\"",
+                    "%s", label);
+    }
+    char title[1024];
+    if (xlabel) {
+        origin_title(title, sizeof title, xlabel, s->x_origin);
         rf_svg_text(s, (s->left + s->right) / 2, s->bottom + 40, "text-anchor=\"middle\"", "%s",
-                    xlabel);
+                    title);
+    }
     if (ylabel) {
         double cx = s->left - 52, cy = (s->top + s->bottom) / 2;
         char attrs[160];
         snprintf(attrs, sizeof attrs, "text-anchor=\"middle\" transform=\"rotate(-90 %.1f %.1f)\"",
                  cx, cy);
-        rf_svg_text(s, cx, cy, attrs, "%s", ylabel);
+        origin_title(title, sizeof title, ylabel, s->y_origin);
+        rf_svg_text(s, cx, cy, attrs, "%s", title);
     }
 }
 

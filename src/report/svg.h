@@ -15,6 +15,7 @@ typedef struct rf_svg {
     double left, top, right, bottom;  /* plot area (px) */
     double x0, x1, y0, y1;            /* data range of the plot area; y up */
     int y_counts;                     /* y ticks at whole numbers only (counts) */
+    double x_origin, y_origin;        /* subtracted from the tick labels (rf_svg_axes) */
 } rf_svg;
 
 /* Creates the file and writes the <svg> head, a white background and the title
@@ -42,7 +43,22 @@ void rf_svg_raw(rf_svg *s, const char *fmt, ...) __attribute__((format(printf, 2
 /* A round step (1, 2 or 5 times a power of ten) giving about `target` steps over
  * `range`. */
 double rf_svg_nice_step(double range, int target);
-/* Frame, ticks with labels on both axes and the axis titles (escaped). */
+/* The width (px) of text at font_size as the figures' font (DejaVu Sans) sets it: its
+ * advance widths for digits, signs and spaces, 0.7 em (wider than any of its Latin
+ * letters but W and M) for every other byte. */
+double rf_svg_text_width(const char *text, double font_size);
+/* The origin an axis over [lo, hi] counts its tick labels from: 0 when its labels are
+ * short (below 10 000, or a span of at least a tenth of the values, or both signs);
+ * else the round number at or below lo that is a multiple of the power of ten at or
+ * above the span (at least 1), so national coordinates (LV95 2 600 000 / 1 200 000,
+ * Lambert-93 700 000 / 6 600 000) are labelled as metres within the site. */
+double rf_svg_axis_origin(double lo, double hi);
+/* v with its thousands set apart by spaces ("2 600 000"), as many decimals as given. */
+void rf_svg_format_grouped(char *buf, size_t n, double v, int decimals);
+/* Frame, ticks with labels on both axes and the axis titles (escaped).  The x ticks
+ * are spaced so that no two labels overlap (rf_svg_text_width, 8 px apart at least).
+ * An axis with an origin (rf_svg_axis_origin, kept in x_origin / y_origin) labels its
+ * ticks from it and its title says so: "x (m)" becomes "x - 2 600 000 (m)". */
 void rf_svg_axes(rf_svg *s, const char *xlabel, const char *ylabel);
 
 /* One <path> in data coordinates: begin, move/line, end. */
