@@ -24,4 +24,8 @@ extern const double rf_report_energy_limits[RF_REPORT_N_ENERGY_LIMITS];
  * without contours and the report says so.  Returns 0, or fills err. */
 int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
 
+/* `rockfall export` (report/export.c): the run's hazard maps as ESRI ASCII grids with
+ * their .prj and a README.txt in DIR (created when missing).  Returns 0, or fills err. */
+int rf_export_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
+
 #endif
