@@ -602,3 +602,163 @@ TEST(gis_older_file_upgraded_to_a_geopackage)
     sqlite3_close(db);
     free(before);
 }
+
+/* ---- layouts drawn in QGIS --------------------------------------------------------------- */
+
+/* A GeoPackage layer NAME in DIR's FILE made by ogr2ogr from GeoJSON features (in
+ * Lambert-93 unless crs says another); 0 when ogr2ogr is not installed. */
+static int make_layer(const char *file, const char *layer, const char *crs, const char *features)
+{
+    if (!have_tool("ogr2ogr"))
+        return 0;
+    char json[8192], name[300], cmd[9000];
+    snprintf(json, sizeof json,
+             "{\"type\": \"FeatureCollection\", \"crs\": {\"type\": \"name\", \"properties\":"
+             " {\"name\": \"urn:ogc:def:crs:%s\"}}, \"features\": [%s]}",
+             crs, features);
+    snprintf(name, sizeof name, "%s.geojson", layer);
+    const char *src = rf_test_write(name, json);
+    char src_keep[4096];
+    snprintf(src_keep, sizeof src_keep, "%s", src);
+    const char *dst = rf_test_path(file);
+    snprintf(cmd, sizeof cmd, "ogr2ogr -f GPKG %s-nln %s '%s' '%s'",
+             access(dst, F_OK) == 0 ? "-update " : "", layer, dst, src_keep);
+    ENSURE_MSG(system(cmd) == 0, "%s", cmd);
+    return 1;
+}
+
+#define L93 "EPSG::2154"
+#define FEATURE(props, geom) \
+    "{\"type\": \"Feature\", \"properties\": {" props "}, \"geometry\": " geom "}"
+
+static const char layout_measures[] =
+    FEATURE("\"name\": \"B1\", \"kind\": \"barrier\", \"height\": 3, \"mel\": 1000",
+            "{\"type\": \"LineString\", \"coordinates\": [[0, 20], [40, 20.5]]}") ","
+    FEATURE("\"name\": \"E1\", \"kind\": \"embankment\", \"height\": 4,"
+            " \"capacity_serviceability\": 500, \"capacity_ultimate\": 2000",
+            "{\"type\": \"LineString\", \"coordinates\": [[0, 15, 3], [40, 15, 3]]}") ","
+    FEATURE("\"name\": \"road\", \"kind\": \"control\"",
+            "{\"type\": \"MultiLineString\", \"coordinates\": [[[0, 10], [40, 10]]]}");
+
+static const char layout_releases[] =
+    FEATURE("\"rock\": \"r\", \"count\": 3", "{\"type\": \"Point\", \"coordinates\": [20, 35]}") ","
+    FEATURE("\"name\": \"scarp\", \"rock\": \"r\", \"count\": 5",
+            "{\"type\": \"Polygon\", \"coordinates\": [[[5, 30], [35, 30], [35, 36], [5, 36], [5, 30]]]}");
+
+static const char *layout_project(const char *name, const char *crs, const char *measures_layer)
+{
+    char *dem = realpath("tests/data/project/plane5.asc", NULL);
+    ENSURE(dem);
+    char text[2048];
+    snprintf(text, sizeof text,
+             "name: layout\n"
+             "crs: %s\n"
+             "terrain: {dem: %s}\n"
+             "rocks: [{name: r, mass: 500}]\n"
+             "releases:\n"
+             "  - {gpkg: layout.gpkg, layer: releases}\n"
+             "measures:\n"
+             "  - {gpkg: layout.gpkg, layer: %s}\n"
+             "vegetation:\n"
+             "  - {gpkg: layout.gpkg, layer: forest}\n"
+             "simulation: {model: point, paths: 2}\n",
+             crs, dem, measures_layer);
+    free(dem);
+    return rf_test_write(name, text);
+}
+
+/* A layout written by ogr2ogr from GeoJSON is read back as the project's measures,
+ * releases and forest, and the rocks cross its barrier. */
+TEST(gis_layout_from_a_geopackage_read_back_and_crossed)
+{
+    if (!make_layer("layout.gpkg", "measures", L93, layout_measures))
+        return;
+    make_layer("layout.gpkg", "releases", L93, layout_releases);
+    make_layer("layout.gpkg", "forest", L93,
+               FEATURE("\"name\": \"wood\", \"density\": 0.01, \"height_mean\": 5, \"height_sd\": 1,"
+                       " \"diameter\": 0.2",
+                       "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [40, 0], [40, 12],"
+                       " [0, 12], [0, 0]]]]}"));
+    const char *yaml = layout_project("p.yaml", "EPSG:2154", "measures");
+    rf_project p;
+    rf_error err;
+    ENSURE_MSG(rf_project_load(yaml, &p, &err) == 0, "%d:%d %s", err.line, err.column, err.message);
+    ENSURE(p.nmeasures == 3 && p.nreleases == 2 && p.nforests == 1);
+    ENSURE(!strcmp(p.measures[0].name, "B1") && p.measures[0].kind == RF_BARRIER &&
+           p.measures[0].height == 3 && p.measures[0].mel == 1000);
+    ENSURE(p.measures[0].line.n == 2 && p.measures[0].line.xy[3] == 20.5);
+    ENSURE(p.measures[1].kind == RF_EMBANKMENT && p.measures[1].capacity[RF_SERVICEABILITY] == 500 &&
+           p.measures[1].capacity[RF_ULTIMATE] == 2000);
+    ENSURE(p.measures[2].kind == RF_CONTROL && p.measures[2].line.n == 2);
+    /* a feature without a name is named after its layer and id */
+    ENSURE(!strcmp(p.releases[0].name, "releases-1") && p.releases[0].source == RF_SOURCE_POINT &&
+           p.releases[0].count == 3);
+    ENSURE(p.releases[1].source == RF_SOURCE_AREA && p.releases[1].narea == 4); /* not closed again */
+    ENSURE(p.forests[0].density == 0.01 && p.forests[0].height.mean == 5 &&
+           p.forests[0].height.sd == 1 && p.forests[0].polygon.n == 4);
+    rf_project_free(&p);
+
+    char db_path[4096];
+    snprintf(db_path, sizeof db_path, "%s", rf_test_path("r.gpkg"));
+    rockfall(0, "run %s -o %s -q", yaml, db_path);
+    sqlite3 *db = open_db(db_path);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM interceptions i JOIN measures m ON m.id = i.measure_id"
+                       " WHERE m.name = 'B1'") > 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM measure_lines WHERE name IN ('B1', 'E1', 'road')") == 3);
+    sqlite3_close(db);
+}
+
+/* Errors name the file, the layer, the feature id and the attribute, at the item's line
+ * and column; a layer in another CRS is refused; a geometry the list does not take is
+ * an error. */
+TEST(gis_layout_errors_name_the_feature)
+{
+    if (!make_layer("layout.gpkg", "measures", L93,
+                    FEATURE("\"name\": \"B1\", \"kind\": \"barrier\", \"height\": 3, \"mel\": 1000",
+                            "{\"type\": \"LineString\", \"coordinates\": [[0, 20], [40, 20]]}") ","
+                    FEATURE("\"name\": \"B2\", \"kind\": \"barrier\", \"height\": 3, \"mel\": -3",
+                            "{\"type\": \"LineString\", \"coordinates\": [[0, 25], [40, 25]]}")))
+        return;
+    make_layer("layout.gpkg", "releases", L93, layout_releases);
+    make_layer("layout.gpkg", "forest", L93,
+               FEATURE("\"name\": \"wood\", \"density\": 0.01, \"height\": 5, \"diameter\": 0.2",
+                       "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [40, 0], [40, 12], [0, 12],"
+                       " [0, 0]]]}"));
+    make_layer("holes.gpkg", "forest", L93,
+               FEATURE("\"name\": \"wood\", \"density\": 0.01, \"height\": 5, \"diameter\": 0.2",
+                       "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [40, 0], [40, 12], [0, 12],"
+                       " [0, 0]], [[10, 2], [20, 2], [20, 8], [10, 2]]]}"));
+    make_layer("layout.gpkg", "points", L93,
+               FEATURE("\"name\": \"B3\", \"kind\": \"barrier\"",
+                       "{\"type\": \"Point\", \"coordinates\": [20, 35]}"));
+    rf_project p;
+    rf_error err;
+    ENSURE(rf_project_load(layout_project("a.yaml", "EPSG:2154", "measures"), &p, &err) != 0);
+    ENSURE_MSG(err.line == 8 && err.column == 5 &&
+                   strstr(err.message, "layout.gpkg, layer 'measures', feature 2, attribute 'mel': "
+                                       "'mel' must be a number > 0, got -3"),
+               "%d:%d %s", err.line, err.column, err.message);
+    ENSURE(rf_project_load(layout_project("b.yaml", "EPSG:2154", "points"), &p, &err) != 0);
+    ENSURE_MSG(strstr(err.message, "layer 'points', feature 1, its geometry: a Point; a measure "
+                                   "takes a LineString"), "%s", err.message);
+    ENSURE(rf_project_load(layout_project("c.yaml", "EPSG:2154", "nothere"), &p, &err) != 0);
+    ENSURE_MSG(err.line == 8 && strstr(err.message, "no feature layer 'nothere'"), "%s", err.message);
+    /* a forest's hole: refused, not dropped */
+    char *text = rf_test_read_text(layout_project("d.yaml", "EPSG:2154", "measures"));
+    ENSURE(text);
+    char *at = strstr(text, "  - {gpkg: layout.gpkg, layer: forest}");
+    ENSURE(at);
+    memcpy(at, "  - {gpkg:  holes.gpkg, layer: forest}", 38);
+    ENSURE(rf_project_load(rf_test_write("d.yaml", text), &p, &err) != 0);
+    ENSURE_MSG(err.line == 10 && strstr(err.message, "holes.gpkg, layer 'forest', feature 1, its "
+                                                     "geometry: a Polygon of 1 parts and 2 rings"),
+               "%s", err.message);
+    free(text);
+    /* a project in another CRS than the layers' */
+    ENSURE(rf_project_load(layout_project("e.yaml", "EPSG:2056", "measures"), &p, &err) != 0);
+    ENSURE_MSG(err.line == 6 && err.column == 5 &&
+                   strstr(err.message, "layer 'releases' of '") &&
+                   strstr(err.message, "is in the CRS 'RGF93 v1 / Lambert-93' and the project's is "
+                                       "'CH1903+ / LV95': rockfall does not reproject"),
+               "%d:%d %s", err.line, err.column, err.message);
+}

@@ -523,7 +523,8 @@ static int read_document(loader *L)
     p->seed = (uint64_t)seed;
 
     if (rf_ydoc_require(&L->d, root, "terrain", "the project file", &terrain, L->err) ||
-        read_terrain(L, terrain) || read_crs(L, root))
+        read_terrain(L, terrain) || read_crs(L, root) ||
+        rf_layout_check_crs(&L->d, &L->layouts, &p->crs, L->err))
         return -1;
     if (rf_load_list(L, root, &forest_list, 0, (void **)&p->forests, &p->nforests, read_forest,
                      NULL) ||
@@ -741,6 +742,8 @@ static int load(const char *path, const char *text, size_t len, rf_project *p, r
     if (rc == 0)
         rc = set_paths(&L, path);
     if (rc == 0)
+        rc = rf_layout_expand(&L.d, p->dir, &L.layouts, err);
+    if (rc == 0)
         rc = read_document(&L);
     if (rc == 0)
         rc = build_terrain(&L);
@@ -755,6 +758,7 @@ static int load(const char *path, const char *text, size_t len, rf_project *p, r
     free(L.line_nodes);
     rf_names_free(&L.rock_names);
     rf_names_free(&L.file_names);
+    rf_layouts_free(&L.layouts);
     rf_ydoc_free(&L.d);
     if (rc)
         rf_project_free(p);
