@@ -557,12 +557,12 @@ TEST(gis_older_file_upgraded_to_a_geopackage)
 {
     size_t n;
     char *v3 = read_bytes("tests/data/results-v3.db", &n);
-    FILE *f = fopen(rf_test_path("old.db"), "wb");
+    FILE *f = fopen(rf_test_path("old.gpkg"), "wb");
     ENSURE(f && fwrite(v3, 1, n, f) == n);
     fclose(f);
     free(v3);
     char path[4096];
-    snprintf(path, sizeof path, "%s", rf_test_path("old.db"));
+    snprintf(path, sizeof path, "%s", rf_test_path("old.gpkg"));
     sqlite3 *db = open_db(path);
     const char *rows = "SELECT group_concat(id || stop_x || stop_reason || max_energy_kj) FROM"
                        " (SELECT * FROM trajectories ORDER BY id)";
@@ -593,6 +593,16 @@ TEST(gis_older_file_upgraded_to_a_geopackage)
     ENSURE(!strcmp(before, (const char *)sqlite3_column_text(st, 0)));
     sqlite3_finalize(st);
     sqlite3_close(db);
+    if (have_tool("ogrinfo")) {
+        char cmd[4200];
+        snprintf(cmd, sizeof cmd, "ogrinfo -ro -so '%s' stop_points measure_lines", path);
+        char *info = capture(cmd);
+        ENSURE(info);
+        ENSURE_MSG(strstr(info, "using driver `GPKG' successful") && !strstr(info, "Warning") &&
+                       !strstr(info, "ERROR") && strstr(info, "Layer name: stop_points"),
+                   "%s", info);
+        free(info);
+    }
 
     const char *out = rockfall(2, "run %s -o %s", write_project("q.yaml", "crs: EPSG:2154"), path);
     ENSURE_MSG(strstr(out, "the file's layers are in the CRS 'Undefined cartesian SRS' and the "
