@@ -689,7 +689,8 @@ TEST(gis_layout_from_a_geopackage_read_back_and_crossed)
                        " \"diameter\": 0.2",
                        "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [40, 0], [40, 12],"
                        " [0, 12], [0, 0]]]]}"));
-    const char *yaml = layout_project("p.yaml", "EPSG:2154", "measures");
+    char yaml[4096];
+    snprintf(yaml, sizeof yaml, "%s", layout_project("p.yaml", "EPSG:2154", "measures"));
     rf_project p;
     rf_error err;
     ENSURE_MSG(rf_project_load(yaml, &p, &err) == 0, "%d:%d %s", err.line, err.column, err.message);
@@ -707,6 +708,28 @@ TEST(gis_layout_from_a_geopackage_read_back_and_crossed)
     ENSURE(p.forests[0].density == 0.01 && p.forests[0].height.mean == 5 &&
            p.forests[0].height.sd == 1 && p.forests[0].polygon.n == 4);
     rf_project_free(&p);
+
+    /* a zone of two parts: one zone holding both (even-odd over the joined rings) */
+    make_layer("layout.gpkg", "zones", L93,
+               FEATURE("\"name\": \"talus\", \"class\": \"D\"",
+                       "{\"type\": \"MultiPolygon\", \"coordinates\": [[[[0, 0], [10, 0], [10, 10],"
+                       " [0, 10], [0, 0]]], [[[30, 30], [40, 30], [40, 40], [30, 40], [30, 30]]]]}"));
+    char *text = rf_test_read_text(yaml);
+    ENSURE(text);
+    char *dem = strstr(text, "terrain: {dem: ");
+    ENSURE(dem && strchr(dem, '}'));
+    char zoned[4096];
+    snprintf(zoned, sizeof zoned, "%.*s, zones: [{gpkg: layout.gpkg, layer: zones}]%s",
+             (int)(strchr(dem, '}') - text), text, strchr(dem, '}'));
+    ENSURE_MSG(rf_project_load(rf_test_write("z.yaml", zoned), &p, &err) == 0, "%s", err.message);
+    ENSURE(p.terrain_spec.nzones == 1);
+    const rf_zone_spec *z = &p.terrain_spec.zones[0];
+    ENSURE(rf_point_in_polygon(z->poly_xy, z->npoly, 5, 5) &&
+           rf_point_in_polygon(z->poly_xy, z->npoly, 35, 35) &&
+           !rf_point_in_polygon(z->poly_xy, z->npoly, 20, 5) &&
+           !rf_point_in_polygon(z->poly_xy, z->npoly, 5, 30));
+    rf_project_free(&p);
+    free(text);
 
     char db_path[4096];
     snprintf(db_path, sizeof db_path, "%s", rf_test_path("r.gpkg"));
@@ -753,15 +776,38 @@ TEST(gis_layout_errors_name_the_feature)
                                    "takes a LineString"), "%s", err.message);
     ENSURE(rf_project_load(layout_project("c.yaml", "EPSG:2154", "nothere"), &p, &err) != 0);
     ENSURE_MSG(err.line == 8 && strstr(err.message, "no feature layer 'nothere'"), "%s", err.message);
-    /* a forest's hole: refused, not dropped */
-    char *text = rf_test_read_text(layout_project("d.yaml", "EPSG:2154", "measures"));
+    /* a forest's hole is kept (even-odd: its cut changes nothing); a release area's is
+     * refused */
+    char *text = rf_test_read_text(layout_project("d.yaml", "EPSG:2154", "points"));
     ENSURE(text);
     char *at = strstr(text, "  - {gpkg: layout.gpkg, layer: forest}");
     ENSURE(at);
     memcpy(at, "  - {gpkg:  holes.gpkg, layer: forest}", 38);
-    ENSURE(rf_project_load(rf_test_write("d.yaml", text), &p, &err) != 0);
-    ENSURE_MSG(err.line == 10 && strstr(err.message, "holes.gpkg, layer 'forest', feature 1, its "
-                                                     "geometry: a Polygon of 1 parts and 2 rings"),
+    at = strstr(text, "measures:\n  - {gpkg: layout.gpkg, layer: points}\n");
+    ENSURE(at);
+    memset(at, ' ', strlen("measures:\n  - {gpkg: layout.gpkg, layer: points}"));
+    at[strlen("measures:")] = '\n';
+    ENSURE_MSG(rf_project_load(rf_test_write("d.yaml", text), &p, &err) == 0, "%s", err.message);
+    ENSURE(p.nforests == 1);
+    const rf_polyline *f = &p.forests[0].polygon;
+    ENSURE(rf_point_in_polygon(f->xy, f->n, 5, 5) && rf_point_in_polygon(f->xy, f->n, 30, 6));
+    ENSURE(!rf_point_in_polygon(f->xy, f->n, 18, 3)); /* in the hole */
+    ENSURE(!rf_point_in_polygon(f->xy, f->n, 20, 20)); /* outside */
+    rf_project_free(&p);
+    free(text);
+    make_layer("holes.gpkg", "releases", L93,
+               FEATURE("\"name\": \"scarp\", \"rock\": \"r\"",
+                       "{\"type\": \"Polygon\", \"coordinates\": [[[5, 30], [35, 30], [35, 36], [5, 36],"
+                       " [5, 30]], [[10, 31], [12, 31], [12, 33], [10, 31]]]}"));
+    text = rf_test_read_text(layout_project("g.yaml", "EPSG:2154", "measures"));
+    ENSURE(text);
+    at = strstr(text, "  - {gpkg: layout.gpkg, layer: releases}");
+    ENSURE(at);
+    memcpy(at, "  - {gpkg:  holes.gpkg, layer: releases}", 40);
+    ENSURE(rf_project_load(rf_test_write("g.yaml", text), &p, &err) != 0);
+    ENSURE_MSG(err.line == 6 && strstr(err.message, "holes.gpkg, layer 'releases', feature 1, its "
+                                                     "geometry: a Polygon of 1 parts and 2 rings; a "
+                                                     "release area is one outer ring without holes"),
                "%s", err.message);
     free(text);
     /* a project in another CRS than the layers' */

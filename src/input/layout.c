@@ -298,6 +298,36 @@ static int add_pair(builder *b, int map, const char *key, int value, const char 
     return k && value && yaml_document_append_mapping_pair(&b->d->doc, map, k, value) ? 0 : -1;
 }
 
+/* Every ring of a polygon with holes, or of several polygons, as one vertex list for
+ * the even-odd rule, by which zones and forests hold a point (base/polygon.h): the
+ * first ring, closed, then each other ring, closed, between a cut from the first
+ * ring's first vertex to it and back.  Each cut is two edges on one segment in opposite
+ * directions, which a ray crosses both or neither, so they change no point's parity;
+ * a point exactly on a cut lies on an edge, and is held like a point on the
+ * boundary. */
+static int joined_rings_node(builder *b, const shape *s)
+{
+    int seq = new_node(b, 0, "its geometry");
+    const double *first = s->xy + 2 * s->start[0];
+    for (size_t r = 0; seq && r < s->nrings; r++) {
+        const double *xy = s->xy + 2 * s->start[r];
+        size_t n = s->n[r];
+        if (n > 1 && xy[0] == xy[2 * (n - 1)] && xy[1] == xy[2 * (n - 1) + 1])
+            n--; /* the closing point: written once, below */
+        for (size_t i = 0; seq && i <= n; i++) {
+            int p = point_node(b, i < n ? xy + 2 * i : xy);
+            if (!p || !yaml_document_append_sequence_item(&b->d->doc, seq, p))
+                seq = 0;
+        }
+        if (seq && r > 0 && r + 1 < s->nrings) { /* back along the cut */
+            int p = point_node(b, first);
+            if (!p || !yaml_document_append_sequence_item(&b->d->doc, seq, p))
+                seq = 0;
+        }
+    }
+    return seq; /* the last ring's cut back is the list's closing edge */
+}
+
 /* The feature's geometry as its list's key; -1 with why set when the list takes no such
  * geometry. */
 static int geometry_pair(builder *b, int map, int kind, const shape *s, char *why, size_t cap)
@@ -315,11 +345,13 @@ static int geometry_pair(builder *b, int map, int kind, const shape *s, char *wh
     if (kind != K_MEASURE && is_area && s->nparts == 1 && s->nrings == 1)
         return add_pair(b, map, kind == K_RELEASE ? "area" : "polygon", points_node(b, s, 0, 1),
                         "its geometry");
+    if ((kind == K_ZONE || kind == K_FOREST) && is_area)
+        return add_pair(b, map, "polygon", joined_rings_node(b, s), "its geometry");
     if (is_line && kind == K_MEASURE)
         snprintf(why, cap, "a MultiLineString of %zu lines; a measure is one line (split it: "
                            "QGIS's Multipart to Singleparts)", s->nparts);
     else if (is_area && kind != K_MEASURE)
-        snprintf(why, cap, "a %s of %zu parts and %zu rings; a polygon here is one outer "
+        snprintf(why, cap, "a %s of %zu parts and %zu rings; a release area is one outer "
                            "ring without holes (split it, or fill its holes)",
                  name, s->nparts, s->nrings);
     else

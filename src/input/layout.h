@@ -8,8 +8,9 @@
  * keys (NULL: the key is absent; `capacity_serviceability` the nested key
  * capacity: {serviceability}, and likewise the other documented columns), its
  * geometry the `line` (LineString, or a MultiLineString of one line), the `point`
- * (Point) or `area` (Polygon) of a release, or the `polygon` of a zone or forest
- * (Polygon, or a MultiPolygon of one polygon); Z and M values are ignored.  A layer
+ * (Point) or `area` (Polygon without holes) of a release, or the `polygon` of a zone
+ * or forest (Polygon or MultiPolygon, holes and parts joined for the even-odd rule);
+ * Z and M values are ignored.  A layer
  * must be in the project's CRS: rockfall does not reproject. */
 #ifndef ROCKFALL_LAYOUT_H
 #define ROCKFALL_LAYOUT_H
