@@ -452,11 +452,13 @@ int rf_gpkg_create(sqlite3 *db, const char *path, int upgrade, rf_error *err)
     snprintf(version, sizeof version, "UPDATE rockfall_schema SET version = %d;\n",
              RF_GPKG_SCHEMA_VERSION);
     if (exec_sql(db, path, required_sql, "creating the GeoPackage tables", err) ||
-        create_layers(db, path, err) ||
-        exec_sql(db, path, version, "creating the GeoPackage tables", err))
+        create_layers(db, path, err))
         return -1;
+    /* a new file has the version of its whole schema already (schema.c) */
     if (!upgrade)
         return 0;
+    if (exec_sql(db, path, version, "upgrading the results database to a GeoPackage", err))
+        return -1;
     sqlite3_stmt *st = NULL;
     int rc = sqlite3_prepare_v2(db, "SELECT id FROM runs ORDER BY id", -1, &st, NULL);
     int status = 0;
