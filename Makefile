@@ -1,7 +1,7 @@
 # rockfall - design checks for rockfall protection measures.
 #
 #   make            build build/rockfall
-#   make demo       build and run the example project (projects/noto) into noto.db, report/
+#   make demo       build and run the example project (projects/noto) into noto.gpkg, report/
 #   make test       build and run the tests (ends with "N passed, N failed")
 #   make test SANITIZE=1   the same under AddressSanitizer and UBSan
 #   make bench      speed against error of the motion engines
@@ -16,7 +16,7 @@
 # ---- settings ---------------------------------------------------------------
 CC       ?= cc
 PREFIX   ?= /usr/local
-PKGS     := sqlite3 gsl yaml-0.1
+PKGS     := sqlite3 gsl yaml-0.1 proj
 OPT      ?= -O2
 WARN     := -Wall -Wextra -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
             -Wno-missing-field-initializers -Werror
@@ -77,7 +77,7 @@ $(BUILD)/run_tests: $(TEST_OBJ) $(BUILD)/libfixtures.a $(BUILD)/librockfall.a
 	$(CC) $(LDFLAGS) $^ $(LDLIBS) -o $@
 
 # Debian packages the build needs, installed when they are missing.
-DEBS := libsqlite3-dev libgsl-dev libyaml-dev pkg-config
+DEBS := libsqlite3-dev libgsl-dev libyaml-dev libproj-dev pkg-config
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 deps:
 	@pkg-config --exists $(PKGS) 2>/dev/null || { \
@@ -90,12 +90,12 @@ deps:
 demo:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory all
-	rm -f noto.db noto.db-wal noto.db-shm
-	$(BUILD)/rockfall run projects/noto/noto-3.1-no-trees.yaml -o noto.db
-	$(BUILD)/rockfall run projects/noto/noto-3.1-trees.yaml -o noto.db
-	$(BUILD)/rockfall run projects/noto/noto-3.2.yaml -o noto.db
-	$(BUILD)/rockfall run projects/noto/noto-3.3.yaml -o noto.db
-	$(BUILD)/rockfall report noto.db --out report
+	rm -f noto.gpkg noto.gpkg-wal noto.gpkg-shm
+	$(BUILD)/rockfall run projects/noto/noto-3.1-no-trees.yaml -o noto.gpkg
+	$(BUILD)/rockfall run projects/noto/noto-3.1-trees.yaml -o noto.gpkg
+	$(BUILD)/rockfall run projects/noto/noto-3.2.yaml -o noto.gpkg
+	$(BUILD)/rockfall run projects/noto/noto-3.3.yaml -o noto.gpkg
+	$(BUILD)/rockfall report noto.gpkg --out report
 
 test:
 	@$(MAKE) --no-print-directory deps
@@ -166,7 +166,7 @@ report-check:
 	@[ -x /usr/bin/chromium ] || { echo "installing chromium"; \
 	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
 	  $(SUDO) apt-get install -y -qq chromium; }
-	sh tools/report_check.sh $(BUILD) noto.db
+	sh tools/report_check.sh $(BUILD) noto.gpkg
 
 install: $(BUILD)/rockfall
 	install -d $(DESTDIR)$(PREFIX)/bin

@@ -17,8 +17,8 @@ TEST(cli_version_and_help)
     ENSURE(strstr(out, "rockfall ") == out);
     ENSURE(rf_test_rockfall("--help", out, sizeof out) == 0);
     ENSURE(strstr(out, "usage: rockfall COMMAND"));
-    const char *cmds[] = {"run", "check", "report", "empirical"};
-    for (int i = 0; i < 4; i++) {
+    const char *cmds[] = {"run", "check", "report", "export", "empirical"};
+    for (int i = 0; i < 5; i++) {
         char args[64];
         snprintf(args, sizeof args, "%s --help", cmds[i]);
         ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s --help", cmds[i]);

@@ -16,8 +16,12 @@
 #include "rockfall/records.h"
 #include "rockfall/version.h"
 #include "input/measure_kinds.h"
+#include "results/gpkg.h"
 #include "results/schema.h"
 #include "results/store.h"
+
+#define RF_STR_(x) #x
+#define RF_STR(x) RF_STR_(x)
 
 /* ---- a small project, built by hand ------------------------------------------- */
 
@@ -349,7 +353,9 @@ TEST(store_schema_has_every_table_and_column)
                          " WHERE \"table\" = 'trajectories'") == 1);
     ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_list('interceptions')") == 3);
 
-    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_STORE_SCHEMA_VERSION);
+    /* the file a GeoPackage: GeoPackage's user_version, the version in rockfall_schema */
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_GPKG_USER_VERSION);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_STORE_SCHEMA_VERSION);
     char *mode = dump(db, "PRAGMA journal_mode");
     ENSURE_MSG(strcmp(mode, "wal\n") == 0, "journal_mode %s", mode);
     free(mode);
@@ -699,7 +705,7 @@ TEST(store_rejects_another_schema_version)
     rf_store *s = open_store(path);
     rf_store_close(s);
     sqlite3 *db = open_raw(path);
-    /* the version is the row of rockfall_schema (user_version keeps it too) */
+    /* the version is the row of rockfall_schema */
     exec_raw(db, "UPDATE rockfall_schema SET version = 7; PRAGMA user_version = 7");
     sqlite3_close(db);
 
@@ -708,9 +714,8 @@ TEST(store_rejects_another_schema_version)
     ENSURE(rf_store_open(path, &s, &err) != 0);
     ENSURE(s == NULL);
     ENSURE(strcmp(err.file, path) == 0);
-    char versions[32];
-    snprintf(versions, sizeof versions, "versions 1 to %d", RF_SCHEMA_VERSION);
-    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, versions), "%s",
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to " RF_STR(RF_SCHEMA_VERSION)),
+               "%s",
                err.message);
 
     /* Still version 7: nothing was written. */
@@ -913,7 +918,8 @@ TEST(store_writers_opening_a_new_file_at_once_all_succeed)
         sqlite3 *db = open_raw(path);
         ENSURE(dbt_int(db, "SELECT count(*) FROM sqlite_master WHERE name = 'runs'") == 1);
         char *mode = dump(db, "PRAGMA journal_mode");
-        ENSURE_MSG(strcmp(mode, "wal\n") == 0, "journal mode %s", mode);
+        /* the last writer to close put the file back in the rollback journal */
+        ENSURE_MSG(strcmp(mode, "delete\n") == 0, "journal mode %s", mode);
         free(mode);
         sqlite3_close(db);
     }
@@ -996,7 +1002,8 @@ TEST(store_measure_kinds_are_rows_that_measures_reference)
                        " WHERE \"table\" = 'measure_kinds' AND \"from\" = 'kind'") == 1);
     ENSURE(rejected(db, "UPDATE measures SET kind = 'wall'"));
     ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_GPKG_USER_VERSION);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
     rf_store_close(s);
 }
 
@@ -1012,7 +1019,8 @@ TEST(store_upgrades_a_version_1_file_in_place)
     rf_store_close(open_store(path));
     db = open_raw(path);
     ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_GPKG_USER_VERSION);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
     ENSURE(dbt_int(db, "SELECT count(*) FROM measure_kinds") == RF_N_MEASURE_KINDS);
     ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM measures m JOIN measure_kinds k ON k.name = m.kind") ==
@@ -1116,7 +1124,7 @@ TEST(store_upgrades_a_version_2_file_in_place)
     rf_store_close(open_store(path));
     db = open_raw(path);
     ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_GPKG_USER_VERSION);
     char *after = v2_dump(db);
     ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories") == 25);
@@ -1219,7 +1227,7 @@ TEST(store_upgrades_a_version_3_file_in_place)
     rf_store_close(open_store(path));
     db = open_raw(path);
     ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_GPKG_USER_VERSION);
     ENSURE(has_column(db, "trajectories", "mass_kg") && has_column(db, "trajectories", "start_x") &&
            has_column(db, "trajectories", "start_y") && has_column(db, "trajectories", "start_z"));
     char *after = v2_dump(db);
@@ -1239,7 +1247,8 @@ TEST(store_upgrades_a_version_3_file_in_place)
 
 #define V4_FIXTURE "tests/data/results-v4.db"
 
-/* Version 4 to 5 in place: the calibration tables added, empty; every row kept. */
+/* Version 4 to 5 in place: the file a GeoPackage (its layers filled from the run
+ * already there), the calibration tables added, empty; every row kept. */
 TEST(store_upgrades_a_version_4_file_in_place)
 {
     const char *path = copy_fixture(V4_FIXTURE, "v4.db");
@@ -1253,7 +1262,10 @@ TEST(store_upgrades_a_version_4_file_in_place)
     rf_store_close(open_store(path));
     db = open_raw(path);
     ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 5);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 5);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_GPKG_USER_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA application_id") == 0x47504B47);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM stop_points") ==
+           dbt_int(db, "SELECT count(*) FROM trajectories"));
     ENSURE(has_column(db, "calibrations", "objective") && has_column(db, "calibrations", "value") &&
            has_column(db, "calibration_values", "key"));
     ENSURE(dbt_int(db, "SELECT count(*) FROM calibrations") == 0);

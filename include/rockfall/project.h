@@ -121,6 +121,17 @@ typedef struct rf_simulation {
     long paths;              /* trajectories per release with sampled paths; default 10 */
 } rf_simulation;
 
+/* The coordinate reference system of the project's coordinates (input/crs.h); all
+ * NULL when the project has none (the results then use GeoPackage's undefined
+ * Cartesian CRS). */
+typedef struct rf_crs {
+    char *source; /* as given: "EPSG:2154", the WKT file's path or the DEM's .prj */
+    char *name;   /* PROJ's name of it */
+    char *wkt;    /* OGC WKT 1, as gpkg_spatial_ref_sys.definition holds it */
+    char *auth;   /* the authority of its code ("EPSG"); NULL when PROJ names none */
+    long code;    /* its code in that authority */
+} rf_crs;
+
 typedef struct rf_project {
     char *path;       /* the project file as given */
     char *dir;        /* its directory, for relative paths */
@@ -138,6 +149,7 @@ typedef struct rf_project {
     rf_simulation sim;
     double hazard_cell;  /* m, > 0; default 5 */
     char *rules_path;    /* resolved; NULL when the project names no rules */
+    rf_crs crs;          /* `crs:`, or the DEM's .prj; source NULL: none */
 } rf_project;
 
 /* Loads, validates and builds a project (terrain included).  On error fills err with

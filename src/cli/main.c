@@ -30,12 +30,14 @@ static const char USAGE[] =
     "Design checks for rockfall protection measures (Masuya et al. 2009).\n"
     "\n"
     "commands:\n"
-    "  run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
-    "      simulate the project's releases into a results database\n"
-    "  check results.db [--rules FILE] [--run ID]\n"
+    "  run PROJECT.yaml [-o results.gpkg] [--seed N] [--count N] [--threads N]\n"
+    "      simulate the project's releases into a results database (a GeoPackage)\n"
+    "  check results.gpkg [--rules FILE] [--run ID]\n"
     "      classify every interception (Table 3 limit states) and run the design checks\n"
-    "  report results.db [--run ID | --runs ID,ID,...] --out DIR\n"
+    "  report results.gpkg [--run ID | --runs ID,ID,...] --out DIR\n"
     "      DIR/index.html with the run's summary, or layout variants side by side\n"
+    "  export results.gpkg [--run ID] --out DIR\n"
+    "      the run's hazard maps as ESRI ASCII grids with their .prj\n"
     "  empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L]\n"
     "      Eq. 1-2 velocity at the slope foot and the attainment width of Fig. 1b\n"
     "  calibrate PROJECT.yaml --observed STOPS --fit KEY [--fit KEY ...]\n"
@@ -48,13 +50,13 @@ static const char USAGE[] =
     "2 bad usage or input\n";
 
 static const char RUN_HELP[] =
-    "usage: rockfall run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
+    "usage: rockfall run PROJECT.yaml [-o results.gpkg] [--seed N] [--count N] [--threads N]\n"
     "\n"
     "Loads and validates the project, runs every release's Monte Carlo trajectories\n"
     "and writes one run (trajectories, sampled paths, interceptions, tree hits, hazard\n"
     "cells) into the results database, which may already hold other runs.\n"
     "\n"
-    "  -o, --output FILE   results database (default: results.db)\n"
+    "  -o, --output FILE   results database, a GeoPackage (default: results.gpkg)\n"
     "  --seed N            override the project's seed\n"
     "  --count N           trajectories per release, per cell of a `cells` release\n"
     "                      (overrides the project's counts)\n"
@@ -62,7 +64,7 @@ static const char RUN_HELP[] =
     "  -q, --quiet         no progress or summary\n";
 
 static const char CHECK_HELP[] =
-    "usage: rockfall check results.db [--rules FILE] [--run ID]\n"
+    "usage: rockfall check results.gpkg [--rules FILE] [--run ID]\n"
     "\n"
     "Classifies every interception of a run (default: the newest complete run) into\n"
     "the limit states of the rule file, writes the classifications and each measure's\n"
@@ -81,7 +83,7 @@ static const char CHECK_HELP[] =
     "trajectories cannot support a verdict (INCONCLUSIVE), 2 bad usage or input\n";
 
 static const char REPORT_HELP[] =
-    "usage: rockfall report results.db [--run ID | --runs ID,ID,...] --out DIR\n"
+    "usage: rockfall report results.gpkg [--run ID | --runs ID,ID,...] --out DIR\n"
     "\n"
     "Writes DIR/index.html: the run, where its trajectories ended and what every\n"
     "measure saw.\n"
@@ -91,6 +93,17 @@ static const char REPORT_HELP[] =
     "                   interceptions and energy percentiles per structure,\n"
     "                   arrivals at the control lines, one plan view each\n"
     "  --out DIR        output folder (created when missing)\n";
+
+static const char EXPORT_HELP[] =
+    "usage: rockfall export results.gpkg [--run ID] --out DIR\n"
+    "\n"
+    "Writes the run's hazard maps on its hazard grid as ESRI ASCII grids, each with a\n"
+    ".prj (the run's CRS, when its project has one): energy_max.asc, energy_p95.asc\n"
+    "(kJ), height_p95.asc (m), reach_probability.asc, passages.asc and deposits.asc,\n"
+    "and DIR/README.txt saying what each holds.  The database is opened read-only.\n"
+    "\n"
+    "  --run ID    the run (default: the newest complete run)\n"
+    "  --out DIR   output folder (created when missing)\n";
 
 static const char EMPIRICAL_HELP[] =
     "usage: rockfall empirical --height H --slope DEG (--mu MU | --class A..D) [--distance L] [--beta DEG]\n"
@@ -225,7 +238,7 @@ static int cmd_run(int argc, char **argv)
         {"output", required_argument, 0, 'o'}, {"seed", required_argument, 0, 's'},
         {"count", required_argument, 0, 'c'},  {"threads", required_argument, 0, 't'},
         {"quiet", no_argument, 0, 'q'},        {0, 0, 0, 0}};
-    const char *out = "results.db";
+    const char *out = "results.gpkg";
     long seed = -1, count = 0, threads = 1;
     int quiet = 0, c;
     optind = 1;
@@ -509,6 +522,24 @@ static int cmd_report(int argc, char **argv)
     return db_command("report", argc, argv, 1, report_body);
 }
 
+/* ---- export ------------------------------------------------------------------- */
+
+static int export_body(const db_args *a, sqlite3 *db, int64_t run)
+{
+    rf_error err;
+    if (rf_export_write(db, run, a->out, &err)) {
+        rf_error_print(&err, stderr);
+        return EXIT_BAD_INPUT;
+    }
+    printf("%s/README.txt\n", a->out);
+    return EXIT_OK;
+}
+
+static int cmd_export(int argc, char **argv)
+{
+    return db_command("export", argc, argv, 1, export_body);
+}
+
 /* ---- empirical ---------------------------------------------------------------- */
 
 static int cmd_empirical(int argc, char **argv)
@@ -596,6 +627,7 @@ static const struct command {
     {"run", cmd_run, RUN_HELP},
     {"check", cmd_check, CHECK_HELP},
     {"report", cmd_report, REPORT_HELP},
+    {"export", cmd_export, EXPORT_HELP},
     {"empirical", cmd_empirical, EMPIRICAL_HELP},
     {"calibrate", cmd_calibrate, CALIBRATE_HELP},
 };

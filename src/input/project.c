@@ -14,7 +14,9 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "base/util.h"
 #include "input/bounds.h"
+#include "input/crs.h"
 #include "input/measure_kinds.h"
 #include "input/project_private.h"
 #include "input/yamldoc.h"
@@ -26,7 +28,7 @@
 
 static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", "rocks",
                                        "releases", "measures", "simulation", "hazard",
-                                       "rules", NULL};
+                                       "rules", "crs", NULL};
 static const char *const terrain_keys[] = {"dem", "mesh", "profile", "up", "surface",
                                            "zones", NULL};
 static const char *const profile_keys[] = {"points", "width", NULL};
@@ -439,6 +441,65 @@ static int read_simulation(loader *L, const rf_ynode *n)
     return 0;
 }
 
+/* ---- the coordinate reference system ------------------------------------------ */
+
+/* `crs:` an authority code or a WKT file (a value naming an existing file is the
+ * file); without it, the DEM's .prj beside it when there is one (input/crs.h). */
+static int read_crs(loader *L, rf_ynode *root)
+{
+    rf_project *p = L->p;
+    rf_ynode *n = rf_ydoc_get(&L->d, root, "crs");
+    const rf_terrain_spec *t = &p->terrain_spec;
+    char *file = NULL, *text = NULL, why[512];
+    const char *given = NULL;
+    if (n) {
+        if (rf_ydoc_string(&L->d, n, "crs", &given, L->err))
+            return -1;
+        if (!(file = rf_load_resolve(p->dir, given)))
+            return rf_load_oom(L);
+        if (!rf_load_readable(file, why, sizeof why)) {
+            free(file);
+            file = NULL;
+        }
+    } else if (t->source == RF_TERRAIN_DEM && t->nfiles == 1) {
+        size_t len = strlen(t->files[0]);
+        const char *dot = strrchr(t->files[0], '.'), *slash = strrchr(t->files[0], '/');
+        size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - t->files[0]) : len;
+        if (!(file = malloc(stem + 5)))
+            return rf_load_oom(L);
+        memcpy(file, t->files[0], stem);
+        memcpy(file + stem, ".prj", 5);
+        if (!rf_load_readable(file, why, sizeof why)) {
+            free(file);
+            return 0; /* no CRS: GeoPackage's undefined Cartesian one */
+        }
+        n = L->file_nodes[0];
+    } else {
+        return 0;
+    }
+    rf_error ferr = {0};
+    size_t len = 0;
+    if (file && rf_read_file(file, RF_CRS_FILE_MAX, &text, &len, &ferr)) {
+        free(file);
+        return rf_ydoc_error(&L->d, n, L->err, "crs: %s", ferr.message);
+    }
+    int status = rf_crs_resolve(file ? text : given, file ? file : given, &p->crs, why,
+                                sizeof why);
+    if (status)
+        status = file ? rf_ydoc_error(&L->d, n, L->err,
+                                      "crs: '%s' holds no coordinate reference system PROJ "
+                                      "knows: %s",
+                                      file, why)
+                      : rf_ydoc_error(&L->d, n, L->err,
+                                      "crs: '%s' is not a coordinate reference system PROJ "
+                                      "knows (an authority code such as 'EPSG:2154', or a "
+                                      "WKT file): %s",
+                                      given, why);
+    free(text);
+    free(file);
+    return status;
+}
+
 /* ---- the document ------------------------------------------------------------ */
 
 static int read_document(loader *L)
@@ -462,7 +523,8 @@ static int read_document(loader *L)
     p->seed = (uint64_t)seed;
 
     if (rf_ydoc_require(&L->d, root, "terrain", "the project file", &terrain, L->err) ||
-        read_terrain(L, terrain))
+        read_terrain(L, terrain) || read_crs(L, root) ||
+        rf_layout_check_crs(&L->d, &L->layouts, &p->crs, L->err))
         return -1;
     if (rf_load_list(L, root, &forest_list, 0, (void **)&p->forests, &p->nforests, read_forest,
                      NULL) ||
@@ -680,6 +742,8 @@ static int load(const char *path, const char *text, size_t len, rf_project *p, r
     if (rc == 0)
         rc = set_paths(&L, path);
     if (rc == 0)
+        rc = rf_layout_expand(&L.d, p->dir, &L.layouts, err);
+    if (rc == 0)
         rc = read_document(&L);
     if (rc == 0)
         rc = build_terrain(&L);
@@ -694,6 +758,7 @@ static int load(const char *path, const char *text, size_t len, rf_project *p, r
     free(L.line_nodes);
     rf_names_free(&L.rock_names);
     rf_names_free(&L.file_names);
+    rf_layouts_free(&L.layouts);
     rf_ydoc_free(&L.d);
     if (rc)
         rf_project_free(p);
@@ -754,5 +819,6 @@ void rf_project_free(rf_project *p)
     }
     free(p->measures);
     free(p->rules_path);
+    rf_crs_free(&p->crs);
     memset(p, 0, sizeof *p);
 }

@@ -7,6 +7,7 @@
 #include <stddef.h>
 
 #include "base/names.h"
+#include "input/layout.h"
 #include "input/yamldoc.h"
 #include "rockfall/project.h"
 
@@ -21,6 +22,7 @@ typedef struct loader {
     int rolling_given;       /* the terrain surface sets rolling explicitly */
     rf_names rock_names;     /* the rocks' names: a rock's index by its name */
     rf_names file_names;     /* the terrain files' resolved paths: a file's index */
+    rf_layouts layouts;      /* the GeoPackage layers the lists' {gpkg, layer} items read */
 } loader;
 
 /* Room for "LIST item N", which names a list item in messages. */

@@ -353,6 +353,9 @@ void rf_ydoc_free(rf_ydoc *d)
 {
     if (d->loaded)
         yaml_document_delete(&d->doc);
+    for (size_t i = 0; i < d->norigin; i++)
+        free(d->origin[i]);
+    free(d->origin);
     free(d->file);
     free(d->text);
     memset(d, 0, sizeof *d);
@@ -373,6 +376,36 @@ rf_mark rf_ydoc_mark(const rf_ynode *n)
     return m;
 }
 
+int rf_ydoc_set_origin(rf_ydoc *d, int id, const char *text)
+{
+    if (id < 1)
+        return -1;
+    size_t need = (size_t)id;
+    if (need > d->norigin) {
+        size_t cap = d->norigin ? d->norigin : 64;
+        while (cap < need)
+            cap *= 2;
+        char **o = realloc(d->origin, cap * sizeof *o);
+        if (!o)
+            return -1;
+        memset(o + d->norigin, 0, (cap - d->norigin) * sizeof *o);
+        d->origin = o;
+        d->norigin = cap;
+    }
+    free(d->origin[id - 1]);
+    d->origin[id - 1] = strdup(text);
+    return d->origin[id - 1] ? 0 : -1;
+}
+
+/* Where a node made from another file came from; NULL for the text's own nodes. */
+static const char *origin_of(const rf_ydoc *d, const rf_ynode *n)
+{
+    if (!n || !d->loaded || !d->origin || n < d->doc.nodes.start || n >= d->doc.nodes.top)
+        return NULL;
+    size_t i = (size_t)(n - d->doc.nodes.start);
+    return i < d->norigin ? d->origin[i] : NULL;
+}
+
 int rf_ydoc_error(const rf_ydoc *d, const rf_ynode *n, rf_error *err, const char *fmt, ...)
 {
     if (!err)
@@ -383,6 +416,9 @@ int rf_ydoc_error(const rf_ydoc *d, const rf_ynode *n, rf_error *err, const char
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     rf_mark m = rf_ydoc_mark(n);
+    const char *from = origin_of(d, n);
+    if (from)
+        return rf_error_set(err, d->file, m.line, m.column, "%s: %s", from, msg);
     return rf_error_set(err, d->file, m.line, m.column, "%s", msg);
 }
 

@@ -23,6 +23,9 @@ typedef struct rf_ydoc {
     size_t len;
     yaml_document_t doc;
     int loaded;  /* doc holds a document */
+    char **origin; /* by node id - 1: where a node made from another file came from
+                    * (input/layout.h), prefixed to its errors; NULL: the text's own */
+    size_t norigin;
 } rf_ydoc;
 
 /* Allowed values of a number: lo .. hi, each end open (excluded) or closed. */
@@ -50,6 +53,10 @@ void rf_ydoc_free(rf_ydoc *d);
 rf_ynode *rf_ydoc_root(rf_ydoc *d);
 /* 1-based position of a node. */
 rf_mark rf_ydoc_mark(const rf_ynode *n);
+/* Marks node `id` (yaml_document_add_*) as made from another file: `text` (copied) says
+ * where ("layout.gpkg, layer 'barriers', feature 3, attribute 'mel'") and is prefixed
+ * to every error at the node.  Returns 0, or -1 when memory runs out. */
+int rf_ydoc_set_origin(rf_ydoc *d, int id, const char *text);
 /* Fills err at the node's position (the document's start when n is NULL); returns -1. */
 int rf_ydoc_error(const rf_ydoc *d, const rf_ynode *n, rf_error *err, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));

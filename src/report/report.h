@@ -30,5 +30,8 @@ int rf_report_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
  * per run (DIR/plan-run-ID.svg).  Every run must exist.  Returns 0, or fills err. */
 int rf_report_compare(sqlite3 *db, const int64_t *runs, size_t nruns, const char *dir,
                       rf_error *err);
+/* `rockfall export` (report/export.c): the run's hazard maps as ESRI ASCII grids with
+ * their .prj and a README.txt in DIR (created when missing).  Returns 0, or fills err. */
+int rf_export_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err);
 
 #endif

@@ -16,6 +16,7 @@
 
 #include "base/util.h"
 #include "input/measure_kinds.h"
+#include "results/gpkg.h"
 #include "results/integrity.h"
 #include "results/schema_legacy.h"
 #include "rockfall/version.h"
@@ -134,6 +135,10 @@
     "  PRIMARY KEY (calibration_id, key)\n" \
     ") WITHOUT ROWID;\n"
 
+/* The columns the GeoPackage version (results/gpkg.h) adds to runs: the project's CRS as
+ * given, and its row in gpkg_spatial_ref_sys (-1: none, the undefined Cartesian CRS). */
+#define RUNS_GPKG_COLUMNS "crs TEXT, srs_id INTEGER"
+
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
     "INSERT INTO rockfall_schema VALUES (" RF_STR(RF_SCHEMA_VERSION) ", 'rockfall');\n"
@@ -141,7 +146,7 @@ static const char schema_sql[] =
     "  id INTEGER PRIMARY KEY AUTOINCREMENT,\n"
     "  project TEXT NOT NULL,\n"
     "  project_path TEXT,\n"
-    "  seed NOT NULL,  -- integer; a seed above 2^63-1 as its decimal text\n"
+    "  seed INTEGER NOT NULL,\n"
     "  status TEXT NOT NULL CHECK (status IN ('running', 'complete', 'failed')),\n"
     "  started_at TEXT NOT NULL,\n"
     "  finished_at TEXT,\n"
@@ -149,6 +154,7 @@ static const char schema_sql[] =
     "  version TEXT NOT NULL,\n"
     "  project_yaml TEXT,\n"
     RUNS_V2_COLUMNS
+    "  , " RUNS_GPKG_COLUMNS "\n"
     ");\n"
     "CREATE TABLE releases (\n"
     "  id INTEGER PRIMARY KEY,\n"
@@ -336,23 +342,28 @@ static int end_transaction(sqlite3 *db, const char *path, int status, const char
 
 /* ---- the version ---------------------------------------------------------------------- */
 
-/* The file's schema version (rockfall_schema's row, else user_version: 1 for files of
- * version 1, 0 for a file that is not ours) and the number of objects in its schema;
- * fails on a file that is not a database. */
+/* The file's schema version (rockfall_schema's row, else 1 for a file of version 1,
+ * marked by user_version = 1 alone, and 0 for a file that is not ours: a GeoPackage's
+ * user_version is GeoPackage's own) and the number of objects in its schema (-1 for
+ * another program's GeoPackage); fails on a file that is not a database. */
 static int read_schema_state(sqlite3 *db, const char *path, int *version, int *nobjects,
                              rf_error *err)
 {
     static const char sql[] =
-        "SELECT (SELECT user_version FROM pragma_user_version),"
+        "SELECT (SELECT user_version = 1 FROM pragma_user_version),"
         " (SELECT count(*) FROM sqlite_master),"
         " (SELECT count(*) FROM sqlite_master WHERE type = 'table'"
-        "  AND name = 'rockfall_schema')";
+        "  AND name = 'rockfall_schema'),"
+        " (SELECT application_id FROM pragma_application_id)";
     sqlite3_stmt *st = NULL;
     int rc = sqlite3_prepare_v2(db, sql, -1, &st, NULL), marked = 0;
     if (rc == SQLITE_OK && (rc = sqlite3_step(st)) == SQLITE_ROW) {
         *version = sqlite3_column_int(st, 0);
         *nobjects = sqlite3_column_int(st, 1);
         marked = sqlite3_column_int(st, 2);
+        /* another program's GeoPackage: -1, for the message */
+        if (!marked && *nobjects && sqlite3_column_int64(st, 3) == RF_GPKG_APPLICATION_ID)
+            *nobjects = -1;
     }
     sqlite3_finalize(st);
     st = NULL;
@@ -375,6 +386,11 @@ static int version_error(const char *path, int version, rf_error *err)
 
 static int foreign_error(const char *path, int nobjects, rf_error *err)
 {
+    if (nobjects < 0)
+        return rf_error_set(err, path, 0, 0,
+                            "a GeoPackage of another program (no rockfall_schema table): "
+                            "rockfall writes only into its own results files, and reads "
+                            "only them");
     return rf_error_set(err, path, 0, 0,
                         "not a rockfall results database (an SQLite database with %d schema "
                         "objects and no rockfall schema version)",
@@ -558,15 +574,15 @@ static int upgrade_3_to_4(sqlite3 *db, const char *path, rf_error *err)
                     err);
 }
 
-/* Version 4 to 5, within the caller's transaction: the calibration tables. */
+/* Version 4 to 5, within the caller's transaction: the calibration tables, and the
+ * file made a GeoPackage (results/gpkg.c, which writes the version). */
 static int upgrade_4_to_5(sqlite3 *db, const char *path, rf_error *err)
 {
-    static const char sql[] =
-        CALIBRATION_TABLES
-        "UPDATE rockfall_schema SET version = 5;\n"
-        "PRAGMA user_version = 5;\n";
-    return exec_sql(db, path, sql, "upgrading the results database from schema version 4",
-                    err);
+    return exec_sql(db, path, CALIBRATION_TABLES,
+                    "upgrading the results database from schema version 4", err) ||
+                   rf_gpkg_create(db, path, 1, err)
+               ? -1
+               : 0;
 }
 
 /* Switches the file to the WAL journal.  The switch needs the file to itself, and
@@ -591,6 +607,8 @@ static int set_wal(sqlite3 *db, const char *path, rf_error *err)
 int rf_schema_prepare(sqlite3 *db, const char *path, rf_error *err)
 {
     int version = 0, nobjects = 0;
+    if (rf_sql_status(db, path, rf_gpkg_register(db), "preparing the results database", err))
+        return -1;
     if (read_schema_state(db, path, &version, &nobjects, err))
         return -1;
     if (version > RF_SCHEMA_VERSION)
@@ -612,25 +630,23 @@ int rf_schema_prepare(sqlite3 *db, const char *path, rf_error *err)
     else if (status == 0 && version == 0)
         status = exec_sql(db, path, schema_sql, "creating the schema", err) ||
                          insert_kinds(db, path, err) ||
-                         exec_sql(db, path, views_sql, "creating the views", err)
+                         exec_sql(db, path, views_sql, "creating the views", err) ||
+                         rf_gpkg_create(db, path, 0, err)
                      ? -1
                      : 0;
     else if (status == 0 && version == 1)
         status = upgrade_1_to_2(db, path, err) || upgrade_2_to_3(db, path, err) ||
-                         upgrade_3_to_4(db, path, err) || upgrade_4_to_5(db, path, err)
+                         upgrade_3_to_4(db, path, err)
                      ? -1
                      : 0;
     else if (status == 0 && version == 2)
-        status = upgrade_2_to_3(db, path, err) || upgrade_3_to_4(db, path, err) ||
-                         upgrade_4_to_5(db, path, err)
-                     ? -1
-                     : 0;
+        status = upgrade_2_to_3(db, path, err) || upgrade_3_to_4(db, path, err) ? -1 : 0;
     else if (status == 0 && version == 3)
-        status = upgrade_3_to_4(db, path, err) || upgrade_4_to_5(db, path, err) ? -1 : 0;
-    else if (status == 0 && version == 4)
+        status = upgrade_3_to_4(db, path, err);
+    if (status == 0 && version >= 1 && version < RF_GPKG_SCHEMA_VERSION)
         status = upgrade_4_to_5(db, path, err);
     if (status == 0)
-        status = refresh_views(db, path, err);
+        status = refresh_views(db, path, err) || rf_gpkg_declare(db, path, err) ? -1 : 0;
     return end_transaction(db, path, status, doing, err);
 }
 

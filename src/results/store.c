@@ -13,16 +13,21 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/polyline.h"
 #include "base/util.h"
 #include "input/measure_kinds.h"
+#include "results/gpkg.h"
 #include "results/schema.h"
 #include "results/terrain_grid.h"
 #include "rockfall/version.h"
 
 /* How long a writer waits for another connection's lock before giving up. */
 #define RF_STORE_BUSY_TIMEOUT_MS 10000
+
+/* Tries of the switch back to the rollback journal when closing (leave_wal). */
+#define RF_STORE_LEAVE_WAL_TRIES 6
 
 #define RF_NOW_SQL "strftime('%Y-%m-%dT%H:%M:%fZ', 'now')"
 
@@ -39,8 +44,9 @@ static const char *const statement_sql[ST_COUNT] = {
     [ST_ROLLBACK] = "ROLLBACK",
     [ST_RUN] = "INSERT INTO runs (project, project_path, seed, status, started_at,"
                " n_trajectories, version, project_yaml, rules_path, surface_friction,"
-               " hazard_cell_m)"
-               " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9)",
+               " hazard_cell_m, crs, srs_id)"
+               " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9,"
+               " ?10, ?11)",
     [ST_RELEASE] = "INSERT INTO releases (run_id, idx, name, x, y, z, rock, mass_kg,"
                    " radius_m, density_kgm3, action_level, count, velocity_x,"
                    " velocity_y, velocity_z, height_m, jitter_m)"
@@ -82,6 +88,7 @@ struct rf_store {
     sqlite3 *db;
     char *path;
     sqlite3_stmt *stmt[ST_COUNT];
+    int prepared;            /* the schema is ours and current (rf_schema_prepare) */
     int64_t run_id;          /* 0 before the first rf_store_run_begin */
     int64_t *release_ids;    /* by project release index */
     size_t nreleases;
@@ -176,6 +183,7 @@ int rf_store_open(const char *path, rf_store **out, rf_error *err)
         exec_sql(s, "PRAGMA synchronous = NORMAL; PRAGMA foreign_keys = ON",
                  "configuring the results database", err))
         goto fail;
+    s->prepared = 1;
     for (int i = 0; i < ST_COUNT; i++) {
         rc = sqlite3_prepare_v3(s->db, statement_sql[i], -1, SQLITE_PREPARE_PERSISTENT,
                                 &s->stmt[i], NULL);
@@ -189,6 +197,31 @@ fail:
     return -1;
 }
 
+/* The last writer to close puts the file back in the rollback journal (DELETE), the
+ * mode a GeoPackage is read in anywhere (no -wal or -shm needed beside it).  The switch
+ * needs the file to itself: it is made on a connection of its own once the writer's is
+ * closed, and fails at once while another connection has the file open (that one makes
+ * it when it closes).  Writers closing at the same moment would each see the other, so
+ * a few tries follow, apart by pauses that differ between processes. */
+static void leave_wal(const char *path)
+{
+    for (int k = 0; k < RF_STORE_LEAVE_WAL_TRIES; k++) {
+        sqlite3 *db = NULL;
+        sqlite3_stmt *st = NULL;
+        int done = 0;
+        if (sqlite3_open_v2(path, &db, SQLITE_OPEN_READWRITE, NULL) == SQLITE_OK &&
+            sqlite3_prepare_v2(db, "PRAGMA journal_mode = DELETE", -1, &st, NULL) == SQLITE_OK &&
+            sqlite3_step(st) == SQLITE_ROW)
+            done = !strcmp((const char *)sqlite3_column_text(st, 0), "delete");
+        sqlite3_finalize(st);
+        sqlite3_close(db);
+        if (done)
+            return;
+        struct timespec pause = {0, (long)(1 + (getpid() * 7 + k * 13) % 17) * 1000 * 1000};
+        nanosleep(&pause, NULL);
+    }
+}
+
 void rf_store_close(rf_store *s)
 {
     if (!s)
@@ -199,6 +232,8 @@ void rf_store_close(rf_store *s)
     if (s->db && !sqlite3_get_autocommit(s->db))
         sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
     sqlite3_close(s->db);
+    if (s->prepared)
+        leave_wal(s->path);
     free(s->release_ids);
     free(s->measure_ids);
     free(s->path);
@@ -263,6 +298,15 @@ static int insert_run_row(rf_store *s, const rf_project *p, long n_trajectories,
     int terrain = p->terrain.ntri > 0;
     bind_real(st, 8, terrain ? p->terrain_spec.surface.friction.mean : NAN);
     bind_real(st, 9, p->hazard_cell > 0 ? p->hazard_cell : NAN);
+    /* the CRS as given and its row in gpkg_spatial_ref_sys (results/gpkg.h) */
+    int64_t srs = RF_GPKG_SRS_UNDEFINED;
+    if (rf_gpkg_srs_for_run(s->db, s->path, &p->crs, &srs, err)) {
+        free(rules);
+        free(abs_path);
+        return -1;
+    }
+    bind_text(st, 10, p->crs.source);
+    bind_int(st, 11, srs);
     int failed = step_statement(s, ST_RUN, "writing the run", err);
     free(rules);
     free(abs_path);
@@ -408,6 +452,8 @@ int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
                      ? -1
                      : 0;
     if (status == 0)
+        status = rf_gpkg_fill_run(s->db, s->path, s->run_id, p, 1, err);
+    if (status == 0)
         status = step_statement(s, ST_COMMIT, "starting a run", err);
     if (status != 0) {
         batch_rollback(s);
@@ -431,6 +477,16 @@ int rf_store_run_finish(rf_store *s, const char *status, long n_trajectories, rf
         committed = rf_store_batch_commit(s, err);
     if (committed != 0)
         status = "failed"; /* rows were lost: the run cannot be complete */
+    /* the layers of the rows written, in one transaction with the run's end */
+    int filled = step_statement(s, ST_BEGIN, "finishing the run", committed == 0 ? err : NULL);
+    if (filled == 0)
+        filled = rf_gpkg_fill_run(s->db, s->path, s->run_id, NULL, 0,
+                                  committed == 0 ? err : NULL);
+    if (filled != 0) {
+        batch_rollback(s);
+        if (committed == 0)
+            status = "failed";
+    }
 
     sqlite3_stmt *st = s->stmt[ST_FINISH];
     bind_text(st, 1, status);
@@ -440,9 +496,15 @@ int rf_store_run_finish(rf_store *s, const char *status, long n_trajectories, rf
         sqlite3_bind_null(st, 2);
     bind_int(st, 3, s->run_id);
     /* The first error is the one reported. */
-    int finished = step_statement(s, ST_FINISH, "finishing the run",
-                                  committed == 0 ? err : NULL);
-    return committed != 0 || finished != 0 ? -1 : 0;
+    int first = committed == 0 && filled == 0;
+    int finished = step_statement(s, ST_FINISH, "finishing the run", first ? err : NULL);
+    if (!sqlite3_get_autocommit(s->db)) {
+        if (finished == 0)
+            finished = step_statement(s, ST_COMMIT, "finishing the run", first ? err : NULL);
+        if (finished != 0)
+            batch_rollback(s);
+    }
+    return committed != 0 || filled != 0 || finished != 0 ? -1 : 0;
 }
 
 int rf_store_batch_begin(rf_store *s, rf_error *err)
