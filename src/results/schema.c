@@ -118,7 +118,7 @@
     "  project_path TEXT,\n" \
     "  observed_path TEXT NOT NULL,\n" \
     "  n_observed INTEGER NOT NULL,\n" \
-    "  seed NOT NULL,  -- as runs.seed\n" \
+    "  seed INTEGER NOT NULL,\n" \
     "  created_at TEXT NOT NULL,\n" \
     "  version TEXT NOT NULL,\n" \
     "  objective TEXT NOT NULL,\n" \
