@@ -132,7 +132,7 @@ bench-load:
 # libFuzzer on every loader (tests/fuzz/README.md): FUZZ_SECONDS each, one after the
 # other, clang and its fuzzer runtime installed when missing.
 FUZZ_SECONDS ?= 300
-FUZZ_TARGETS ?= yaml project rules grid stl obj points
+FUZZ_TARGETS ?= yaml project rules grid stl obj points layout
 FUZZ_BINS := $(FUZZ_TARGETS:%=build/fuzz/fuzz/fuzz_%)
 build/fuzz/fuzz/fuzz_%: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_util.h build/fuzz/librockfall.a
 	@mkdir -p $(dir $@)

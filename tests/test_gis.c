@@ -818,3 +818,58 @@ TEST(gis_layout_errors_name_the_feature)
                                        "'CH1903+ / LV95': rockfall does not reproject"),
                "%d:%d %s", err.line, err.column, err.message);
 }
+
+/* Runs sql on a GeoPackage made by ogr2ogr, its triggers dropped (they call GDAL's own
+ * SQL functions). */
+static void exec_on_layout(const char *file, const char *sql)
+{
+    sqlite3 *db = NULL;
+    ENSURE(sqlite3_open(rf_test_path(file), &db) == SQLITE_OK);
+    ENSURE(sqlite3_exec(db,
+                        "CREATE TEMP TABLE t AS SELECT name FROM sqlite_master WHERE type = 'trigger'",
+                        NULL, NULL, NULL) == SQLITE_OK);
+    sqlite3_stmt *st;
+    ENSURE(sqlite3_prepare_v2(db, "SELECT name FROM t", -1, &st, NULL) == SQLITE_OK);
+    while (sqlite3_step(st) == SQLITE_ROW) {
+        char drop[512];
+        snprintf(drop, sizeof drop, "DROP TRIGGER \"%s\"", (const char *)sqlite3_column_text(st, 0));
+        ENSURE(sqlite3_exec(db, drop, NULL, NULL, NULL) == SQLITE_OK);
+    }
+    sqlite3_finalize(st);
+    ENSURE_MSG(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK, "%s", sqlite3_errmsg(db));
+    sqlite3_close(db);
+}
+
+/* A feature whose geometry has no points (a LineString of 0 points, a Polygon of one
+ * empty ring: WKB a GIS may write for an emptied shape) is refused by the item's own
+ * check, naming the feature. */
+TEST(gis_layout_empty_geometry_is_refused_naming_the_feature)
+{
+    /* GeoPackage header (little-endian, no envelope, srs 2154), then the WKB */
+    static const char *const empty[2] = {
+        "X'4750000168080000' || X'010200000000000000'",         /* LineString, 0 points */
+        "X'4750000168080000' || X'01030000000100000000000000'", /* Polygon, 1 ring of 0 */
+    };
+    static const char *const table[2] = {"measures", "forest"};
+    for (int k = 0; k < 2; k++) {
+        char file[32];
+        snprintf(file, sizeof file, "layout.gpkg");
+        unlink(rf_test_path(file));
+        if (!make_layer(file, "measures", L93, layout_measures))
+            return;
+        make_layer(file, "releases", L93, layout_releases);
+        make_layer(file, "forest", L93,
+                   FEATURE("\"name\": \"wood\", \"density\": 0.01, \"height\": 5, \"diameter\": 0.2",
+                           "{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [40, 0], [40, 12],"
+                           " [0, 12], [0, 0]]]}"));
+        char sql[256], want[64];
+        snprintf(sql, sizeof sql, "UPDATE %s SET geom = %s WHERE fid = 1", table[k], empty[k]);
+        exec_on_layout(file, sql);
+        snprintf(want, sizeof want, "layer '%s', feature 1", table[k]);
+        rf_project p;
+        rf_error err;
+        ENSURE(rf_project_load(layout_project("e.yaml", "EPSG:2154", "measures"), &p, &err) != 0);
+        ENSURE_MSG(strstr(err.message, want), "%d:%d %s", err.line, err.column, err.message);
+        printf("    %d:%d %s\n", err.line, err.column, err.message);
+    }
+}

@@ -8,7 +8,7 @@ set -u
 build=$1
 secs=$2
 shift 2
-targets=${*:-yaml project rules grid stl obj points}
+targets=${*:-yaml project rules grid stl obj points layout}
 status=0
 summary=""
 seeds() {
@@ -20,6 +20,7 @@ seeds() {
     stl) ls tests/data/project/*.stl tests/data/terrain/*.stl ;;
     obj) ls tests/data/project/*.obj tests/data/terrain/*.obj ;;
     points) ls tests/fuzz/seeds/points/* ;;
+    layout) ls tests/fuzz/seeds/layout/* ;;
     esac 2>/dev/null
 }
 for t in $targets; do

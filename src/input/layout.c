@@ -280,7 +280,9 @@ static int point_node(builder *b, const double *xy)
 static int points_node(builder *b, const shape *s, size_t ring, int closed)
 {
     size_t n = s->n[ring];
-    const double *xy = s->xy + 2 * s->start[ring];
+    /* an empty ring or line has no points (and xy may be NULL): an empty sequence, which
+     * the project's reader refuses as too short */
+    const double *xy = n ? s->xy + 2 * s->start[ring] : NULL;
     if (closed && n > 1 && xy[0] == xy[2 * (n - 1)] && xy[1] == xy[2 * (n - 1) + 1])
         n--;
     int seq = new_node(b, 0, "its geometry");
@@ -308,10 +310,14 @@ static int add_pair(builder *b, int map, const char *key, int value, const char 
 static int joined_rings_node(builder *b, const shape *s)
 {
     int seq = new_node(b, 0, "its geometry");
+    if (s->nxy == 0)
+        return seq; /* no points: an empty polygon, which the project's reader refuses */
     const double *first = s->xy + 2 * s->start[0];
     for (size_t r = 0; seq && r < s->nrings; r++) {
-        const double *xy = s->xy + 2 * s->start[r];
         size_t n = s->n[r];
+        if (n == 0)
+            continue; /* an empty ring has no points and no cut */
+        const double *xy = s->xy + 2 * s->start[r];
         if (n > 1 && xy[0] == xy[2 * (n - 1)] && xy[1] == xy[2 * (n - 1) + 1])
             n--; /* the closing point: written once, below */
         for (size_t i = 0; seq && i <= n; i++) {
