@@ -21,6 +21,9 @@
 #include "results/integrity.h"
 #include "results/schema.h"
 #include "results/store.h"
+#ifdef RF_MPI
+#include "run/mpi.h"
+#endif
 
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_BAD_INPUT = 2 };
 
@@ -214,7 +217,36 @@ static void on_interrupt(int sig)
     interrupted = 1;
 }
 
-static int cmd_run(int argc, char **argv)
+/* A project that cannot be loaded: the error printed (under MPI, by rank 0, which the
+ * other ranks tell). */
+static int load_failed(const rf_error *err)
+{
+#ifdef RF_MPI
+    if (rf_mpi_rank() > 0) {
+        rf_mpi_report_failure(err);
+        return EXIT_BAD_INPUT;
+    }
+#endif
+    rf_error_print(err, stderr);
+    return EXIT_BAD_INPUT;
+}
+
+/* The run itself; under MPI with more than one rank, shared among them (run/mpi.h),
+ * its progress as lines (mpirun forwards stderr, not a terminal). */
+static int simulate(const rf_project *p, rf_store *s, rf_run_options *o, int quiet,
+                    rf_run_summary *sum, rf_error *err)
+{
+#ifdef RF_MPI
+    if (rf_mpi_size() > 1) {
+        o->progress = quiet ? 0 : 2;
+        return rf_mpi_run(p, s, o, sum, err);
+    }
+#endif
+    (void)quiet;
+    return rf_montecarlo_run(p, s, o, sum, err);
+}
+
+static int run_command(int argc, char **argv)
 {
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"seed", required_argument, 0, 's'},
@@ -248,10 +280,8 @@ static int cmd_run(int argc, char **argv)
 
     rf_project p;
     rf_error err;
-    if (rf_project_load(argv[optind], &p, &err)) {
-        rf_error_print(&err, stderr);
-        return EXIT_BAD_INPUT;
-    }
+    if (rf_project_load(argv[optind], &p, &err))
+        return load_failed(&err);
     if (seed >= 0)
         p.seed = (uint64_t)seed;
     if (count > 0)
@@ -269,6 +299,14 @@ static int cmd_run(int argc, char **argv)
             }
         }
 
+#ifdef RF_MPI
+    if (rf_mpi_rank() > 0) { /* simulates what rank 0 hands out; rank 0 writes */
+        rf_run_options wo = {.threads = (int)threads};
+        int served = rf_mpi_serve(&p, &wo, &err);
+        rf_project_free(&p);
+        return served ? EXIT_BAD_INPUT : EXIT_OK;
+    }
+#endif
     /* The project's rules are read before the simulation: a bad rule file costs
      * nothing. */
     rf_rules rules = {0};
@@ -293,7 +331,7 @@ static int cmd_run(int argc, char **argv)
     rf_run_options o = {.threads = (int)threads, .progress = !quiet && isatty(2),
                         .interrupted = &interrupted};
     rf_run_summary sum;
-    int rc = rf_montecarlo_run(&p, s, &o, &sum, &err);
+    int rc = simulate(&p, s, &o, quiet, &sum, &err);
     if (rc) {
         rf_error_print(&err, stderr);
     } else if (!quiet) {
@@ -321,6 +359,23 @@ static int cmd_run(int argc, char **argv)
     rf_rules_free(&rules);
     rf_project_free(&p);
     return status;
+}
+
+/* Under MPI (make mpi) every rank runs the command: rank 0 as above, the others
+ * serving it (run/mpi.h); a failure anywhere ends every rank. */
+static int cmd_run(int argc, char **argv)
+{
+#ifdef RF_MPI
+    if (rf_mpi_init(NULL, NULL)) {
+        fprintf(stderr, "rockfall: MPI could not be started\n");
+        return EXIT_BAD_INPUT;
+    }
+    int status = run_command(argc, argv);
+    rf_mpi_end(status == EXIT_BAD_INPUT ? status : 0);
+    return status;
+#else
+    return run_command(argc, argv);
+#endif
 }
 
 /* ---- check and report ----------------------------------------------------------- */
