@@ -704,7 +704,9 @@ TEST(store_rejects_another_schema_version)
     ENSURE(rf_store_open(path, &s, &err) != 0);
     ENSURE(s == NULL);
     ENSURE(strcmp(err.file, path) == 0);
-    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, "versions 1 to 4"), "%s",
+    char versions[64];
+    snprintf(versions, sizeof versions, "versions 1 to %d", RF_SCHEMA_VERSION);
+    ENSURE_MSG(strstr(err.message, "version 7") && strstr(err.message, versions), "%s",
                err.message);
 
     /* Still version 7: nothing was written. */
@@ -1109,8 +1111,8 @@ TEST(store_upgrades_a_version_2_file_in_place)
 
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 4);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
     char *after = v2_dump(db);
     ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories") == 25);
@@ -1153,7 +1155,7 @@ TEST(store_upgrade_from_version_2_keeps_an_inconclusive_check_inconclusive)
     sqlite3_close(db);
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
     ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE measure_id IS NULL AND"
                        " rule LIKE 'trajectories_%%' AND on_failure = 'inconclusive'") == 3);
     ENSURE(dbt_int(db, "SELECT count(*) FROM checks WHERE on_failure = 'fail'") == 5);
@@ -1212,8 +1214,8 @@ TEST(store_upgrades_a_version_3_file_in_place)
 
     rf_store_close(open_store(path));
     db = open_raw(path);
-    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 4);
-    ENSURE(dbt_int(db, "PRAGMA user_version") == 4);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == RF_SCHEMA_VERSION);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == RF_SCHEMA_VERSION);
     ENSURE(has_column(db, "trajectories", "mass_kg") && has_column(db, "trajectories", "start_x") &&
            has_column(db, "trajectories", "start_y") && has_column(db, "trajectories", "start_z"));
     char *after = v2_dump(db);
@@ -1222,6 +1224,9 @@ TEST(store_upgrades_a_version_3_file_in_place)
     ENSURE(strcmp(steep_before, steep_after) == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE mass_kg IS NULL AND start_x IS"
                        " NULL AND start_y IS NULL AND start_z IS NULL") == n);
+    /* and on to version 5: no source cell, no number of cells in the old rows */
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE source_cell IS NULL") == n);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM releases WHERE n_cells IS NOT NULL") == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM run_verdicts") == 1);
     sqlite3_close(db);
@@ -1229,4 +1234,40 @@ TEST(store_upgrades_a_version_3_file_in_place)
     free(after);
     free(steep_before);
     free(steep_after);
+}
+
+/* Version 4 to 5 in place: a version-4 file (a current one without the two columns of
+ * version 5) keeps every row in its columns, and gains trajectories.source_cell and
+ * releases.n_cells, NULL in its rows. */
+TEST(store_upgrades_a_version_4_file_in_place)
+{
+    const char *path = rf_test_path("v4.db");
+    test_project t;
+    make_project(&t);
+    rf_store *s = open_store(path);
+    write_run(s, &t.p, 1, "complete");
+    rf_store_close(s);
+    sqlite3 *db = open_raw(path);
+    exec_raw(db, "ALTER TABLE trajectories DROP COLUMN source_cell;"
+                 "ALTER TABLE releases DROP COLUMN n_cells;"
+                 "UPDATE rockfall_schema SET version = 4; PRAGMA user_version = 4;");
+    char *before = dump(db, "SELECT group_concat(quote(id) || quote(stop_x) || quote(mass_kg)"
+                            " || quote(start_z), ';') FROM trajectories");
+    char *rel_before = dump(db, "SELECT group_concat(quote(name) || quote(count), ';') FROM releases");
+    long n = dbt_int(db, "SELECT count(*) FROM trajectories");
+    ENSURE(n > 0 && !has_column(db, "trajectories", "source_cell"));
+    sqlite3_close(db);
+    rf_store_close(open_store(path));
+    db = open_raw(path);
+    ENSURE(dbt_int(db, "SELECT version FROM rockfall_schema") == 5);
+    ENSURE(dbt_int(db, "PRAGMA user_version") == 5);
+    char *after = dump(db, "SELECT group_concat(quote(id) || quote(stop_x) || quote(mass_kg)"
+                           " || quote(start_z), ';') FROM trajectories");
+    char *rel_after = dump(db, "SELECT group_concat(quote(name) || quote(count), ';') FROM releases");
+    ENSURE(strcmp(before, after) == 0 && strcmp(rel_before, rel_after) == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE source_cell IS NULL") == n);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM releases WHERE n_cells IS NULL") ==
+           dbt_int(db, "SELECT count(*) FROM releases"));
+    sqlite3_close(db);
+    free(before), free(after), free(rel_before), free(rel_after);
 }

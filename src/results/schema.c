@@ -108,6 +108,12 @@
  * its start (NULL for a trajectory written before version 4). */
 #define TRAJECTORIES_V4_COLUMNS "mass_kg REAL, start_x REAL, start_y REAL, start_z REAL"
 
+/* The columns version 5 adds: a trajectory's source cell, and a release's number of
+ * source cells (both NULL for a point or area release, and for rows written before
+ * version 5). */
+#define TRAJECTORIES_V5_COLUMN "source_cell INTEGER CHECK (source_cell >= 0)"
+#define RELEASES_V5_COLUMN "n_cells INTEGER CHECK (n_cells >= 1)"
+
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
     "INSERT INTO rockfall_schema VALUES (" RF_STR(RF_SCHEMA_VERSION) ", 'rockfall');\n"
@@ -136,6 +142,7 @@ static const char schema_sql[] =
     "  count INTEGER NOT NULL CHECK (count >= 0),\n"
     "  velocity_x REAL, velocity_y REAL, velocity_z REAL,\n"
     "  height_m REAL, jitter_m REAL,\n"
+    "  " RELEASES_V5_COLUMN ",\n"
     "  UNIQUE (run_id, idx)\n"
     ");\n"
     MEASURES_TABLE("measures")
@@ -150,7 +157,8 @@ static const char schema_sql[] =
     "  duration_s REAL, path_length_m REAL, max_energy_kj REAL,\n"
     "  n_impacts INTEGER, n_tree_hits INTEGER,\n"
     "  " TRAJECTORIES_V3_COLUMN ",\n"
-    "  " TRAJECTORIES_V4_COLUMNS "\n"
+    "  " TRAJECTORIES_V4_COLUMNS ",\n"
+    "  " TRAJECTORIES_V5_COLUMN "\n"
     ");\n"
     "CREATE UNIQUE INDEX trajectories_run ON trajectories(run_id, release_id, idx);\n"
     "CREATE INDEX trajectories_release ON trajectories(release_id);\n"
@@ -532,6 +540,20 @@ static int upgrade_3_to_4(sqlite3 *db, const char *path, rf_error *err)
                     err);
 }
 
+/* Version 4 to 5, within the caller's transaction: each trajectory's source cell and
+ * each release's number of cells (NULL for the earlier rows, which had no `cells`
+ * releases stored by cell). */
+static int upgrade_4_to_5(sqlite3 *db, const char *path, rf_error *err)
+{
+    static const char sql[] =
+        "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V5_COLUMN ";\n"
+        "ALTER TABLE releases ADD COLUMN " RELEASES_V5_COLUMN ";\n"
+        "UPDATE rockfall_schema SET version = 5;\n"
+        "PRAGMA user_version = 5;\n";
+    return exec_sql(db, path, sql, "upgrading the results database from schema version 4",
+                    err);
+}
+
 /* Switches the file to the WAL journal.  The switch needs the file to itself, and
  * SQLite returns "locked" at once, without waiting, when another connection opening
  * the file at the same moment holds it too: tried again until the busy timeout has
@@ -587,6 +609,8 @@ int rf_schema_prepare(sqlite3 *db, const char *path, rf_error *err)
         status = upgrade_2_to_3(db, path, err) || upgrade_3_to_4(db, path, err) ? -1 : 0;
     else if (status == 0 && version == 3)
         status = upgrade_3_to_4(db, path, err);
+    if (status == 0 && version >= 1 && version <= 4)
+        status = upgrade_4_to_5(db, path, err);
     if (status == 0)
         status = refresh_views(db, path, err);
     return end_transaction(db, path, status, doing, err);

@@ -17,7 +17,7 @@
 #include "rockfall/error.h"
 
 /* The schema this build writes; it reads every version from 1 up to it. */
-#define RF_SCHEMA_VERSION 4
+#define RF_SCHEMA_VERSION 5
 
 /* The one place SQLite's return codes become the rf_error convention: 0 for success
  * (SQLITE_OK, SQLITE_ROW, SQLITE_DONE), otherwise -1 with "doing: sqlite's message"

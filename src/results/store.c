@@ -43,9 +43,9 @@ static const char *const statement_sql[ST_COUNT] = {
                " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9)",
     [ST_RELEASE] = "INSERT INTO releases (run_id, idx, name, x, y, z, rock, mass_kg,"
                    " radius_m, density_kgm3, action_level, count, velocity_x,"
-                   " velocity_y, velocity_z, height_m, jitter_m)"
+                   " velocity_y, velocity_z, height_m, jitter_m, n_cells)"
                    " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13,"
-                   " ?14, ?15, ?16, ?17)",
+                   " ?14, ?15, ?16, ?17, ?18)",
     [ST_MEASURE] = "INSERT INTO measures (run_id, idx, name, kind, importance, height_m,"
                    " behaviour, mel_kj, sel_kj, cap_serviceability_kj,"
                    " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj, line,"
@@ -62,8 +62,8 @@ static const char *const statement_sql[ST_COUNT] = {
     [ST_TRAJECTORY] = "INSERT INTO trajectories (run_id, release_id, idx, stop_x, stop_y,"
                       " stop_z, stop_reason, duration_s, path_length_m, max_energy_kj,"
                       " n_impacts, n_tree_hits, rest_steep, mass_kg, start_x, start_y,"
-                      " start_z) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11,"
-                      " ?12, ?13, ?14, ?15, ?16, ?17)",
+                      " start_z, source_cell) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9,"
+                      " ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)",
     [ST_PATH_POINT] = "INSERT INTO path_points (trajectory_id, seq, t_s, x, y, z,"
                       " speed_ms, energy_kj) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
     [ST_INTERCEPTION] = "INSERT INTO interceptions (run_id, trajectory_id, measure_id,"
@@ -84,6 +84,8 @@ struct rf_store {
     sqlite3_stmt *stmt[ST_COUNT];
     int64_t run_id;          /* 0 before the first rf_store_run_begin */
     int64_t *release_ids;    /* by project release index */
+    rf_release *sources;     /* by project release index: what rf_release_source_cell
+                              * reads of each (count, ncells, source; no arrays) */
     size_t nreleases;
     int64_t *measure_ids;    /* by project measure index */
     size_t nmeasures;
@@ -201,6 +203,7 @@ void rf_store_close(rf_store *s)
     sqlite3_close(s->db);
     free(s->release_ids);
     free(s->measure_ids);
+    free(s->sources);
     free(s->path);
     free(s);
 }
@@ -293,6 +296,10 @@ static int insert_release_row(rf_store *s, const rf_project *p, size_t i, rf_err
     bind_vec3(st, 13, r->velocity);
     bind_real(st, 16, r->height);
     bind_real(st, 17, r->jitter);
+    if (r->source == RF_SOURCE_CELLS)
+        bind_int(st, 18, (int64_t)r->ncells);
+    else
+        sqlite3_bind_null(st, 18);
     if (step_statement(s, ST_RELEASE, "writing a release", err))
         return -1;
     s->release_ids[i] = sqlite3_last_insert_rowid(s->db);
@@ -385,13 +392,20 @@ int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
     assert(sqlite3_get_autocommit(s->db) && "rf_store_run_begin inside a batch");
     free(s->release_ids);
     free(s->measure_ids);
+    free(s->sources);
     s->run_id = 0;
     s->nreleases = p->nreleases;
     s->nmeasures = p->nmeasures;
     s->release_ids = calloc(p->nreleases + 1, sizeof *s->release_ids);
     s->measure_ids = calloc(p->nmeasures + 1, sizeof *s->measure_ids);
-    if (!s->release_ids || !s->measure_ids)
+    s->sources = calloc(p->nreleases + 1, sizeof *s->sources);
+    if (!s->release_ids || !s->measure_ids || !s->sources)
         return rf_error_set(err, s->path, 0, 0, "out of memory starting a run");
+    for (size_t i = 0; i < p->nreleases; i++) {
+        s->sources[i].source = p->releases[i].source;
+        s->sources[i].count = p->releases[i].count;
+        s->sources[i].ncells = p->releases[i].ncells;
+    }
 
     if (step_statement(s, ST_BEGIN, "starting a run", err))
         return -1;
@@ -488,6 +502,11 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     /* the drawn mass and start; NULL when the writer did not give them */
     bind_real(st, 14, r->mass_kg > 0.0 ? r->mass_kg : NAN);
     bind_vec3(st, 15, r->mass_kg > 0.0 ? r->start : rf_v3(NAN, NAN, NAN));
+    long cell = rf_release_source_cell(&s->sources[release_index], idx);
+    if (cell >= 0)
+        bind_int(st, 18, cell);
+    else
+        sqlite3_bind_null(st, 18);
     if (step_in_batch(s, ST_TRAJECTORY, "writing a trajectory", err))
         return -1;
     if (trajectory_id)

@@ -124,7 +124,7 @@ static int32_t start_ground(const rf_project *p, const rf_release *rel, long idx
     if (rel->source == RF_SOURCE_AREA)
         x0 = rel->area[0], y0 = rel->area[1];
     else if (rel->source == RF_SOURCE_CELLS) {
-        size_t c = (size_t)(idx / rel->count) % rel->ncells;
+        size_t c = (size_t)rf_release_source_cell(rel, idx);
         x0 = rel->cells[2 * c], y0 = rel->cells[2 * c + 1];
     }
     if (rel->source != RF_SOURCE_POINT || rel->jitter > 0.0) {
