@@ -33,7 +33,7 @@ static const char USAGE[] =
     "Design checks for rockfall protection measures (Masuya et al. 2009).\n"
     "\n"
     "commands:\n"
-    "  run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
+    "  run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N] [--store maps]\n"
     "      simulate the project's releases into a results database\n"
     "  check results.db [--rules FILE] [--run ID]\n"
     "      classify every interception (Table 3 limit states) and run the design checks\n"
@@ -50,6 +50,7 @@ static const char USAGE[] =
 
 static const char RUN_HELP[] =
     "usage: rockfall run PROJECT.yaml [-o results.db] [--seed N] [--count N] [--threads N]\n"
+    "                    [--store all|maps]\n"
     "\n"
     "Loads and validates the project, runs every release's Monte Carlo trajectories\n"
     "and writes one run (trajectories, sampled paths, interceptions, tree hits, hazard\n"
@@ -59,7 +60,11 @@ static const char RUN_HELP[] =
     "  --seed N            override the project's seed\n"
     "  --count N           trajectories per release, per cell of a `cells` release\n"
     "                      (overrides the project's counts)\n"
-    "  --threads N         worker threads (default 1; results do not depend on it)\n"
+    "  --threads N         worker threads (default 1; results do not depend on it); per\n"
+    "                      rank under mpirun (build/mpi/rockfall, docs/scaling.md)\n"
+    "  --store maps        keep the run, releases, measures, interceptions, hazard cells and\n"
+    "                      the sampled paths, with only the trajectories those need and no\n"
+    "                      tree hits (a regional map); no checks.  Default: all\n"
     "  -q, --quiet         no progress or summary\n";
 
 static const char CHECK_HELP[] =
@@ -217,6 +222,13 @@ static void on_interrupt(int sig)
     interrupted = 1;
 }
 
+/* A run of --store maps kept not the rows its integrity counts and checks need. */
+static int print_maps_kept(void)
+{
+    printf("  maps kept (--store maps): no per-trajectory counts, no checks\n");
+    return 0;
+}
+
 /* A project that cannot be loaded: the error printed (under MPI, by rank 0, which the
  * other ranks tell). */
 static int load_failed(const rf_error *err)
@@ -251,10 +263,11 @@ static int run_command(int argc, char **argv)
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"seed", required_argument, 0, 's'},
         {"count", required_argument, 0, 'c'},  {"threads", required_argument, 0, 't'},
-        {"quiet", no_argument, 0, 'q'},        {0, 0, 0, 0}};
+        {"quiet", no_argument, 0, 'q'},        {"store", required_argument, 0, 'S'},
+        {0, 0, 0, 0}};
     const char *out = "results.db";
     long seed = -1, count = 0, threads = 1;
-    int quiet = 0, c;
+    int quiet = 0, maps = 0, c;
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:q", opts, NULL)) != -1) {
         switch (c) {
@@ -272,6 +285,10 @@ static int run_command(int argc, char **argv)
                 return usage_error("run", "--threads takes a whole number 1..256, got '%s'", optarg);
             break;
         case 'q': quiet = 1; break;
+        case 'S':
+            if ((maps = !strcmp(optarg, "maps")) == 0 && strcmp(optarg, "all"))
+                return usage_error("run", "--store takes all or maps, got '%s'", optarg);
+            break;
         default: return usage_error("run", "%s", "bad option");
         }
     }
@@ -329,7 +346,7 @@ static int run_command(int argc, char **argv)
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     rf_run_options o = {.threads = (int)threads, .progress = !quiet && isatty(2),
-                        .interrupted = &interrupted};
+                        .interrupted = &interrupted, .maps = maps};
     rf_run_summary sum;
     int rc = simulate(&p, s, &o, quiet, &sum, &err);
     if (rc) {
@@ -343,10 +360,10 @@ static int run_command(int argc, char **argv)
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
                sum.by_reason[RF_END_MAX_TIME]);
-        rc = print_run_integrity(rf_store_db(s), sum.run_id);
+        rc = maps ? print_maps_kept() : print_run_integrity(rf_store_db(s), sum.run_id);
     }
     int status = rc ? EXIT_BAD_INPUT : EXIT_OK;
-    if (rc == 0 && p.rules_path) {
+    if (rc == 0 && p.rules_path && !maps) {
         if (!quiet)
             printf("\n");
         status = check_run(rf_store_db(s), sum.run_id, &rules, !quiet);

@@ -113,6 +113,10 @@
  * version 5). */
 #define TRAJECTORIES_V5_COLUMN "source_cell INTEGER CHECK (source_cell >= 0)"
 #define RELEASES_V5_COLUMN "n_cells INTEGER CHECK (n_cells >= 1)"
+/* What the run kept (version 5): 'all' its rows, or 'maps' (run --store maps) its
+ * releases, interceptions, hazard cells and sampled paths, with the trajectory rows of
+ * those interceptions and paths only, and no tree hits (docs/scaling.md). */
+#define RUNS_V5_COLUMN "store TEXT NOT NULL DEFAULT 'all' CHECK (store IN ('all', 'maps'))"
 
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
@@ -128,7 +132,8 @@ static const char schema_sql[] =
     "  n_trajectories INTEGER NOT NULL CHECK (n_trajectories >= 0),\n"
     "  version TEXT NOT NULL,\n"
     "  project_yaml TEXT,\n"
-    RUNS_V2_COLUMNS
+    RUNS_V2_COLUMNS ",\n"
+    "  " RUNS_V5_COLUMN "\n"
     ");\n"
     "CREATE TABLE releases (\n"
     "  id INTEGER PRIMARY KEY,\n"
@@ -548,6 +553,7 @@ static int upgrade_4_to_5(sqlite3 *db, const char *path, rf_error *err)
     static const char sql[] =
         "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V5_COLUMN ";\n"
         "ALTER TABLE releases ADD COLUMN " RELEASES_V5_COLUMN ";\n"
+        "ALTER TABLE runs ADD COLUMN " RUNS_V5_COLUMN ";\n"
         "UPDATE rockfall_schema SET version = 5;\n"
         "PRAGMA user_version = 5;\n";
     return exec_sql(db, path, sql, "upgrading the results database from schema version 4",

@@ -381,7 +381,8 @@ void rf_mc_stop(rf_mc *m, int abort)
 
 /* ---- writing ------------------------------------------------------------------- */
 
-int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, long by_reason[4], rf_error *err)
+int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, int maps, long by_reason[4],
+                      rf_error *err)
 {
     if (c->oom)
         return rf_error_set(err, "", 0, 0, "out of memory while simulating");
@@ -391,17 +392,19 @@ int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, long by_reason[4], rf_erro
     for (size_t k = 0; k < c->n; k++) {
         const rf_traj_out *o = &c->traj[k];
         int64_t tid;
+        counted[o->rec.reason]++;
+        if (maps && o->path_end == o->path_begin && o->icpt_end == o->icpt_begin)
+            continue;
         /* a row that fails rolls the batch back */
         if (rf_store_add_trajectory(s, o->release, o->idx, &o->rec, &tid, err))
             return -1;
-        counted[o->rec.reason]++;
         for (size_t i = o->path_begin; i < o->path_end; i++)
             if (rf_store_add_path_point(s, tid, (long)(i - o->path_begin), &c->paths[i], err))
                 return -1;
         for (size_t i = o->icpt_begin; i < o->icpt_end; i++)
             if (rf_store_add_interception(s, tid, &c->icpts[i], NULL, err))
                 return -1;
-        for (size_t i = o->tree_begin; i < o->tree_end; i++)
+        for (size_t i = o->tree_begin; !maps && i < o->tree_end; i++)
             if (rf_store_add_tree_hit(s, tid, &c->trees[i], err))
                 return -1;
     }
@@ -448,7 +451,7 @@ static int simulate_and_write(rf_mc *m, rf_store *s, const rf_run_options *o,
         while (!c->done)
             pthread_cond_wait(&m->cv, &m->mu);
         pthread_mutex_unlock(&m->mu);
-        status = rf_mc_write_chunk(s, c, sum->by_reason, err);
+        status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
         rf_chunk_clear(c);
         pthread_mutex_lock(&m->mu);
         m->written = ci + 1;
@@ -543,6 +546,7 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     rf_mc m;
     int nthreads = o->threads > 1 ? o->threads : 1;
     int status = rf_mc_init(&m, p, nthreads, (size_t)nthreads * RF_CHUNKS_AHEAD_PER_THREAD, err);
+    rf_store_keep_maps(s, o->maps);
     if (status == 0 && rf_store_run_begin(s, p, (long)m.total, &sum->run_id, err))
         status = -1;
     else if (status == 0)

@@ -103,9 +103,11 @@ void rf_mc_stop(rf_mc *m, int abort);
 /* Waits (under m->mu, which the caller holds) at most `seconds` for a change. */
 void rf_mc_wait(rf_mc *m, double seconds);
 
-/* Writes one chunk's rows in one batch, all or none; by_reason counts the trajectories
- * committed. */
-int rf_mc_write_chunk(struct rf_store *s, const rf_chunk *c, long by_reason[4], rf_error *err);
+/* Writes one chunk's rows in one batch, all or none (with `maps`, only the trajectories
+ * that crossed a measure or have sampled path points, and no tree hits); by_reason
+ * counts the trajectories committed. */
+int rf_mc_write_chunk(struct rf_store *s, const rf_chunk *c, int maps, long by_reason[4],
+                      rf_error *err);
 /* Progress on stderr (mode: rf_run_options.progress): done of total trajectories,
  * their rate since t0 and the time left at that rate, when a second (mode 1) or ten
  * (mode 2) have passed since *last; mode 1 clears its line once done == total. */

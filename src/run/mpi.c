@@ -220,7 +220,7 @@ static int write_in_order(root *r, rf_store *s, const rf_run_options *o, rf_run_
         }
         if (status)
             break;
-        status = rf_mc_write_chunk(s, c, sum->by_reason, err);
+        status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
         rf_chunk_clear(c);
         pthread_mutex_lock(&m->mu);
         m->written = ci + 1;
@@ -254,6 +254,7 @@ int rf_mpi_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     int status = rf_mc_init(&m, p, threads, ahead, err);
     if (status == 0 && rf_hazard_init(&r.remote, &p->terrain, p->hazard_cell))
         status = rf_error_set(err, "", 0, 0, "out of memory for the hazard grid");
+    rf_store_keep_maps(s, o->maps);
     if (status == 0 && rf_store_run_begin(s, p, (long)m.total, &sum->run_id, err))
         status = -1;
     else if (status == 0) {
