@@ -61,7 +61,7 @@ TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.o)
 TOOL_SRC := $(wildcard tools/*.c)
 TOOLS    := $(TOOL_SRC:tools/%.c=$(BUILD)/tools/%)
 
-.PHONY: mpi mpi-deps all demo test bench validate install clean deps report-check layers bench-memory bench-load fuzz fuzz-deps
+.PHONY: regional mpi mpi-deps all demo test bench validate install clean deps report-check layers bench-memory bench-load fuzz fuzz-deps
 all: $(BUILD)/rockfall $(TOOLS)
 
 $(BUILD)/src/%.o: src/%.c
@@ -126,6 +126,15 @@ mpi:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory mpi-deps
 	@$(MAKE) --no-print-directory MPI=1 build/mpi/rockfall
+
+# The regional example's generated files (projects/regional, 30 MB, not stored): the
+# valley's DEM and its source cells, written by tools/mkvalley.c.
+REGIONAL := projects/regional
+regional: $(REGIONAL)/valley.asc
+$(REGIONAL)/valley.asc $(REGIONAL)/sources.asc &: tools/mkvalley.c
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory $(BUILD)/tools/mkvalley
+	$(BUILD)/tools/mkvalley $(REGIONAL)
 
 # A file includes and calls only its own layer and those below; the engine's files
 # depend on each other without a cycle (tools/layers.sh, docs/architecture.md).
