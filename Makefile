@@ -110,7 +110,7 @@ test:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
 	@if command -v mpicc >/dev/null && command -v mpirun >/dev/null; then \
-	  $(MAKE) --no-print-directory MPI=1 build/mpi/rockfall; fi
+	  $(MAKE) --no-print-directory MPI=1 SANITIZE= FUZZ= build/mpi/rockfall; fi
 	ROCKFALL_BIN=$(BUILD)/rockfall ROCKFALL_TOOLS=$(BUILD)/tools ROCKFALL_MPI_BIN=build/mpi/rockfall \
 	  $(BUILD)/run_tests $(T)
 
@@ -125,7 +125,7 @@ mpi-deps:
 mpi:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory mpi-deps
-	@$(MAKE) --no-print-directory MPI=1 build/mpi/rockfall
+	@$(MAKE) --no-print-directory MPI=1 SANITIZE= FUZZ= build/mpi/rockfall
 
 # The regional example's generated files (projects/regional, 30 MB, not stored): the
 # valley's DEM and its source cells, written by tools/mkvalley.c.
