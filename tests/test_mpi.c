@@ -434,3 +434,30 @@ TEST(mpi_rank_killed_mid_run_leaves_the_file_whole)
     run1_rows(db, after, sizeof after);
     ENSURE_MSG(strcmp(before, after) == 0, "run 1 before:\n%s\nafter:\n%s", before, after);
 }
+
+/* A rank that cannot load the project (here: given another path, mpirun's MPMD form)
+ * tells rank 0, which prints its error, marks the run failed and ends the job. */
+TEST(mpi_rank_that_cannot_load_the_project_fails_the_run)
+{
+    const char *bin = mpi_bin();
+    if (!bin)
+        return;
+    char db[600], cmd[4096], out[65536];
+    snprintf(db, sizeof db, "%s", rf_test_path("lost.db"));
+    snprintf(cmd, sizeof cmd,
+             "mpirun --oversubscribe -n 2 %s run " MPI_PROJECT " --count 20000 -q -o %s :"
+             " -n 1 %s run %s/missing.yaml -q -o %s 2>&1",
+             bin, db, bin, rf_test_tmpdir(), db);
+    FILE *f = popen(cmd, "r");
+    ENSURE(f);
+    size_t got = fread(out, 1, sizeof out - 1, f);
+    out[got] = '\0';
+    int st = pclose(f);
+    ENSURE_MSG(WIFEXITED(st) && WEXITSTATUS(st) == 2, "mpirun %d: %s", WEXITSTATUS(st), out);
+    ENSURE_MSG(strstr(out, "error: rank 2: cannot open"), "%s", out);
+    sqlite3 *h;
+    ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM runs WHERE status = 'failed'") == 1);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM runs") == 1);
+    sqlite3_close(h);
+}

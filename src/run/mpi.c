@@ -55,19 +55,31 @@ int rf_mpi_size(void)
     return n;
 }
 
-void rf_mpi_end(int status)
-{
-    if (status != 0 && rf_mpi_size() > 1) {
-        fflush(stdout);
-        fflush(stderr);
-        MPI_Abort(MPI_COMM_WORLD, status);
-    }
-    MPI_Finalize();
-}
+/* Whether this rank told rank 0 of its failure (rf_mpi_report_failure). */
+static int reported;
 
 void rf_mpi_report_failure(const rf_error *err)
 {
     MPI_Send(err, (int)sizeof *err, MPI_BYTE, 0, TAG_FAIL, MPI_COMM_WORLD);
+    reported = 1;
+}
+
+void rf_mpi_end(int status)
+{
+    fflush(stdout);
+    fflush(stderr);
+    if (status != 0 && rf_mpi_size() > 1) {
+        if (rf_mpi_rank() == 0)
+            MPI_Abort(MPI_COMM_WORLD, status); /* after the run was marked failed */
+        if (!reported) {                       /* a usage error on this rank alone */
+            rf_error e;
+            rf_error_set(&e, "", 0, 0, "failed (exit status %d; its own messages above)",
+                         status);
+            rf_mpi_report_failure(&e);
+        }
+        /* rank 0 marks the run failed and ends the job; this waits for it */
+    }
+    MPI_Finalize();
 }
 
 /* ---- rank 0 ---------------------------------------------------------------------- */

@@ -25,7 +25,9 @@ struct rf_store;
 int rf_mpi_init(int *argc, char ***argv);
 int rf_mpi_rank(void);
 int rf_mpi_size(void);
-/* MPI_Finalize after a success; MPI_Abort(status) of the whole job otherwise. */
+/* Ends this rank: after a failure, rank 0 (which has marked the run failed) aborts the
+ * whole job with `status`, and any other rank tells rank 0 (unless it has already) and
+ * waits to be ended; MPI_Finalize otherwise. */
 void rf_mpi_end(int status);
 
 /* Rank 0: the run (as rf_montecarlo_run). */
