@@ -235,22 +235,22 @@ static void tables_of(const char *db, char *out, size_t cap)
     sqlite3_close(h);
 }
 
-/* The tables of `project` run by one process on one thread and by three ranks of two
- * threads each (all but when the run started and finished), into one.db and three.db;
- * both exit with `status`. */
-static void one_and_three(const char *bin, const char *project, const char *count, int status,
+/* The tables of `project` (run with `args`) by one process on one thread and by three
+ * ranks of two threads each (all but when the run started and finished), into one.db
+ * and three.db; both exit with `status`. */
+static void one_and_three(const char *bin, const char *project, const char *args, int status,
                           char *h1, char *h3, size_t cap)
 {
     char one[600], three[600], cmd[4096], out[65536];
     snprintf(one, sizeof one, "%s", rf_test_path("one.db"));
     snprintf(three, sizeof three, "%s", rf_test_path("three.db"));
     unlink(one), unlink(three);
-    snprintf(cmd, sizeof cmd, "run %s --count %s --threads 1 -q -o %s", project, count, one);
+    snprintf(cmd, sizeof cmd, "run %s %s --threads 1 -q -o %s", project, args, one);
     int rc1 = rf_test_rockfall(cmd, out, sizeof out);
     ENSURE_MSG(rc1 == status, "one process: %d: %s", rc1, out);
     snprintf(cmd, sizeof cmd,
-             "mpirun --oversubscribe -n 3 %s run %s --count %s --threads 2 -q -o %s 2>&1", bin,
-             project, count, three);
+             "mpirun --oversubscribe -n 3 %s run %s %s --threads 2 -q -o %s 2>&1", bin, project,
+             args, three);
     FILE *f = popen(cmd, "r");
     ENSURE(f);
     size_t got = fread(out, 1, sizeof out - 1, f);
@@ -276,18 +276,22 @@ TEST(mpi_three_ranks_write_the_rows_of_one_thread)
     static char h1[16384], h3[16384];
     /* 5 releases of 300: 1 500 trajectories, 6 chunks handed out among the ranks; the
      * layout fails one check (exit status 1) */
-    one_and_three(bin, MPI_PROJECT, "300", 1, h1, h3, sizeof h1);
+    one_and_three(bin, MPI_PROJECT, "--count 300", 1, h1, h3, sizeof h1);
     /* what is compared holds the rows that could differ */
     ENSURE(strstr(h1, "trajectories 1500 ") && strstr(h1, "\nruns 1 "));
     ENSURE(!strstr(h1, "hazard_cells 0 ") && !strstr(h1, "tree_hits 0 ") &&
            !strstr(h1, "interceptions 0 ") && !strstr(h1, "checks 0 "));
     /* 3 source cells of 100: 2 chunks */
-    one_and_three(bin, "tests/data/project/release_cells.yaml", "100", 0, h1, h3, sizeof h1);
+    one_and_three(bin, "tests/data/project/release_cells.yaml", "--count 100", 0, h1, h3,
+                  sizeof h1);
     ENSURE(strstr(h1, "trajectories 300 "));
     sqlite3 *h;
     ENSURE(sqlite3_open_v2(rf_test_path("three.db"), &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
     ENSURE(dbt_int(h, "SELECT count(*) FROM trajectories WHERE source_cell = idx / 100") == 300);
     sqlite3_close(h);
+    /* keeping the maps only: the same rows too (no verdict: exit status 0) */
+    one_and_three(bin, MPI_PROJECT, "--count 300 --store maps", 0, h1, h3, sizeof h1);
+    ENSURE(strstr(h1, "tree_hits 0 ") && !strstr(h1, "hazard_cells 0 "));
 }
 
 /* The pid of the process of `rank` that mpirun (pid parent) started, or 0. */
