@@ -465,3 +465,27 @@ TEST(mpi_rank_that_cannot_load_the_project_fails_the_run)
     ENSURE(dbt_int(h, "SELECT count(*) FROM runs") == 1);
     sqlite3_close(h);
 }
+
+/* Rank 0 prints the progress as lines (mpirun forwards its stderr, not a terminal): the
+ * trajectories written of all, their rate and the time left; the other ranks print
+ * nothing. */
+TEST(mpi_progress_lines_come_from_rank_0)
+{
+    const char *bin = mpi_bin();
+    if (!bin)
+        return;
+    char cmd[4096], out[65536];
+    snprintf(cmd, sizeof cmd,
+             "mpirun --oversubscribe -n 3 %s run " MPI_PROJECT " --count 60 -o %s 2>&1", bin,
+             rf_test_path("progress.db"));
+    FILE *f = popen(cmd, "r");
+    ENSURE(f);
+    size_t got = fread(out, 1, sizeof out - 1, f);
+    out[got] = '\0';
+    pclose(f);
+    const char *line = strstr(out, "300 / 300 trajectories, ");
+    ENSURE_MSG(line && strstr(line, " per second, 0:00 left\n"), "%s", out);
+    ENSURE_MSG(strstr(line + 1, "300 / 300 trajectories") == NULL, "%s", out); /* once */
+    const char *summary = strstr(out, "run 1 of 'noto-3.3' into");
+    ENSURE_MSG(summary && !strstr(summary + 1, "run 1 of 'noto-3.3' into"), "%s", out);
+}
