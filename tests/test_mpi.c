@@ -336,17 +336,17 @@ static pid_t rank_pid(pid_t parent, int rank)
     return found;
 }
 
-/* Trajectories of run 2 in the file (0 while it has none, or cannot be read). */
-static long run2_rows(const char *db)
+/* Trajectories of run `run` in the file (0 while it has none, or cannot be read). */
+static long run_rows(const char *db, int run)
 {
     sqlite3 *h;
     long n = 0;
     if (sqlite3_open_v2(db, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK) {
         sqlite3_busy_timeout(h, 2000);
         sqlite3_stmt *st;
-        if (sqlite3_prepare_v2(h, "SELECT count(*) FROM trajectories WHERE run_id = 2", -1, &st,
-                               NULL) == SQLITE_OK &&
-            sqlite3_step(st) == SQLITE_ROW)
+        if (sqlite3_prepare_v2(h, "SELECT count(*) FROM trajectories WHERE run_id = ?1", -1,
+                               &st, NULL) == SQLITE_OK &&
+            sqlite3_bind_int(st, 1, run) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW)
             n = (long)sqlite3_column_int64(st, 0);
         sqlite3_finalize(st);
     }
@@ -379,6 +379,46 @@ static void run1_rows(const char *db, char *out, size_t cap)
     sqlite3_close(h);
 }
 
+/* mpirun of three ranks on a million trajectories (minutes) into db, started in the
+ * background; returns mpirun's pid once that run (number `run` in the file) has at
+ * least two chunks written (their number in *rows). */
+static pid_t start_long_run(const char *bin, const char *db, int run, long *rows)
+{
+    pid_t mp = fork();
+    ENSURE(mp >= 0);
+    if (mp == 0) {
+        /* mpirun's own report of the job's end is expected: not shown */
+        if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
+            _exit(126);
+        /* the grace mpirun gives the ranks between SIGTERM and SIGKILL: 1 s by default,
+         * 5 here, so that a loaded machine cannot fail the test */
+        execlp("mpirun", "mpirun", "--oversubscribe", "--mca", "odls_base_sigkill_timeout", "5",
+               "-n", "3", bin, "run", MPI_PROJECT, "--count", "200000", "--threads", "1", "-q",
+               "-o", db, (char *)NULL);
+        _exit(127);
+    }
+    struct timespec tick = {0, 50 * 1000 * 1000};
+    for (int i = 0; i < 1200 && (*rows = run_rows(db, run)) < 2 * RF_CHUNK_SIZE; i++)
+        nanosleep(&tick, NULL);
+    return mp;
+}
+
+/* mpirun's wait status, once it has ended (at most 60 s). */
+static int wait_for(pid_t mp)
+{
+    struct timespec tick = {0, 50 * 1000 * 1000};
+    int st = 0;
+    pid_t w = 0;
+    for (int i = 0; i < 1200 && (w = waitpid(mp, &st, WNOHANG)) == 0; i++)
+        nanosleep(&tick, NULL);
+    if (w == 0) {
+        kill(mp, SIGKILL);
+        waitpid(mp, &st, 0);
+        ENSURE_MSG(0, "mpirun still running 60 s after the signal");
+    }
+    return st;
+}
+
 /* kill -9 of one rank in the middle of a run: the job ends, the file passes
  * integrity_check, the run is not complete and the run before it is intact. */
 TEST(mpi_rank_killed_mid_run_leaves_the_file_whole)
@@ -393,35 +433,13 @@ TEST(mpi_rank_killed_mid_run_leaves_the_file_whole)
     ENSURE_MSG(rc1 == 0 || rc1 == 1, "%s", out); /* run 1: complete (checked) */
     static char before[4096], after[4096];
     run1_rows(db, before, sizeof before);
-    char count[32];
-    snprintf(count, sizeof count, "%d", 200000); /* a million trajectories: minutes */
-    pid_t mp = fork();
-    ENSURE(mp >= 0);
-    if (mp == 0) {
-        /* mpirun's own report of the killed rank is expected: not shown */
-        if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))
-            _exit(126);
-        execlp("mpirun", "mpirun", "--oversubscribe", "-n", "3", bin, "run", MPI_PROJECT,
-               "--count", count, "--threads", "1", "-q", "-o", db, (char *)NULL);
-        _exit(127);
-    }
-    struct timespec tick = {0, 50 * 1000 * 1000};
     long rows = 0;
-    for (int i = 0; i < 1200 && (rows = run2_rows(db)) < 2 * RF_CHUNK_SIZE; i++)
-        nanosleep(&tick, NULL);
+    pid_t mp = start_long_run(bin, db, 2, &rows);
     pid_t victim = rank_pid(mp, 1);
     ENSURE_MSG(rows >= 2 * RF_CHUNK_SIZE && victim > 0, "%ld rows, rank 1 pid %d", rows,
                (int)victim);
     ENSURE(kill(victim, SIGKILL) == 0);
-    int st = 0;
-    pid_t w = 0;
-    for (int i = 0; i < 1200 && (w = waitpid(mp, &st, WNOHANG)) == 0; i++)
-        nanosleep(&tick, NULL);
-    if (w == 0) {
-        kill(mp, SIGKILL);
-        waitpid(mp, &st, 0);
-        ENSURE_MSG(0, "mpirun still running 60 s after its rank 1 was killed");
-    }
+    int st = wait_for(mp);
     ENSURE(!(WIFEXITED(st) && WEXITSTATUS(st) == 0));
     sqlite3 *h;
     ENSURE(sqlite3_open(db, &h) == SQLITE_OK); /* read-write: replays a WAL left behind */
@@ -488,4 +506,32 @@ TEST(mpi_progress_lines_come_from_rank_0)
     ENSURE_MSG(strstr(line + 1, "300 / 300 trajectories") == NULL, "%s", out); /* once */
     const char *summary = strstr(out, "run 1 of 'noto-3.3' into");
     ENSURE_MSG(summary && !strstr(summary + 1, "run 1 of 'noto-3.3' into"), "%s", out);
+}
+
+/* Ctrl-C of mpirun (SIGINT, which it passes to every rank as SIGTERM, killing them after
+ * its grace): rank 0 marks the run failed with the trajectories written and closes
+ * the file, no -wal or -shm left beside it, as a one-process run interrupted does. */
+TEST(mpi_interrupted_run_is_failed_and_closed)
+{
+    const char *bin = mpi_bin();
+    if (!bin)
+        return;
+    char db[600], wal[700];
+    snprintf(db, sizeof db, "%s", rf_test_path("interrupted.db"));
+    snprintf(wal, sizeof wal, "%s-wal", db);
+    long rows = 0;
+    pid_t mp = start_long_run(bin, db, 1, &rows);
+    ENSURE_MSG(rows >= 2 * RF_CHUNK_SIZE, "%ld rows", rows);
+    ENSURE(kill(mp, SIGINT) == 0);
+    int st = wait_for(mp);
+    ENSURE(!(WIFEXITED(st) && WEXITSTATUS(st) == 0));
+    ENSURE_MSG(access(wal, F_OK) != 0, "%s left behind", wal);
+    sqlite3 *h;
+    ENSURE(sqlite3_open(db, &h) == SQLITE_OK);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM runs WHERE status = 'failed'") == 1);
+    long n = (long)dbt_int(h, "SELECT n_trajectories FROM runs");
+    ENSURE_MSG(n == dbt_int(h, "SELECT count(*) FROM trajectories") && n >= rows &&
+                   n % RF_CHUNK_SIZE == 0,
+               "n_trajectories %ld", n);
+    sqlite3_close(h);
 }

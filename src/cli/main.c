@@ -258,6 +258,25 @@ static int simulate(const rf_project *p, rf_store *s, rf_run_options *o, int qui
     return rf_montecarlo_run(p, s, o, sum, err);
 }
 
+#ifdef RF_MPI
+/* A rank above 0: serves rank 0 until the run is done (frees p).  SIGINT and SIGTERM,
+ * which mpirun sends every rank when the job is stopped, are caught and left to rank 0,
+ * which marks the run failed and closes the file within mpirun's grace before it kills
+ * the job. */
+static int serve_rank(rf_project *p, int threads)
+{
+    struct sigaction sa = {.sa_handler = on_interrupt};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    rf_run_options wo = {.threads = threads};
+    rf_error err;
+    int served = rf_mpi_serve(p, &wo, &err);
+    rf_project_free(p);
+    return served ? EXIT_BAD_INPUT : EXIT_OK;
+}
+#endif
+
 static int run_command(int argc, char **argv)
 {
     static const struct option opts[] = {
@@ -317,12 +336,8 @@ static int run_command(int argc, char **argv)
         }
 
 #ifdef RF_MPI
-    if (rf_mpi_rank() > 0) { /* simulates what rank 0 hands out; rank 0 writes */
-        rf_run_options wo = {.threads = (int)threads};
-        int served = rf_mpi_serve(&p, &wo, &err);
-        rf_project_free(&p);
-        return served ? EXIT_BAD_INPUT : EXIT_OK;
-    }
+    if (rf_mpi_rank() > 0) /* simulates what rank 0 hands out; rank 0 writes */
+        return serve_rank(&p, (int)threads);
 #endif
     /* The project's rules are read before the simulation: a bad rule file costs
      * nothing. */

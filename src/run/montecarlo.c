@@ -247,6 +247,13 @@ static void run_chunk(rf_mc_worker *w, rf_chunk *c)
         return;
     }
     for (size_t k = 0; k < c->n; k++) {
+        pthread_mutex_lock(&m->mu);
+        int stop = m->abort;
+        pthread_mutex_unlock(&m->mu);
+        if (stop) { /* the run ends: the chunk is never written */
+            c->n = k;
+            break;
+        }
         size_t g = c->first + k;
         size_t rel = release_of(m, g);
         long idx = (long)(g - m->release_start[rel]);
