@@ -9,8 +9,9 @@
  * fewer than twice its threads in hand, sends each filled chunk back, and at the end
  * sends its hazard map in batches of at most RF_MPI_BATCH bytes; rank 0 merges them
  * (the summaries depend only on the set of values: hazard.h).  Any failure ends the
- * whole job (MPI_Abort) after rank 0 has marked the run failed or, when rank 0 itself
- * is killed, leaves the run 'running' in a consistent file (the WAL journal). */
+ * whole job (MPI_Abort) after rank 0 has marked the run failed (a rank killed makes
+ * mpirun send SIGTERM to the others, which rank 0 takes as an interrupt); rank 0 itself
+ * killed leaves the run 'running' in a consistent file (the WAL journal). */
 #ifndef ROCKFALL_MPI_H
 #define ROCKFALL_MPI_H
 
