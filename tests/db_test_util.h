@@ -16,8 +16,9 @@ __attribute__((format(printf, 2, 3))) double dbt_real(sqlite3 *db, const char *f
  * row ended), and their number in *nrows (may be NULL). */
 unsigned long long dbt_rows_hash(sqlite3 *db, const char *sql, long *nrows);
 /* The hash of every table of the file (in name order; each table's rows by its
- * columns in order), leaving out the columns whose name ends in "_at" (when a run
- * started and finished); one line per table into out ("NAME ROWS HASH"). */
+ * columns in order), leaving out when and where a run ran: the columns whose name ends
+ * in "_at" (when it started and finished) and runs' host, ranks and threads; one line
+ * per table into out ("NAME ROWS HASH"). */
 void dbt_tables_hash(sqlite3 *db, char *out, size_t cap);
 
 #endif

@@ -279,13 +279,22 @@ TEST(mpi_three_ranks_write_the_rows_of_one_thread)
     one_and_three(bin, MPI_PROJECT, "--count 300", 1, h1, h3, sizeof h1);
     /* what is compared holds the rows that could differ */
     ENSURE(strstr(h1, "trajectories 1500 ") && strstr(h1, "\nruns 1 "));
+    /* and where each ran: one rank of one thread, three of two */
+    sqlite3 *h;
+    ENSURE(sqlite3_open_v2(rf_test_path("one.db"), &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM runs WHERE ranks = 1 AND threads = 1 AND"
+                      " length(host) > 0") == 1);
+    sqlite3_close(h);
+    ENSURE(sqlite3_open_v2(rf_test_path("three.db"), &h, SQLITE_OPEN_READONLY, NULL) ==
+           SQLITE_OK);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM runs WHERE ranks = 3 AND threads = 2") == 1);
+    sqlite3_close(h);
     ENSURE(!strstr(h1, "hazard_cells 0 ") && !strstr(h1, "tree_hits 0 ") &&
            !strstr(h1, "interceptions 0 ") && !strstr(h1, "checks 0 "));
     /* 3 source cells of 100: 2 chunks */
     one_and_three(bin, "tests/data/project/release_cells.yaml", "--count 100", 0, h1, h3,
                   sizeof h1);
     ENSURE(strstr(h1, "trajectories 300 "));
-    sqlite3 *h;
     ENSURE(sqlite3_open_v2(rf_test_path("three.db"), &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
     ENSURE(dbt_int(h, "SELECT count(*) FROM trajectories WHERE source_cell = idx / 100") == 300);
     sqlite3_close(h);

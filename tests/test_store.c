@@ -1238,7 +1238,8 @@ TEST(store_upgrades_a_version_3_file_in_place)
 
 /* Version 4 to 5 in place: a version-4 file (a current one without the columns of
  * version 5) keeps every row in its columns, and gains trajectories.source_cell and
- * releases.n_cells, NULL in its rows, and runs.store, 'all' in them. */
+ * releases.n_cells, NULL in its rows, runs.store, 'all' in them, and runs.host,
+ * ranks and threads, NULL. */
 TEST(store_upgrades_a_version_4_file_in_place)
 {
     const char *path = rf_test_path("v4.db");
@@ -1251,6 +1252,9 @@ TEST(store_upgrades_a_version_4_file_in_place)
     exec_raw(db, "ALTER TABLE trajectories DROP COLUMN source_cell;"
                  "ALTER TABLE releases DROP COLUMN n_cells;"
                  "ALTER TABLE runs DROP COLUMN store;"
+                 "ALTER TABLE runs DROP COLUMN host;"
+                 "ALTER TABLE runs DROP COLUMN ranks;"
+                 "ALTER TABLE runs DROP COLUMN threads;"
                  "UPDATE rockfall_schema SET version = 4; PRAGMA user_version = 4;");
     char *before = dump(db, "SELECT group_concat(quote(id) || quote(stop_x) || quote(mass_kg)"
                             " || quote(start_z), ';') FROM trajectories");
@@ -1269,7 +1273,8 @@ TEST(store_upgrades_a_version_4_file_in_place)
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE source_cell IS NULL") == n);
     ENSURE(dbt_int(db, "SELECT count(*) FROM releases WHERE n_cells IS NULL") ==
            dbt_int(db, "SELECT count(*) FROM releases"));
-    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE store = 'all'") == 1);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE store = 'all' AND host IS NULL AND"
+                       " ranks IS NULL AND threads IS NULL") == 1);
     sqlite3_close(db);
     free(before), free(after), free(rel_before), free(rel_after);
 }

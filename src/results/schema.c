@@ -117,6 +117,9 @@
  * releases, interceptions, hazard cells and sampled paths, with the trajectory rows of
  * those interceptions and paths only, and no tree hits (docs/scaling.md). */
 #define RUNS_V5_COLUMN "store TEXT NOT NULL DEFAULT 'all' CHECK (store IN ('all', 'maps'))"
+/* Where the run ran (version 5): the host of the process that wrote it, its MPI ranks
+ * and the threads of each (NULL for the runs before). */
+#define RUNS_V5_WHERE "host TEXT, ranks INTEGER CHECK (ranks >= 1), threads INTEGER CHECK (threads >= 1)"
 
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
@@ -133,7 +136,8 @@ static const char schema_sql[] =
     "  version TEXT NOT NULL,\n"
     "  project_yaml TEXT,\n"
     RUNS_V2_COLUMNS ",\n"
-    "  " RUNS_V5_COLUMN "\n"
+    "  " RUNS_V5_COLUMN ",\n"
+    "  " RUNS_V5_WHERE "\n"
     ");\n"
     "CREATE TABLE releases (\n"
     "  id INTEGER PRIMARY KEY,\n"
@@ -554,6 +558,9 @@ static int upgrade_4_to_5(sqlite3 *db, const char *path, rf_error *err)
         "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V5_COLUMN ";\n"
         "ALTER TABLE releases ADD COLUMN " RELEASES_V5_COLUMN ";\n"
         "ALTER TABLE runs ADD COLUMN " RUNS_V5_COLUMN ";\n"
+        "ALTER TABLE runs ADD COLUMN host TEXT;\n"
+        "ALTER TABLE runs ADD COLUMN ranks INTEGER CHECK (ranks >= 1);\n"
+        "ALTER TABLE runs ADD COLUMN threads INTEGER CHECK (threads >= 1);\n"
         "UPDATE rockfall_schema SET version = 5;\n"
         "PRAGMA user_version = 5;\n";
     return exec_sql(db, path, sql, "upgrading the results database from schema version 4",

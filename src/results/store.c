@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "base/polyline.h"
 #include "base/util.h"
@@ -39,8 +40,9 @@ static const char *const statement_sql[ST_COUNT] = {
     [ST_ROLLBACK] = "ROLLBACK",
     [ST_RUN] = "INSERT INTO runs (project, project_path, seed, status, started_at,"
                " n_trajectories, version, project_yaml, rules_path, surface_friction,"
-               " hazard_cell_m, store)"
-               " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9, ?10)",
+               " hazard_cell_m, store, host, ranks, threads)"
+               " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9, ?10,"
+               " ?11, ?12, ?13)",
     [ST_RELEASE] = "INSERT INTO releases (run_id, idx, name, x, y, z, rock, mass_kg,"
                    " radius_m, density_kgm3, action_level, count, velocity_x,"
                    " velocity_y, velocity_z, height_m, jitter_m, n_cells)"
@@ -89,7 +91,8 @@ struct rf_store {
     size_t nreleases;
     int64_t *measure_ids;    /* by project measure index */
     size_t nmeasures;
-    int maps;                /* the next run keeps its maps only (rf_store_keep_maps) */
+    int maps;                /* the next run keeps its maps only (rf_store_describe_run) */
+    int ranks, threads;      /* and where it runs */
 };
 
 static int sql_status(sqlite3 *db, const char *path, int rc, const char *doing, rf_error *err)
@@ -268,6 +271,13 @@ static int insert_run_row(rf_store *s, const rf_project *p, long n_trajectories,
     bind_real(st, 8, terrain ? p->terrain_spec.surface.friction.mean : NAN);
     bind_real(st, 9, p->hazard_cell > 0 ? p->hazard_cell : NAN);
     bind_text(st, 10, s->maps ? "maps" : "all");
+    char host[256] = "";
+    if (gethostname(host, sizeof host - 1) == 0)
+        bind_text(st, 11, host);
+    else
+        sqlite3_bind_null(st, 11);
+    bind_int(st, 12, s->ranks > 0 ? s->ranks : 1); /* 0: never described, one of each */
+    bind_int(st, 13, s->threads > 0 ? s->threads : 1);
     int failed = step_statement(s, ST_RUN, "writing the run", err);
     free(rules);
     free(abs_path);
@@ -388,7 +398,12 @@ static int insert_ground_points(rf_store *s, const rf_project *p, rf_error *err)
     return 0;
 }
 
-void rf_store_keep_maps(rf_store *s, int maps) { s->maps = maps != 0; }
+void rf_store_describe_run(rf_store *s, int maps, int ranks, int threads)
+{
+    s->maps = maps != 0;
+    s->ranks = ranks > 1 ? ranks : 1;
+    s->threads = threads > 1 ? threads : 1;
+}
 
 int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
                        int64_t *run_id, rf_error *err)

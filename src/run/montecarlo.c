@@ -553,7 +553,7 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     rf_mc m;
     int nthreads = o->threads > 1 ? o->threads : 1;
     int status = rf_mc_init(&m, p, nthreads, (size_t)nthreads * RF_CHUNKS_AHEAD_PER_THREAD, err);
-    rf_store_keep_maps(s, o->maps);
+    rf_store_describe_run(s, o->maps, 1, nthreads);
     if (status == 0 && rf_store_run_begin(s, p, (long)m.total, &sum->run_id, err))
         status = -1;
     else if (status == 0)

@@ -266,7 +266,7 @@ int rf_mpi_run(const rf_project *p, rf_store *s, const rf_run_options *o,
     int status = rf_mc_init(&m, p, threads, ahead, err);
     if (status == 0 && rf_hazard_init(&r.remote, &p->terrain, p->hazard_cell))
         status = rf_error_set(err, "", 0, 0, "out of memory for the hazard grid");
-    rf_store_keep_maps(s, o->maps);
+    rf_store_describe_run(s, o->maps, rf_mpi_size(), threads);
     if (status == 0 && rf_store_run_begin(s, p, (long)m.total, &sum->run_id, err))
         status = -1;
     else if (status == 0) {
