@@ -11,6 +11,7 @@
 #   make bench-memory   peak memory of a run at 2 000 and 200 000 trajectories (flat)
 #   make bench-load the project loader on large inputs (times, not tests)
 #   make fuzz       libFuzzer on every loader (clang, installed when missing), FUZZ_SECONDS each
+#   make mpi        build/mpi/rockfall with OpenMPI (mpicc), for mpirun (docs/scaling.md)
 #   make install    PREFIX=/usr/local
 
 # ---- settings ---------------------------------------------------------------
@@ -42,7 +43,15 @@ endif
 # ---- objects ----------------------------------------------------------------
 # src/ is one folder per layer (docs/architecture.md); tests/fixtures/ holds the scenes
 # and field tests that the tests and tools share, outside the library.
-LIB_SRC  := $(filter-out src/cli/%,$(wildcard src/*/*.c))
+LIB_SRC  := $(filter-out src/cli/% src/run/mpi%.c,$(wildcard src/*/*.c))
+# The MPI build (`make mpi`): mpicc, src/run/mpi*.c and RF_MPI in build/mpi; the default
+# build needs no MPI.
+ifeq ($(MPI),1)
+CC       := mpicc
+BUILD    := build/mpi
+CFLAGS   += -DRF_MPI
+LIB_SRC  += $(wildcard src/run/mpi*.c)
+endif
 LIB_OBJ  := $(LIB_SRC:src/%.c=$(BUILD)/src/%.o)
 CLI_OBJ  := $(patsubst src/%.c,$(BUILD)/src/%.o,$(wildcard src/cli/*.c))
 FIX_SRC  := $(wildcard tests/fixtures/*.c)
@@ -52,7 +61,7 @@ TEST_OBJ := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%.o)
 TOOL_SRC := $(wildcard tools/*.c)
 TOOLS    := $(TOOL_SRC:tools/%.c=$(BUILD)/tools/%)
 
-.PHONY: all demo test bench validate install clean deps report-check layers bench-memory bench-load fuzz fuzz-deps
+.PHONY: regional mpi mpi-deps all demo test bench validate install clean deps report-check layers bench-memory bench-load fuzz fuzz-deps
 all: $(BUILD)/rockfall $(TOOLS)
 
 $(BUILD)/src/%.o: src/%.c
@@ -100,7 +109,32 @@ demo:
 test:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
-	ROCKFALL_BIN=$(BUILD)/rockfall ROCKFALL_TOOLS=$(BUILD)/tools $(BUILD)/run_tests $(T)
+	@if command -v mpicc >/dev/null && command -v mpirun >/dev/null; then \
+	  $(MAKE) --no-print-directory MPI=1 SANITIZE= FUZZ= build/mpi/rockfall; fi
+	ROCKFALL_BIN=$(BUILD)/rockfall ROCKFALL_TOOLS=$(BUILD)/tools ROCKFALL_MPI_BIN=build/mpi/rockfall \
+	  $(BUILD)/run_tests $(T)
+
+# build/mpi/rockfall: the same command, its runs shared among MPI ranks (mpirun -n N
+# build/mpi/rockfall run ...; docs/scaling.md).  OpenMPI installed when missing.
+MPI_DEBS := libopenmpi-dev openmpi-bin
+mpi-deps:
+	@command -v mpicc >/dev/null && command -v mpirun >/dev/null || { \
+	  echo "installing $(MPI_DEBS)"; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+	  $(SUDO) apt-get install -y -qq $(MPI_DEBS); }
+mpi:
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory mpi-deps
+	@$(MAKE) --no-print-directory MPI=1 SANITIZE= FUZZ= build/mpi/rockfall
+
+# The regional example's generated files (projects/regional, 30 MB, not stored): the
+# valley's DEM and its source cells, written by tools/mkvalley.c.
+REGIONAL := projects/regional
+regional: $(REGIONAL)/valley.asc
+$(REGIONAL)/valley.asc $(REGIONAL)/sources.asc &: tools/mkvalley.c
+	@$(MAKE) --no-print-directory deps
+	@$(MAKE) --no-print-directory $(BUILD)/tools/mkvalley
+	$(BUILD)/tools/mkvalley $(REGIONAL)
 
 # A file includes and calls only its own layer and those below; the engine's files
 # depend on each other without a cycle (tools/layers.sh, docs/architecture.md).

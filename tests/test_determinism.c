@@ -30,7 +30,13 @@
 #define DET_TRAJECTORIES_HASH 0x2c4f642c84aa6f48ull
 #define DET_INTERCEPTIONS_HASH 0xeb33235e0b3d948cull
 
-static const char *const TRAJECTORIES_SQL = "SELECT * FROM trajectories ORDER BY id";
+/* The columns the hash pins, named: a column a later schema version adds (source_cell
+ * of version 5, NULL for this project's point releases) leaves the pinned rows as they
+ * were. */
+static const char *const TRAJECTORIES_SQL =
+    "SELECT id, run_id, release_id, idx, stop_x, stop_y, stop_z, stop_reason, duration_s,"
+    " path_length_m, max_energy_kj, n_impacts, n_tree_hits, rest_steep, mass_kg, start_x,"
+    " start_y, start_z FROM trajectories ORDER BY id";
 static const char *const INTERCEPTIONS_SQL = "SELECT * FROM interceptions ORDER BY id";
 
 static uint64_t fnv1a(uint64_t h, const unsigned char *b, size_t n)

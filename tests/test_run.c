@@ -148,6 +148,9 @@ TEST(run_writes_complete_run_with_paths_and_hazard)
     }
     ENSURE(sqlite3_step(st) == SQLITE_DONE);
     sqlite3_finalize(st);
+    /* a point release has no source cells */
+    ENSURE(dbt_int(h, "SELECT count(*) FROM trajectories WHERE source_cell IS NOT NULL") == 0);
+    ENSURE(dbt_int(h, "SELECT count(*) FROM releases WHERE n_cells IS NOT NULL") == 0);
     sqlite3_close(h);
 }
 
@@ -352,8 +355,10 @@ TEST(run_cells_release_count_per_cell_and_stored_starts)
     sqlite3 *h;
     ENSURE(sqlite3_open_v2(db, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
     sqlite3_stmt *st;
-    ENSURE(sqlite3_prepare_v2(h, "SELECT idx, mass_kg, start_x, start_y, start_z FROM "
-                                 "trajectories ORDER BY idx", -1, &st, NULL) == SQLITE_OK);
+    /* the release's cells, each trajectory's cell (idx / count, in the mask's order) */
+    ENSURE(dbt_int(h, "SELECT n_cells FROM releases") == 3);
+    ENSURE(sqlite3_prepare_v2(h, "SELECT idx, mass_kg, start_x, start_y, start_z, source_cell "
+                                 "FROM trajectories ORDER BY idx", -1, &st, NULL) == SQLITE_OK);
     gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
     long rows = 0;
     while (sqlite3_step(st) == SQLITE_ROW) {
@@ -368,6 +373,8 @@ TEST(run_cells_release_count_per_cell_and_stored_starts)
         rf_state s0 = rf_release_start_of(&p, 0, idx, &b, rng);
         ENSURE(sqlite3_column_double(st, 1) == m && x == s0.p.x && y == s0.p.y &&
                sqlite3_column_double(st, 4) == s0.p.z);
+        ENSURE(sqlite3_column_type(st, 5) == SQLITE_INTEGER &&
+               sqlite3_column_int64(st, 5) == idx / 3);
         rows++;
     }
     ENSURE(rows == 9);

@@ -1236,6 +1236,9 @@ TEST(store_upgrades_a_version_3_file_in_place)
     ENSURE(strcmp(steep_before, steep_after) == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE mass_kg IS NULL AND start_x IS"
                        " NULL AND start_y IS NULL AND start_z IS NULL") == n);
+    /* and on to version 5: no source cell, no number of cells in the old rows */
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE source_cell IS NULL") == n);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM releases WHERE n_cells IS NOT NULL") == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM run_verdicts") == 1);
     sqlite3_close(db);
@@ -1248,7 +1251,9 @@ TEST(store_upgrades_a_version_3_file_in_place)
 #define V4_FIXTURE "tests/data/results-v4.db"
 
 /* Version 4 to 5 in place: the file a GeoPackage (its layers filled from the run
- * already there), the calibration tables added, empty; every row kept. */
+ * already there), the calibration tables added, empty; every row kept in its columns,
+ * trajectories.source_cell and releases.n_cells NULL in them, runs.store 'all' and
+ * runs.host, ranks and threads NULL. */
 TEST(store_upgrades_a_version_4_file_in_place)
 {
     const char *path = copy_fixture(V4_FIXTURE, "v4.db");
@@ -1275,6 +1280,12 @@ TEST(store_upgrades_a_version_4_file_in_place)
     ENSURE_MSG(strcmp(before, after) == 0, "%s\n%s", before, after);
     ENSURE(strcmp(starts, starts_after) == 0);
     ENSURE(dbt_int(db, "SELECT count(*) FROM pragma_foreign_key_check") == 0);
+    ENSURE(dbt_int(db, "SELECT count(*) FROM trajectories WHERE source_cell IS NULL") ==
+           dbt_int(db, "SELECT count(*) FROM trajectories"));
+    ENSURE(dbt_int(db, "SELECT count(*) FROM releases WHERE n_cells IS NULL") ==
+           dbt_int(db, "SELECT count(*) FROM releases"));
+    ENSURE(dbt_int(db, "SELECT count(*) FROM runs WHERE store = 'all' AND host IS NULL AND"
+                       " ranks IS NULL AND threads IS NULL") == 1);
     sqlite3_close(db);
     free(before);
     free(after);

@@ -19,7 +19,11 @@ struct rf_store;
 
 typedef struct rf_run_options {
     int threads;  /* worker threads, >= 1 */
-    int progress; /* print progress to stderr */
+    int maps;     /* keep the maps only (run --store maps): the run, releases, measures,
+                   * interceptions, hazard cells and the sampled paths, with the
+                   * trajectory rows those need and no tree hits (docs/scaling.md) */
+    int progress; /* progress on stderr: 0 none, 1 one line rewritten (a terminal),
+                   * 2 a line every 10 s (a log; mpirun's forwarded stderr) */
     /* may be NULL; once it reads nonzero (set by a signal handler), the run ends after
      * the rows being written, as failed ("interrupted") */
     const volatile sig_atomic_t *interrupted;

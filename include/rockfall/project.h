@@ -164,6 +164,10 @@ int rf_project_load_from_memory(const char *data, size_t len, const char *path, 
 void rf_project_free(rf_project *p);
 /* The trajectories of a release: count, or count per source cell of a `cells` mask. */
 long rf_release_trajectories(const rf_release *r);
+/* The source cell trajectory idx of a `cells` release starts in (0 .. ncells - 1, in the
+ * mask's order: row by row from the south-west, as rf_release.cells holds them):
+ * idx / count; -1 for a point or area release. */
+long rf_release_source_cell(const rf_release *r, long idx);
 
 const char *rf_measure_kind_name(rf_measure_kind k);
 const char *rf_importance_name(rf_importance i);

@@ -256,6 +256,79 @@ size_t rf_qsum_encode(const rf_qsum *s, unsigned char *buf, size_t cap)
     return at;
 }
 
+static int get(const unsigned char *buf, size_t len, size_t *at, int bytes, uint64_t *v)
+{
+    if (len - *at < (size_t)bytes || *at > len)
+        return -1;
+    *v = 0;
+    for (int k = 0; k < bytes; k++)
+        *v |= (uint64_t)buf[(*at)++] << (8 * k);
+    return 0;
+}
+
+static float unbits(uint64_t u)
+{
+    uint32_t w = (uint32_t)u;
+    float v;
+    memcpy(&v, &w, sizeof v);
+    return v;
+}
+
+int rf_qsum_decode(rf_qsum *s, const unsigned char *buf, size_t len, size_t *used)
+{
+    memset(s, 0, sizeof *s);
+    size_t at = 0;
+    uint64_t u, n;
+    if (get(buf, len, &at, 8, &n))
+        return -1;
+    if (n == 0) {
+        *used = at;
+        return 0;
+    }
+    if (get(buf, len, &at, 4, &u))
+        return -1;
+    s->max = unbits(u);
+    if (n <= RF_QSUM_EXACT) {
+        s->v = malloc((size_t)n * sizeof *s->v);
+        if (!s->v)
+            return -1;
+        s->cap = (uint32_t)n;
+        for (s->n = 0; s->n < n; s->n++) {
+            if (get(buf, len, &at, 4, &u) ||
+                (s->n > 0 && key(unbits(u)) < key(s->v[s->n - 1]))) { /* not ascending */
+                rf_qsum_free(s);
+                return -1;
+            }
+            s->v[s->n] = unbits(u);
+        }
+        *used = at;
+        return 0;
+    }
+    uint64_t lm0, lm1, b0, nb, sum = 0;
+    if (get(buf, len, &at, 4, &lm0) || get(buf, len, &at, 4, &lm1) ||
+        get(buf, len, &at, 4, &b0) || get(buf, len, &at, 4, &nb) || nb == 0 ||
+        (int32_t)(uint32_t)b0 < 0 || nb > (len - at) / 8)
+        return -1;
+    s->bins = malloc((size_t)nb * sizeof *s->bins);
+    if (!s->bins)
+        return -1;
+    s->low_max[0] = unbits(lm0);
+    s->low_max[1] = unbits(lm1);
+    s->b0 = (int32_t)(uint32_t)b0;
+    s->nb = (uint32_t)nb;
+    for (uint32_t i = 0; i < s->nb; i++) {
+        get(buf, len, &at, 8, &s->bins[i]); /* within len: nb was bounded above */
+        sum += s->bins[i];
+    }
+    s->n = n;
+    if (sum != n) {
+        rf_qsum_free(s);
+        return -1;
+    }
+    *used = at;
+    return 0;
+}
+
 size_t rf_qsum_bytes(const rf_qsum *s)
 {
     return s->cap * sizeof *s->v + s->nb * sizeof *s->bins;

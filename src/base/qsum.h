@@ -47,6 +47,10 @@ int rf_qsum_merge(rf_qsum *into, const rf_qsum *from, const rf_qsum_scale *sc);
 double rf_qsum_quantile(const rf_qsum *s, const rf_qsum_scale *sc, double q);
 /* The summary's canonical bytes (writes at most cap, returns the length). */
 size_t rf_qsum_encode(const rf_qsum *s, unsigned char *buf, size_t cap);
+/* The summary whose canonical bytes begin buf (len of them there), into an empty s;
+ * *used gets their length.  0, or -1 when they are not a summary's (or memory ran
+ * out): s is then empty. */
+int rf_qsum_decode(rf_qsum *s, const unsigned char *buf, size_t len, size_t *used);
 /* Bytes of memory the summary holds (its arrays). */
 size_t rf_qsum_bytes(const rf_qsum *s);
 void rf_qsum_free(rf_qsum *s);

@@ -477,6 +477,20 @@ int rf_rules_evaluate_verdict(sqlite3 *db, int64_t run, const rf_rules *r, FILE 
                               rf_rules_result *res, rf_error *err)
 {
     long failed = 0, inconclusive = 0;
+    /* a run that kept only its maps has no row of most of its trajectories: neither the
+     * layout's share nor the integrity counts can be taken (docs/scaling.md) */
+    long maps = rf_db_has_column(db, "runs", "store")
+                    ? rf_rules_query_count(db, "SELECT count(*) FROM runs WHERE id = ?1 AND"
+                                               " store = 'maps'",
+                                           run, "reading the run", err)
+                    : 0;
+    if (maps < 0)
+        return -1;
+    if (maps > 0)
+        return rf_error_set(err, sqlite3_db_filename(db, "main"), 0, 0,
+                            "run %lld kept only its maps (run --store maps): its checks need "
+                            "the row of every trajectory; run the project without --store maps",
+                            (long long)run);
     if (sqlite3_exec(db, "BEGIN IMMEDIATE", NULL, NULL, NULL) != SQLITE_OK)
         return db_error(db, "evaluating the rules", err);
     /* the run's measures are read in the transaction that writes their checks */

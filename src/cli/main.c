@@ -21,6 +21,9 @@
 #include "results/integrity.h"
 #include "results/schema.h"
 #include "results/store.h"
+#ifdef RF_MPI
+#include "run/mpi.h"
+#endif
 
 #include "cli/cli.h"
 
@@ -30,7 +33,7 @@ static const char USAGE[] =
     "Design checks for rockfall protection measures (Masuya et al. 2009).\n"
     "\n"
     "commands:\n"
-    "  run PROJECT.yaml [-o results.gpkg] [--seed N] [--count N] [--threads N]\n"
+    "  run PROJECT.yaml [-o results.gpkg] [--seed N] [--count N] [--threads N] [--store maps]\n"
     "      simulate the project's releases into a results database (a GeoPackage)\n"
     "  check results.gpkg [--rules FILE] [--run ID]\n"
     "      classify every interception (Table 3 limit states) and run the design checks\n"
@@ -51,6 +54,7 @@ static const char USAGE[] =
 
 static const char RUN_HELP[] =
     "usage: rockfall run PROJECT.yaml [-o results.gpkg] [--seed N] [--count N] [--threads N]\n"
+    "                    [--store all|maps]\n"
     "\n"
     "Loads and validates the project, runs every release's Monte Carlo trajectories\n"
     "and writes one run (trajectories, sampled paths, interceptions, tree hits, hazard\n"
@@ -60,7 +64,11 @@ static const char RUN_HELP[] =
     "  --seed N            override the project's seed\n"
     "  --count N           trajectories per release, per cell of a `cells` release\n"
     "                      (overrides the project's counts)\n"
-    "  --threads N         worker threads (default 1; results do not depend on it)\n"
+    "  --threads N         worker threads (default 1; results do not depend on it); per\n"
+    "                      rank under mpirun (build/mpi/rockfall, docs/scaling.md)\n"
+    "  --store maps        keep the run, releases, measures, interceptions, hazard cells and\n"
+    "                      the sampled paths, with only the trajectories those need and no\n"
+    "                      tree hits (a regional map); no checks.  Default: all\n"
     "  -q, --quiet         no progress or summary\n";
 
 static const char CHECK_HELP[] =
@@ -232,15 +240,71 @@ static void on_interrupt(int sig)
     interrupted = 1;
 }
 
-static int cmd_run(int argc, char **argv)
+/* A run of --store maps kept not the rows its integrity counts and checks need. */
+static int print_maps_kept(void)
+{
+    printf("  maps kept (--store maps): no per-trajectory counts, no checks\n");
+    return 0;
+}
+
+/* A project that cannot be loaded: the error printed (under MPI, by rank 0, which the
+ * other ranks tell). */
+static int load_failed(const rf_error *err)
+{
+#ifdef RF_MPI
+    if (rf_mpi_rank() > 0) {
+        rf_mpi_report_failure(err);
+        return EXIT_BAD_INPUT;
+    }
+#endif
+    rf_error_print(err, stderr);
+    return EXIT_BAD_INPUT;
+}
+
+/* The run itself; under MPI with more than one rank, shared among them (run/mpi.h),
+ * its progress as lines (mpirun forwards stderr, not a terminal). */
+static int simulate(const rf_project *p, rf_store *s, rf_run_options *o, int quiet,
+                    rf_run_summary *sum, rf_error *err)
+{
+#ifdef RF_MPI
+    if (rf_mpi_size() > 1) {
+        o->progress = quiet ? 0 : 2;
+        return rf_mpi_run(p, s, o, sum, err);
+    }
+#endif
+    (void)quiet;
+    return rf_montecarlo_run(p, s, o, sum, err);
+}
+
+#ifdef RF_MPI
+/* A rank above 0: serves rank 0 until the run is done (frees p).  SIGINT and SIGTERM,
+ * which mpirun sends every rank when the job is stopped, are caught and left to rank 0,
+ * which marks the run failed and closes the file within mpirun's grace before it kills
+ * the job. */
+static int serve_rank(rf_project *p, int threads)
+{
+    struct sigaction sa = {.sa_handler = on_interrupt};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    rf_run_options wo = {.threads = threads};
+    rf_error err;
+    int served = rf_mpi_serve(p, &wo, &err);
+    rf_project_free(p);
+    return served ? EXIT_BAD_INPUT : EXIT_OK;
+}
+#endif
+
+static int run_command(int argc, char **argv)
 {
     static const struct option opts[] = {
         {"output", required_argument, 0, 'o'}, {"seed", required_argument, 0, 's'},
         {"count", required_argument, 0, 'c'},  {"threads", required_argument, 0, 't'},
-        {"quiet", no_argument, 0, 'q'},        {0, 0, 0, 0}};
+        {"quiet", no_argument, 0, 'q'},        {"store", required_argument, 0, 'S'},
+        {0, 0, 0, 0}};
     const char *out = "results.gpkg";
     long seed = -1, count = 0, threads = 1;
-    int quiet = 0, c;
+    int quiet = 0, maps = 0, c;
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:q", opts, NULL)) != -1) {
         switch (c) {
@@ -258,6 +322,10 @@ static int cmd_run(int argc, char **argv)
                 return usage_error("run", "--threads takes a whole number 1..256, got '%s'", optarg);
             break;
         case 'q': quiet = 1; break;
+        case 'S':
+            if ((maps = !strcmp(optarg, "maps")) == 0 && strcmp(optarg, "all"))
+                return usage_error("run", "--store takes all or maps, got '%s'", optarg);
+            break;
         default: return usage_error("run", "%s", "bad option");
         }
     }
@@ -266,10 +334,8 @@ static int cmd_run(int argc, char **argv)
 
     rf_project p;
     rf_error err;
-    if (rf_project_load(argv[optind], &p, &err)) {
-        rf_error_print(&err, stderr);
-        return EXIT_BAD_INPUT;
-    }
+    if (rf_project_load(argv[optind], &p, &err))
+        return load_failed(&err);
     if (seed >= 0)
         p.seed = (uint64_t)seed;
     if (count > 0)
@@ -287,6 +353,10 @@ static int cmd_run(int argc, char **argv)
             }
         }
 
+#ifdef RF_MPI
+    if (rf_mpi_rank() > 0) /* simulates what rank 0 hands out; rank 0 writes */
+        return serve_rank(&p, (int)threads);
+#endif
     /* The project's rules are read before the simulation: a bad rule file costs
      * nothing. */
     rf_rules rules = {0};
@@ -309,9 +379,9 @@ static int cmd_run(int argc, char **argv)
     sigaction(SIGINT, &sa, &old_int);
     sigaction(SIGTERM, &sa, &old_term);
     rf_run_options o = {.threads = (int)threads, .progress = !quiet && isatty(2),
-                        .interrupted = &interrupted};
+                        .interrupted = &interrupted, .maps = maps};
     rf_run_summary sum;
-    int rc = rf_montecarlo_run(&p, s, &o, &sum, &err);
+    int rc = simulate(&p, s, &o, quiet, &sum, &err);
     if (rc) {
         rf_error_print(&err, stderr);
     } else if (!quiet) {
@@ -323,10 +393,10 @@ static int cmd_run(int argc, char **argv)
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
                sum.by_reason[RF_END_MAX_TIME]);
-        rc = print_run_integrity(rf_store_db(s), sum.run_id);
+        rc = maps ? print_maps_kept() : print_run_integrity(rf_store_db(s), sum.run_id);
     }
     int status = rc ? EXIT_BAD_INPUT : EXIT_OK;
-    if (rc == 0 && p.rules_path) {
+    if (rc == 0 && p.rules_path && !maps) {
         if (!quiet)
             printf("\n");
         status = check_run(rf_store_db(s), sum.run_id, &rules, !quiet);
@@ -339,6 +409,23 @@ static int cmd_run(int argc, char **argv)
     rf_rules_free(&rules);
     rf_project_free(&p);
     return status;
+}
+
+/* Under MPI (make mpi) every rank runs the command: rank 0 as above, the others
+ * serving it (run/mpi.h); a failure anywhere ends every rank. */
+static int cmd_run(int argc, char **argv)
+{
+#ifdef RF_MPI
+    if (rf_mpi_init(NULL, NULL)) {
+        fprintf(stderr, "rockfall: MPI could not be started\n");
+        return EXIT_BAD_INPUT;
+    }
+    int status = run_command(argc, argv);
+    rf_mpi_end(status == EXIT_BAD_INPUT ? status : 0);
+    return status;
+#else
+    return run_command(argc, argv);
+#endif
 }
 
 /* ---- check and report ----------------------------------------------------------- */

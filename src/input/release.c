@@ -227,6 +227,11 @@ long rf_release_trajectories(const rf_release *r)
     return r->source == RF_SOURCE_CELLS ? r->count * (long)r->ncells : r->count;
 }
 
+long rf_release_source_cell(const rf_release *r, long idx)
+{
+    return r->source == RF_SOURCE_CELLS ? (idx / r->count) % (long)r->ncells : -1;
+}
+
 static int off_terrain(loader *L, const rf_ynode *where, const rf_release *r, const char *which,
                        double x, double y)
 {

@@ -139,6 +139,19 @@
  * given, and its row in gpkg_spatial_ref_sys (-1: none, the undefined Cartesian CRS). */
 #define RUNS_GPKG_COLUMNS "crs TEXT, srs_id INTEGER"
 
+/* The columns version 5 adds: a trajectory's source cell, and a release's number of
+ * source cells (both NULL for a point or area release, and for rows written before
+ * version 5). */
+#define TRAJECTORIES_V5_COLUMN "source_cell INTEGER CHECK (source_cell >= 0)"
+#define RELEASES_V5_COLUMN "n_cells INTEGER CHECK (n_cells >= 1)"
+/* What the run kept (version 5): 'all' its rows, or 'maps' (run --store maps) its
+ * releases, interceptions, hazard cells and sampled paths, with the trajectory rows of
+ * those interceptions and paths only, and no tree hits (docs/scaling.md). */
+#define RUNS_V5_COLUMN "store TEXT NOT NULL DEFAULT 'all' CHECK (store IN ('all', 'maps'))"
+/* Where the run ran (version 5): the host of the process that wrote it, its MPI ranks
+ * and the threads of each (NULL for the runs before). */
+#define RUNS_V5_WHERE "host TEXT, ranks INTEGER CHECK (ranks >= 1), threads INTEGER CHECK (threads >= 1)"
+
 static const char schema_sql[] =
     "CREATE TABLE rockfall_schema (version INTEGER NOT NULL, application TEXT NOT NULL);\n"
     "INSERT INTO rockfall_schema VALUES (" RF_STR(RF_SCHEMA_VERSION) ", 'rockfall');\n"
@@ -154,7 +167,9 @@ static const char schema_sql[] =
     "  version TEXT NOT NULL,\n"
     "  project_yaml TEXT,\n"
     RUNS_V2_COLUMNS
-    "  , " RUNS_GPKG_COLUMNS "\n"
+    "  , " RUNS_GPKG_COLUMNS ",\n"
+    "  " RUNS_V5_COLUMN ",\n"
+    "  " RUNS_V5_WHERE "\n"
     ");\n"
     "CREATE TABLE releases (\n"
     "  id INTEGER PRIMARY KEY,\n"
@@ -168,6 +183,7 @@ static const char schema_sql[] =
     "  count INTEGER NOT NULL CHECK (count >= 0),\n"
     "  velocity_x REAL, velocity_y REAL, velocity_z REAL,\n"
     "  height_m REAL, jitter_m REAL,\n"
+    "  " RELEASES_V5_COLUMN ",\n"
     "  UNIQUE (run_id, idx)\n"
     ");\n"
     MEASURES_TABLE("measures")
@@ -182,7 +198,8 @@ static const char schema_sql[] =
     "  duration_s REAL, path_length_m REAL, max_energy_kj REAL,\n"
     "  n_impacts INTEGER, n_tree_hits INTEGER,\n"
     "  " TRAJECTORIES_V3_COLUMN ",\n"
-    "  " TRAJECTORIES_V4_COLUMNS "\n"
+    "  " TRAJECTORIES_V4_COLUMNS ",\n"
+    "  " TRAJECTORIES_V5_COLUMN "\n"
     ");\n"
     "CREATE UNIQUE INDEX trajectories_run ON trajectories(run_id, release_id, idx);\n"
     "CREATE INDEX trajectories_release ON trajectories(release_id);\n"
@@ -574,13 +591,23 @@ static int upgrade_3_to_4(sqlite3 *db, const char *path, rf_error *err)
                     err);
 }
 
-/* Version 4 to 5, within the caller's transaction: the calibration tables, and the
- * file made a GeoPackage (results/gpkg.c, which writes the version). */
+/* Version 4 to 5, within the caller's transaction: the file made a GeoPackage
+ * (results/gpkg.c, which writes the version), the calibration tables, each trajectory's
+ * source cell and each release's number of cells (NULL for the earlier rows, which had
+ * no `cells` releases stored by cell), what each run kept and where it ran. */
 static int upgrade_4_to_5(sqlite3 *db, const char *path, rf_error *err)
 {
-    return exec_sql(db, path, CALIBRATION_TABLES,
-                    "upgrading the results database from schema version 4", err) ||
-                   rf_gpkg_create(db, path, 1, err)
+    static const char sql[] =
+        CALIBRATION_TABLES
+        "ALTER TABLE trajectories ADD COLUMN " TRAJECTORIES_V5_COLUMN ";\n"
+        "ALTER TABLE releases ADD COLUMN " RELEASES_V5_COLUMN ";\n"
+        "ALTER TABLE runs ADD COLUMN " RUNS_V5_COLUMN ";\n"
+        "ALTER TABLE runs ADD COLUMN host TEXT;\n"
+        "ALTER TABLE runs ADD COLUMN ranks INTEGER CHECK (ranks >= 1);\n"
+        "ALTER TABLE runs ADD COLUMN threads INTEGER CHECK (threads >= 1);\n";
+    return rf_gpkg_create(db, path, 1, err) ||
+                   exec_sql(db, path, sql, "upgrading the results database from schema version 4",
+                            err)
                ? -1
                : 0;
 }

@@ -44,14 +44,14 @@ static const char *const statement_sql[ST_COUNT] = {
     [ST_ROLLBACK] = "ROLLBACK",
     [ST_RUN] = "INSERT INTO runs (project, project_path, seed, status, started_at,"
                " n_trajectories, version, project_yaml, rules_path, surface_friction,"
-               " hazard_cell_m, crs, srs_id)"
+               " hazard_cell_m, crs, srs_id, store, host, ranks, threads)"
                " VALUES (?1, ?2, ?3, 'running', " RF_NOW_SQL ", ?4, ?5, ?6, ?7, ?8, ?9,"
-               " ?10, ?11)",
+               " ?10, ?11, ?12, ?13, ?14, ?15)",
     [ST_RELEASE] = "INSERT INTO releases (run_id, idx, name, x, y, z, rock, mass_kg,"
                    " radius_m, density_kgm3, action_level, count, velocity_x,"
-                   " velocity_y, velocity_z, height_m, jitter_m)"
+                   " velocity_y, velocity_z, height_m, jitter_m, n_cells)"
                    " VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13,"
-                   " ?14, ?15, ?16, ?17)",
+                   " ?14, ?15, ?16, ?17, ?18)",
     [ST_MEASURE] = "INSERT INTO measures (run_id, idx, name, kind, importance, height_m,"
                    " behaviour, mel_kj, sel_kj, cap_serviceability_kj,"
                    " cap_restorability_kj, cap_ultimate_kj, cap_near_collapse_kj, line,"
@@ -68,8 +68,8 @@ static const char *const statement_sql[ST_COUNT] = {
     [ST_TRAJECTORY] = "INSERT INTO trajectories (run_id, release_id, idx, stop_x, stop_y,"
                       " stop_z, stop_reason, duration_s, path_length_m, max_energy_kj,"
                       " n_impacts, n_tree_hits, rest_steep, mass_kg, start_x, start_y,"
-                      " start_z) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11,"
-                      " ?12, ?13, ?14, ?15, ?16, ?17)",
+                      " start_z, source_cell) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9,"
+                      " ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)",
     [ST_PATH_POINT] = "INSERT INTO path_points (trajectory_id, seq, t_s, x, y, z,"
                       " speed_ms, energy_kj) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)",
     [ST_INTERCEPTION] = "INSERT INTO interceptions (run_id, trajectory_id, measure_id,"
@@ -91,9 +91,13 @@ struct rf_store {
     int prepared;            /* the schema is ours and current (rf_schema_prepare) */
     int64_t run_id;          /* 0 before the first rf_store_run_begin */
     int64_t *release_ids;    /* by project release index */
+    rf_release *sources;     /* by project release index: what rf_release_source_cell
+                              * reads of each (count, ncells, source; no arrays) */
     size_t nreleases;
     int64_t *measure_ids;    /* by project measure index */
     size_t nmeasures;
+    int maps;                /* the next run keeps its maps only (rf_store_describe_run) */
+    int ranks, threads;      /* and where it runs */
 };
 
 static int sql_status(sqlite3 *db, const char *path, int rc, const char *doing, rf_error *err)
@@ -236,6 +240,7 @@ void rf_store_close(rf_store *s)
         leave_wal(s->path);
     free(s->release_ids);
     free(s->measure_ids);
+    free(s->sources);
     free(s->path);
     free(s);
 }
@@ -307,6 +312,14 @@ static int insert_run_row(rf_store *s, const rf_project *p, long n_trajectories,
     }
     bind_text(st, 10, p->crs.source);
     bind_int(st, 11, srs);
+    bind_text(st, 12, s->maps ? "maps" : "all");
+    char host[256] = "";
+    if (gethostname(host, sizeof host - 1) == 0)
+        bind_text(st, 13, host);
+    else
+        sqlite3_bind_null(st, 13);
+    bind_int(st, 14, s->ranks > 0 ? s->ranks : 1); /* 0: never described, one of each */
+    bind_int(st, 15, s->threads > 0 ? s->threads : 1);
     int failed = step_statement(s, ST_RUN, "writing the run", err);
     free(rules);
     free(abs_path);
@@ -337,6 +350,10 @@ static int insert_release_row(rf_store *s, const rf_project *p, size_t i, rf_err
     bind_vec3(st, 13, r->velocity);
     bind_real(st, 16, r->height);
     bind_real(st, 17, r->jitter);
+    if (r->source == RF_SOURCE_CELLS)
+        bind_int(st, 18, (int64_t)r->ncells);
+    else
+        sqlite3_bind_null(st, 18);
     if (step_statement(s, ST_RELEASE, "writing a release", err))
         return -1;
     s->release_ids[i] = sqlite3_last_insert_rowid(s->db);
@@ -423,19 +440,33 @@ static int insert_ground_points(rf_store *s, const rf_project *p, rf_error *err)
     return 0;
 }
 
+void rf_store_describe_run(rf_store *s, int maps, int ranks, int threads)
+{
+    s->maps = maps != 0;
+    s->ranks = ranks > 1 ? ranks : 1;
+    s->threads = threads > 1 ? threads : 1;
+}
+
 int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
                        int64_t *run_id, rf_error *err)
 {
     assert(sqlite3_get_autocommit(s->db) && "rf_store_run_begin inside a batch");
     free(s->release_ids);
     free(s->measure_ids);
+    free(s->sources);
     s->run_id = 0;
     s->nreleases = p->nreleases;
     s->nmeasures = p->nmeasures;
     s->release_ids = calloc(p->nreleases + 1, sizeof *s->release_ids);
     s->measure_ids = calloc(p->nmeasures + 1, sizeof *s->measure_ids);
-    if (!s->release_ids || !s->measure_ids)
+    s->sources = calloc(p->nreleases + 1, sizeof *s->sources);
+    if (!s->release_ids || !s->measure_ids || !s->sources)
         return rf_error_set(err, s->path, 0, 0, "out of memory starting a run");
+    for (size_t i = 0; i < p->nreleases; i++) {
+        s->sources[i].source = p->releases[i].source;
+        s->sources[i].count = p->releases[i].count;
+        s->sources[i].ncells = p->releases[i].ncells;
+    }
 
     if (step_statement(s, ST_BEGIN, "starting a run", err))
         return -1;
@@ -550,6 +581,11 @@ int rf_store_add_trajectory(rf_store *s, size_t release_index, long idx,
     /* the drawn mass and start; NULL when the writer did not give them */
     bind_real(st, 14, r->mass_kg > 0.0 ? r->mass_kg : NAN);
     bind_vec3(st, 15, r->mass_kg > 0.0 ? r->start : rf_v3(NAN, NAN, NAN));
+    long cell = rf_release_source_cell(&s->sources[release_index], idx);
+    if (cell >= 0)
+        bind_int(st, 18, cell);
+    else
+        sqlite3_bind_null(st, 18);
     if (step_in_batch(s, ST_TRAJECTORY, "writing a trajectory", err))
         return -1;
     if (trajectory_id)

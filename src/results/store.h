@@ -30,6 +30,11 @@ int rf_store_open(const char *path, rf_store **out, rf_error *err);
 void rf_store_close(rf_store *s);
 sqlite3 *rf_store_db(rf_store *s);
 
+/* What the next run is: whether it keeps only its maps (runs.store 'maps',
+ * docs/scaling.md: the writer then adds the trajectories of its interceptions and
+ * sampled paths only, and no tree hits), and where it runs (runs.ranks, runs.threads,
+ * with runs.host this machine's name).  Default: every row, 1 rank of 1 thread. */
+void rf_store_describe_run(rf_store *s, int maps, int ranks, int threads);
 /* Writes the run row ('running'), its releases and measures, and commits. */
 int rf_store_run_begin(rf_store *s, const rf_project *p, long n_trajectories,
                        int64_t *run_id, rf_error *err);

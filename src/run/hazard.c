@@ -248,6 +248,56 @@ int rf_hazard_merge(rf_hazard *into, const rf_hazard *from)
     return 0;
 }
 
+/* A packed cell: its number (4 bytes, little-endian), then the energy's and the height's
+ * summaries in their canonical bytes (rf_qsum_encode). */
+size_t rf_hazard_pack(const rf_hazard *h, size_t *next, unsigned char *buf, size_t cap)
+{
+    size_t at = 0;
+    for (; *next < h->ncells; (*next)++) {
+        const rf_hazard_cell *c = &h->cells[*next];
+        size_t ne = rf_qsum_encode(&c->energy_kj, NULL, 0);
+        size_t nh = rf_qsum_encode(&c->height_m, NULL, 0);
+        if (4 + ne + nh > cap - at)
+            break;
+        for (int k = 0; k < 4; k++)
+            buf[at++] = (unsigned char)(c->cell >> (8 * k));
+        at += rf_qsum_encode(&c->energy_kj, buf + at, ne);
+        at += rf_qsum_encode(&c->height_m, buf + at, nh);
+    }
+    return at;
+}
+
+int rf_hazard_unpack_merge(rf_hazard *into, const unsigned char *buf, size_t len)
+{
+    size_t at = 0;
+    while (at < len) {
+        if (len - at < 4)
+            return -1;
+        uint32_t cell = 0;
+        for (int k = 0; k < 4; k++)
+            cell |= (uint32_t)buf[at++] << (8 * k);
+        rf_qsum e, hm;
+        size_t ue = 0, uh = 0;
+        if (rf_qsum_decode(&e, buf + at, len - at, &ue))
+            return -1;
+        at += ue;
+        if (rf_qsum_decode(&hm, buf + at, len - at, &uh)) {
+            rf_qsum_free(&e);
+            return -1;
+        }
+        at += uh;
+        rf_hazard_cell *c = cell < into->nx * into->ny ? cell_of(into, cell) : NULL;
+        int bad = !c || e.n != hm.n ||
+                  rf_qsum_merge(&c->energy_kj, &e, &RF_HAZARD_ENERGY_SCALE) ||
+                  rf_qsum_merge(&c->height_m, &hm, &RF_HAZARD_HEIGHT_SCALE);
+        rf_qsum_free(&e);
+        rf_qsum_free(&hm);
+        if (bad)
+            return -1;
+    }
+    return 0;
+}
+
 const rf_hazard_cell *rf_hazard_at(const rf_hazard *h, size_t ix, size_t iy)
 {
     if (ix >= h->nx || iy >= h->ny)

@@ -69,6 +69,13 @@ int rf_hazard_end(rf_hazard *h);
 /* Adds the values of `from` to `into` (same grid); the result does not depend on the
  * order of merging. */
 int rf_hazard_merge(rf_hazard *into, const rf_hazard *from);
+/* The cells as bytes, for another process (the MPI ranks): packs cells *next, *next + 1,
+ * ... into buf while they fit in cap bytes (a cell takes at most about 10 kB), advances
+ * *next past them and returns the bytes written. */
+size_t rf_hazard_pack(const rf_hazard *h, size_t *next, unsigned char *buf, size_t cap);
+/* Adds packed cells to `into` (a map of the same grid) as rf_hazard_merge adds a map's;
+ * -1 when the bytes are not packed cells of this grid or memory ran out. */
+int rf_hazard_unpack_merge(rf_hazard *into, const unsigned char *buf, size_t len);
 /* Cell (ix, iy), or NULL when no trajectory reached it. */
 const rf_hazard_cell *rf_hazard_at(const rf_hazard *h, size_t ix, size_t iy);
 /* Bytes of memory the map holds (its cells, their summaries, its indexes). */

@@ -16,11 +16,10 @@
 #include "base/tolerances.h"
 #include "input/bounds.h"
 #include "run/hazard.h"
+#include "run/montecarlo_private.h"
 #include "results/store.h"
 #include "base/util.h"
 
-#define CHUNK_SIZE 256
-#define CHUNKS_AHEAD_PER_THREAD 4
 #define JITTER_TRIES 64
 
 /* ---- seeding ------------------------------------------------------------------ */
@@ -125,7 +124,7 @@ static int32_t start_ground(const rf_project *p, const rf_release *rel, long idx
     if (rel->source == RF_SOURCE_AREA)
         x0 = rel->area[0], y0 = rel->area[1];
     else if (rel->source == RF_SOURCE_CELLS) {
-        size_t c = (size_t)(idx / rel->count) % rel->ncells;
+        size_t c = (size_t)rf_release_source_cell(rel, idx);
         x0 = rel->cells[2 * c], y0 = rel->cells[2 * c + 1];
     }
     if (rel->source != RF_SOURCE_POINT || rel->jitter > 0.0) {
@@ -181,111 +180,55 @@ rf_state rf_release_start(const rf_project *p, size_t release, const rf_body *b,
     return rf_release_start_of(p, release, 0, b, rng);
 }
 
-/* ---- chunks ------------------------------------------------------------------- */
+/* ---- the workers -------------------------------------------------------------- */
 
-typedef struct traj_out {
-    rf_trajectory_record rec;
-    size_t release;
-    long idx;
-    size_t path_begin, path_end;
-    size_t icpt_begin, icpt_end;
-    size_t tree_begin, tree_end;
-} traj_out;
-
-#define DYNARRAY(T, name)                                                              \
-    typedef struct {                                                                   \
-        T *v;                                                                          \
-        size_t n, cap;                                                                 \
-    } name;
-DYNARRAY(rf_path_point, path_array)
-DYNARRAY(rf_interception_record, icpt_array)
-DYNARRAY(rf_tree_hit_record, tree_array)
-
-#define PUSH(arr, x, flag)                                                             \
-    do {                                                                               \
-        if (rf_grow((void **)&(arr).v, &(arr).cap, (arr).n + 1, sizeof *(arr).v))       \
-            (flag) = 1;                                                                \
-        else                                                                           \
-            (arr).v[(arr).n++] = (x);                                                  \
-    } while (0)
-
-typedef struct chunk {
-    size_t first, n; /* global trajectory numbers first .. first+n-1 */
-    traj_out *traj;
-    path_array paths;
-    icpt_array icpts;
-    tree_array trees;
-    int done, oom;
-} chunk;
-
-static void chunk_clear(chunk *c)
-{
-    free(c->traj);
-    free(c->paths.v);
-    free(c->icpts.v);
-    free(c->trees.v);
-    memset(c, 0, sizeof *c);
-}
-
-/* ---- the run ------------------------------------------------------------------ */
-
-typedef struct run_ctx {
-    const rf_project *p;
-    rf_scene scene;
-    int nthreads;          /* workers, at least 1 */
-    size_t total;          /* trajectories in all */
-    size_t *release_start; /* global number of each release's first trajectory */
-    size_t nchunks;
-    chunk *ring;           /* `ahead` slots: the chunks claimed and not yet written */
-    rf_hazard *hazard;     /* per worker */
-
-    pthread_mutex_t mu;
-    pthread_cond_t cv;
-    size_t next_chunk;     /* next chunk to claim */
-    size_t written;        /* chunks written so far */
-    size_t ahead;          /* how far workers may run ahead of the writer: the ring's size */
-    int abort;
-} run_ctx;
-
-typedef struct worker {
-    run_ctx *ctx;
+typedef struct rf_mc_worker {
+    rf_mc *m;
     int id;
     rf_workspace *ws;
     gsl_rng *rng;
-    chunk *cur;
-} worker;
+    rf_chunk *cur;
+} rf_mc_worker;
+
+#define PUSH(v, n, cap, x, flag)                                                       \
+    do {                                                                               \
+        if (rf_grow((void **)&(v), &(cap), (n) + 1, sizeof *(v)))                      \
+            (flag) = 1;                                                                \
+        else                                                                           \
+            (v)[(n)++] = (x);                                                          \
+    } while (0)
 
 static void sink_path(void *vw, const rf_path_point *pt)
 {
-    worker *w = vw;
-    PUSH(w->cur->paths, *pt, w->cur->oom);
+    rf_chunk *c = ((rf_mc_worker *)vw)->cur;
+    PUSH(c->paths, c->npaths, c->cap_paths, *pt, c->oom);
 }
 
 static void sink_icpt(void *vw, const rf_interception_record *r)
 {
-    worker *w = vw;
-    PUSH(w->cur->icpts, *r, w->cur->oom);
+    rf_chunk *c = ((rf_mc_worker *)vw)->cur;
+    PUSH(c->icpts, c->nicpts, c->cap_icpts, *r, c->oom);
 }
 
 static void sink_tree(void *vw, const rf_tree_hit_record *r)
 {
-    worker *w = vw;
-    PUSH(w->cur->trees, *r, w->cur->oom);
+    rf_chunk *c = ((rf_mc_worker *)vw)->cur;
+    PUSH(c->trees, c->ntrees, c->cap_trees, *r, c->oom);
 }
 
 static void sink_sample(void *vw, rf_vec3 p, double speed, double energy_kj, double height)
 {
     (void)speed;
-    worker *w = vw;
-    rf_hazard_sample(w->ctx->hazard + w->id, p.x, p.y, energy_kj, height);
+    rf_mc_worker *w = vw;
+    rf_hazard_sample(w->m->hazard + w->id, p.x, p.y, energy_kj, height);
 }
 
-static size_t release_of(const run_ctx *c, size_t g)
+static size_t release_of(const rf_mc *m, size_t g)
 {
-    size_t lo = 0, hi = c->p->nreleases; /* last release whose start <= g */
+    size_t lo = 0, hi = m->p->nreleases; /* last release whose start <= g */
     while (hi - lo > 1) {
         size_t mid = (lo + hi) / 2;
-        if (c->release_start[mid] <= g)
+        if (m->release_start[mid] <= g)
             lo = mid;
         else
             hi = mid;
@@ -293,10 +236,10 @@ static size_t release_of(const run_ctx *c, size_t g)
     return lo;
 }
 
-static void run_chunk(worker *w, chunk *c)
+static void run_chunk(rf_mc_worker *w, rf_chunk *c)
 {
-    run_ctx *ctx = w->ctx;
-    const rf_project *p = ctx->p;
+    rf_mc *m = w->m;
+    const rf_project *p = m->p;
     w->cur = c;
     c->traj = calloc(c->n, sizeof *c->traj);
     if (!c->traj) {
@@ -304,10 +247,17 @@ static void run_chunk(worker *w, chunk *c)
         return;
     }
     for (size_t k = 0; k < c->n; k++) {
+        pthread_mutex_lock(&m->mu);
+        int stop = m->abort;
+        pthread_mutex_unlock(&m->mu);
+        if (stop) { /* the run ends: the chunk is never written */
+            c->n = k;
+            break;
+        }
         size_t g = c->first + k;
-        size_t rel = release_of(ctx, g);
-        long idx = (long)(g - ctx->release_start[rel]);
-        traj_out *o = &c->traj[k];
+        size_t rel = release_of(m, g);
+        long idx = (long)(g - m->release_start[rel]);
+        rf_traj_out *o = &c->traj[k];
         o->release = rel;
         o->idx = idx;
         gsl_rng_set(w->rng, rf_trajectory_seed(p->seed, rel, idx));
@@ -321,52 +271,125 @@ static void run_chunk(worker *w, chunk *c)
         sink.sample_spacing = 0.25 * p->hazard_cell;
         sink.interception = sink_icpt;
         sink.tree_hit = sink_tree;
-        o->path_begin = c->paths.n;
-        o->icpt_begin = c->icpts.n;
-        o->tree_begin = c->trees.n;
-        rf_hazard_begin(ctx->hazard + w->id);
-        rf_simulate(&ctx->scene, &body, &start, w->rng, w->ws, &sink, &o->rec);
+        o->path_begin = c->npaths;
+        o->icpt_begin = c->nicpts;
+        o->tree_begin = c->ntrees;
+        rf_hazard_begin(m->hazard + w->id);
+        rf_simulate(&m->scene, &body, &start, w->rng, w->ws, &sink, &o->rec);
         o->rec.mass_kg = mass;
         o->rec.start = start.p;
-        if (rf_hazard_end(ctx->hazard + w->id))
+        if (rf_hazard_end(m->hazard + w->id))
             c->oom = 1;
-        o->path_end = c->paths.n;
-        o->icpt_end = c->icpts.n;
-        o->tree_end = c->trees.n;
+        o->path_end = c->npaths;
+        o->icpt_end = c->nicpts;
+        o->tree_end = c->ntrees;
     }
+}
+
+void rf_mc_chunk_range(const rf_mc *m, size_t ci, rf_chunk *c)
+{
+    c->first = ci * RF_CHUNK_SIZE;
+    c->n = ci + 1 < m->nchunks ? RF_CHUNK_SIZE : m->total - ci * RF_CHUNK_SIZE;
+}
+
+int rf_mc_claim_in_order(rf_mc *m, size_t *ci, rf_chunk **slot)
+{
+    if (m->next_chunk >= m->nchunks)
+        return -1;
+    if (m->next_chunk >= m->written + m->ahead)
+        return 0;
+    /* the slot's last chunk was written and cleared: no other thread holds it */
+    *ci = m->next_chunk++;
+    *slot = &m->ring[*ci % m->ahead];
+    return 1;
 }
 
 static void *worker_main(void *vw)
 {
-    worker *w = vw;
-    run_ctx *ctx = w->ctx;
+    rf_mc_worker *w = vw;
+    rf_mc *m = w->m;
     for (;;) {
-        pthread_mutex_lock(&ctx->mu);
-        while (!ctx->abort && ctx->next_chunk < ctx->nchunks &&
-               ctx->next_chunk >= ctx->written + ctx->ahead)
-            pthread_cond_wait(&ctx->cv, &ctx->mu);
-        if (ctx->abort || ctx->next_chunk >= ctx->nchunks) {
-            pthread_mutex_unlock(&ctx->mu);
+        size_t ci = 0;
+        rf_chunk *c = NULL;
+        int got = 0;
+        pthread_mutex_lock(&m->mu);
+        while (!m->abort && (got = m->claim(m, &ci, &c)) == 0)
+            pthread_cond_wait(&m->cv, &m->mu);
+        pthread_mutex_unlock(&m->mu);
+        if (m->abort || got < 0)
             return NULL;
-        }
-        /* the slot's last chunk was written and cleared: no other thread holds it */
-        size_t ci = ctx->next_chunk++;
-        chunk *c = &ctx->ring[ci % ctx->ahead];
-        c->first = ci * CHUNK_SIZE;
-        c->n = ci + 1 < ctx->nchunks ? CHUNK_SIZE : ctx->total - ci * CHUNK_SIZE;
-        pthread_mutex_unlock(&ctx->mu);
+        rf_mc_chunk_range(m, ci, c);
         run_chunk(w, c);
-        pthread_mutex_lock(&ctx->mu);
+        pthread_mutex_lock(&m->mu);
         c->done = 1;
-        pthread_cond_broadcast(&ctx->cv);
-        pthread_mutex_unlock(&ctx->mu);
+        pthread_cond_broadcast(&m->cv);
+        pthread_mutex_unlock(&m->mu);
     }
 }
 
-/* Writes one chunk's rows in one batch, all or none (a failed chunk is rolled back,
- * so a failed run holds whole trajectories); by_reason counts the trajectories
- * committed. */
-static int write_chunk(rf_store *s, const chunk *c, long by_reason[4], rf_error *err)
+void rf_mc_wait(rf_mc *m, double seconds)
+{
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);
+    double ns = (double)until.tv_nsec + seconds * 1e9;
+    until.tv_sec += (time_t)(ns / 1e9);
+    until.tv_nsec = (long)fmod(ns, 1e9);
+    pthread_cond_timedwait(&m->cv, &m->mu, &until);
+}
+
+int rf_mc_start(rf_mc *m, rf_error *err)
+{
+    int n = m->nthreads;
+    m->workers = calloc((size_t)n, sizeof *m->workers);
+    m->tids = calloc((size_t)n, sizeof *m->tids);
+    /* the terrain's tables, read by every worker's workspace */
+    m->tables = rf_terrain_tables_build(&m->p->terrain);
+    if (!m->workers || !m->tids || !m->tables)
+        return rf_error_set(err, "", 0, 0, "out of memory");
+    for (int i = 0; i < n; i++) {
+        m->workers[i].m = m;
+        m->workers[i].id = i;
+        m->workers[i].ws = rf_workspace_alloc_shared(m->tables);
+        m->workers[i].rng = gsl_rng_alloc(rf_rng_type());
+        if (!m->workers[i].ws || !m->workers[i].rng)
+            return rf_error_set(err, "", 0, 0, "out of memory");
+    }
+    for (int i = 0; i < n; i++) {
+        if (pthread_create(&m->tids[i], NULL, worker_main, &m->workers[i]))
+            return rf_error_set(err, "", 0, 0, "cannot start worker thread %d", i);
+        m->started++;
+    }
+    return 0;
+}
+
+void rf_mc_stop(rf_mc *m, int abort)
+{
+    pthread_mutex_lock(&m->mu);
+    if (abort)
+        m->abort = 1;
+    pthread_cond_broadcast(&m->cv);
+    pthread_mutex_unlock(&m->mu);
+    for (int i = 0; i < m->started; i++)
+        pthread_join(m->tids[i], NULL);
+    m->started = 0;
+    if (m->workers)
+        for (int i = 0; i < m->nthreads; i++) {
+            rf_workspace_free(m->workers[i].ws);
+            if (m->workers[i].rng)
+                gsl_rng_free(m->workers[i].rng);
+        }
+    rf_terrain_tables_free(m->tables);
+    free(m->workers);
+    free(m->tids);
+    m->tables = NULL;
+    m->workers = NULL;
+    m->tids = NULL;
+}
+
+/* ---- writing ------------------------------------------------------------------- */
+
+int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, int maps, long by_reason[4],
+                      rf_error *err)
 {
     if (c->oom)
         return rf_error_set(err, "", 0, 0, "out of memory while simulating");
@@ -374,20 +397,22 @@ static int write_chunk(rf_store *s, const chunk *c, long by_reason[4], rf_error 
         return -1;
     long counted[4] = {0};
     for (size_t k = 0; k < c->n; k++) {
-        const traj_out *o = &c->traj[k];
+        const rf_traj_out *o = &c->traj[k];
         int64_t tid;
+        counted[o->rec.reason]++;
+        if (maps && o->path_end == o->path_begin && o->icpt_end == o->icpt_begin)
+            continue;
         /* a row that fails rolls the batch back */
         if (rf_store_add_trajectory(s, o->release, o->idx, &o->rec, &tid, err))
             return -1;
-        counted[o->rec.reason]++;
         for (size_t i = o->path_begin; i < o->path_end; i++)
-            if (rf_store_add_path_point(s, tid, (long)(i - o->path_begin), &c->paths.v[i], err))
+            if (rf_store_add_path_point(s, tid, (long)(i - o->path_begin), &c->paths[i], err))
                 return -1;
         for (size_t i = o->icpt_begin; i < o->icpt_end; i++)
-            if (rf_store_add_interception(s, tid, &c->icpts.v[i], NULL, err))
+            if (rf_store_add_interception(s, tid, &c->icpts[i], NULL, err))
                 return -1;
-        for (size_t i = o->tree_begin; i < o->tree_end; i++)
-            if (rf_store_add_tree_hit(s, tid, &c->trees.v[i], err))
+        for (size_t i = o->tree_begin; !maps && i < o->tree_end; i++)
+            if (rf_store_add_tree_hit(s, tid, &c->trees[i], err))
                 return -1;
     }
     if (rf_store_batch_commit(s, err))
@@ -397,87 +422,127 @@ static int write_chunk(rf_store *s, const chunk *c, long by_reason[4], rf_error 
     return 0;
 }
 
-/* Simulates every chunk and writes them in order; returns 0 or -1 with err set. */
-static int simulate_and_write(run_ctx *ctx, rf_store *s, const rf_run_options *o,
+void rf_mc_progress(int mode, size_t done, size_t total, double t0, double *last)
+{
+    double t = rf_now_s();
+    if (mode == 0 || (done < total && t - *last < (mode == 1 ? 1.0 : 10.0)))
+        return;
+    *last = t;
+    double rate = t > t0 ? (double)done / (t - t0) : 0.0;
+    double left = rate > 0 ? (double)(total - done) / rate : 0.0;
+    if (mode == 1 && done == total) { /* the line cleared */
+        fprintf(stderr, "\r%*s\r", 72, "");
+        return;
+    }
+    fprintf(stderr, "%s%zu / %zu trajectories, %.0f per second, %.0f:%02.0f left%s",
+            mode == 1 ? "\r" : "", done, total, rate, floor(left / 60.0),
+            fmod(floor(left), 60.0), mode == 1 ? "   " : "\n");
+}
+
+/* Simulates every chunk on the worker threads and writes them in order; 0 or -1 with
+ * err set. */
+static int simulate_and_write(rf_mc *m, rf_store *s, const rf_run_options *o,
                               rf_run_summary *sum, rf_error *err)
 {
-    int nthreads = ctx->nthreads;
-    worker *workers = calloc((size_t)nthreads, sizeof *workers);
-    pthread_t *tids = calloc((size_t)nthreads, sizeof *tids);
-    int status = 0, started = 0;
-    /* the terrain's tables, read by every worker's workspace */
-    rf_terrain_tables *tables = rf_terrain_tables_build(&ctx->p->terrain);
-    if (!workers || !tids || !tables) {
-        status = rf_error_set(err, "", 0, 0, "out of memory");
-        goto done;
-    }
-    for (int i = 0; i < nthreads; i++) {
-        workers[i].ctx = ctx;
-        workers[i].id = i;
-        workers[i].ws = rf_workspace_alloc_shared(tables);
-        workers[i].rng = gsl_rng_alloc(rf_rng_type());
-        if (!workers[i].ws || !workers[i].rng) {
-            status = rf_error_set(err, "", 0, 0, "out of memory");
-            goto done;
-        }
-    }
-    for (int i = 0; i < nthreads; i++) {
-        if (pthread_create(&tids[i], NULL, worker_main, &workers[i])) {
-            status = rf_error_set(err, "", 0, 0, "cannot start worker thread %d", i);
-            break;
-        }
-        started++;
-    }
+    int status = rf_mc_start(m, err);
     double t0 = rf_now_s(), last_report = t0;
-    for (size_t ci = 0; status == 0 && ci < ctx->nchunks; ci++) {
+    for (size_t ci = 0; status == 0 && ci < m->nchunks; ci++) {
         if (o->interrupted && *o->interrupted) {
+            size_t n = ci * RF_CHUNK_SIZE < m->total ? ci * RF_CHUNK_SIZE : m->total;
             status = rf_error_set(err, "", 0, 0, "interrupted after %zu of %zu trajectories",
-                                  ci * CHUNK_SIZE < ctx->total ? ci * CHUNK_SIZE : ctx->total,
-                                  ctx->total);
+                                  n, m->total);
             break;
         }
-        chunk *c = &ctx->ring[ci % ctx->ahead];
-        pthread_mutex_lock(&ctx->mu);
-        while (!c->done && started > 0)
-            pthread_cond_wait(&ctx->cv, &ctx->mu);
-        pthread_mutex_unlock(&ctx->mu);
-        if (!c->done) {
-            status = rf_error_set(err, "", 0, 0, "no worker thread could be started");
-            break;
-        }
-        status = write_chunk(s, c, sum->by_reason, err);
-        chunk_clear(c);
-        pthread_mutex_lock(&ctx->mu);
-        ctx->written = ci + 1;
-        pthread_cond_broadcast(&ctx->cv);
-        pthread_mutex_unlock(&ctx->mu);
-        double t = rf_now_s();
-        if (o->progress && t - last_report > 1.0) {
-            size_t n = (ci + 1) * CHUNK_SIZE < ctx->total ? (ci + 1) * CHUNK_SIZE : ctx->total;
-            fprintf(stderr, "\r%zu / %zu trajectories", n, ctx->total);
-            last_report = t;
-        }
+        rf_chunk *c = &m->ring[ci % m->ahead];
+        pthread_mutex_lock(&m->mu);
+        while (!c->done)
+            pthread_cond_wait(&m->cv, &m->mu);
+        pthread_mutex_unlock(&m->mu);
+        status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
+        rf_chunk_clear(c);
+        pthread_mutex_lock(&m->mu);
+        m->written = ci + 1;
+        pthread_cond_broadcast(&m->cv);
+        pthread_mutex_unlock(&m->mu);
+        size_t n = (ci + 1) * RF_CHUNK_SIZE < m->total ? (ci + 1) * RF_CHUNK_SIZE : m->total;
+        rf_mc_progress(status ? 0 : o->progress, n, m->total, t0, &last_report);
     }
-    if (o->progress)
-        fprintf(stderr, "\r%*s\r", 40, "");
-    pthread_mutex_lock(&ctx->mu);
-    if (status)
-        ctx->abort = 1;
-    pthread_cond_broadcast(&ctx->cv);
-    pthread_mutex_unlock(&ctx->mu);
-    for (int i = 0; i < started; i++)
-        pthread_join(tids[i], NULL);
+    if (status && o->progress == 1)
+        fprintf(stderr, "\r%*s\r", 72, "");
+    rf_mc_stop(m, status != 0);
     sum->seconds = rf_now_s() - t0;
-done:
-    if (workers)
-        for (int i = 0; i < nthreads; i++) {
-            rf_workspace_free(workers[i].ws);
-            if (workers[i].rng)
-                gsl_rng_free(workers[i].rng);
-        }
-    rf_terrain_tables_free(tables);
-    free(workers);
-    free(tids);
+    return status;
+}
+
+/* ---- the run ------------------------------------------------------------------ */
+
+int rf_mc_init(rf_mc *m, const rf_project *p, int nthreads, size_t ahead, rf_error *err)
+{
+    memset(m, 0, sizeof *m);
+    m->nthreads = nthreads > 1 ? nthreads : 1;
+    m->p = p;
+    m->scene.terrain = &p->terrain;
+    m->scene.sim = &p->sim;
+    m->scene.forests = p->forests;
+    m->scene.nforests = p->nforests;
+    m->scene.measures = p->measures;
+    m->scene.nmeasures = p->nmeasures;
+    m->ahead = ahead > 0 ? ahead : 1;
+    m->claim = rf_mc_claim_in_order;
+    pthread_mutex_init(&m->mu, NULL);
+    pthread_cond_init(&m->cv, NULL);
+    m->release_start = calloc(p->nreleases + 1, sizeof *m->release_start);
+    for (size_t i = 0; m->release_start && i < p->nreleases; i++)
+        m->release_start[i + 1] =
+            m->release_start[i] + (size_t)rf_release_trajectories(&p->releases[i]);
+    m->total = m->release_start ? m->release_start[p->nreleases] : 0;
+    m->nchunks = (m->total + RF_CHUNK_SIZE - 1) / RF_CHUNK_SIZE;
+    m->ring = calloc(m->ahead, sizeof *m->ring);
+    m->hazard = calloc((size_t)m->nthreads, sizeof *m->hazard);
+    if (!m->release_start || !m->ring || !m->hazard)
+        return rf_error_set(err, "", 0, 0, "out of memory");
+    for (int i = 0; i < m->nthreads; i++)
+        if (rf_hazard_init(&m->hazard[i], &p->terrain, p->hazard_cell))
+            return rf_error_set(err, "", 0, 0, "out of memory for the hazard grid");
+    return 0;
+}
+
+void rf_mc_free(rf_mc *m)
+{
+    if (m->hazard)
+        for (int i = 0; i < m->nthreads; i++)
+            rf_hazard_free(&m->hazard[i]);
+    for (size_t ci = 0; m->ring && ci < m->ahead; ci++)
+        rf_chunk_clear(&m->ring[ci]);
+    free(m->ring);
+    free(m->hazard);
+    free(m->release_start);
+    pthread_mutex_destroy(&m->mu);
+    pthread_cond_destroy(&m->cv);
+    memset(m, 0, sizeof *m);
+}
+
+int rf_mc_finish(rf_mc *m, const rf_hazard *extra, rf_store *s, int status,
+                 rf_run_summary *sum, rf_error *err)
+{
+    /* any order of merging gives the same cells (hazard.h); each worker's map is freed
+     * once merged */
+    for (int i = 1; status == 0 && i < m->nthreads; i++) {
+        if (rf_hazard_merge(&m->hazard[0], &m->hazard[i]))
+            status = rf_error_set(err, "", 0, 0, "out of memory merging the hazard grid");
+        rf_hazard_free(&m->hazard[i]);
+    }
+    if (status == 0 && extra && rf_hazard_merge(&m->hazard[0], extra))
+        status = rf_error_set(err, "", 0, 0, "out of memory merging the hazard grid");
+    if (status == 0)
+        status = rf_hazard_write(&m->hazard[0], (long)m->total, s, err);
+    sum->n_trajectories = (long)m->total;
+    if (status == 0)
+        return rf_store_run_finish(s, "complete", (long)m->total, err);
+    rf_store_run_finish(s, "failed",
+                        sum->by_reason[0] + sum->by_reason[1] + sum->by_reason[2] +
+                            sum->by_reason[3],
+                        NULL); /* the trajectories written */
     return status;
 }
 
@@ -485,72 +550,14 @@ int rf_montecarlo_run(const rf_project *p, rf_store *s, const rf_run_options *o,
                       rf_run_summary *sum, rf_error *err)
 {
     memset(sum, 0, sizeof *sum);
+    rf_mc m;
     int nthreads = o->threads > 1 ? o->threads : 1;
-    run_ctx ctx;
-    memset(&ctx, 0, sizeof ctx);
-    ctx.nthreads = nthreads;
-    ctx.p = p;
-    ctx.scene.terrain = &p->terrain;
-    ctx.scene.sim = &p->sim;
-    ctx.scene.forests = p->forests;
-    ctx.scene.nforests = p->nforests;
-    ctx.scene.measures = p->measures;
-    ctx.scene.nmeasures = p->nmeasures;
-    ctx.ahead = (size_t)nthreads * CHUNKS_AHEAD_PER_THREAD;
-    ctx.release_start = calloc(p->nreleases + 1, sizeof *ctx.release_start);
-    for (size_t i = 0; ctx.release_start && i < p->nreleases; i++)
-        ctx.release_start[i + 1] = ctx.release_start[i] + (size_t)rf_release_trajectories(&p->releases[i]);
-    ctx.total = ctx.release_start ? ctx.release_start[p->nreleases] : 0;
-    ctx.nchunks = (ctx.total + CHUNK_SIZE - 1) / CHUNK_SIZE;
-    ctx.ring = calloc(ctx.ahead, sizeof *ctx.ring);
-    ctx.hazard = calloc((size_t)nthreads, sizeof *ctx.hazard);
-    int status = 0;
-    if (!ctx.release_start || !ctx.ring || !ctx.hazard) {
-        status = rf_error_set(err, "", 0, 0, "out of memory");
-        goto cleanup;
-    }
-    for (int i = 0; i < nthreads; i++)
-        if (rf_hazard_init(&ctx.hazard[i], &p->terrain, p->hazard_cell)) {
-            status = rf_error_set(err, "", 0, 0, "out of memory for the hazard grid");
-            goto cleanup;
-        }
-    pthread_mutex_init(&ctx.mu, NULL);
-    pthread_cond_init(&ctx.cv, NULL);
-
-    if (rf_store_run_begin(s, p, (long)ctx.total, &sum->run_id, err)) {
+    int status = rf_mc_init(&m, p, nthreads, (size_t)nthreads * RF_CHUNKS_AHEAD_PER_THREAD, err);
+    rf_store_describe_run(s, o->maps, 1, nthreads);
+    if (status == 0 && rf_store_run_begin(s, p, (long)m.total, &sum->run_id, err))
         status = -1;
-        goto cleanup_sync;
-    }
-    status = simulate_and_write(&ctx, s, o, sum, err);
-    /* any order of merging gives the same cells (hazard.h); each worker's map is freed
-     * once merged */
-    for (int i = 1; status == 0 && i < nthreads; i++) {
-        if (rf_hazard_merge(&ctx.hazard[0], &ctx.hazard[i]))
-            status = rf_error_set(err, "", 0, 0, "out of memory merging the hazard grid");
-        rf_hazard_free(&ctx.hazard[i]);
-    }
-    if (status == 0)
-        status = rf_hazard_write(&ctx.hazard[0], (long)ctx.total, s, err);
-    sum->n_trajectories = (long)ctx.total;
-    if (status == 0)
-        status = rf_store_run_finish(s, "complete", (long)ctx.total, err);
-    else
-        rf_store_run_finish(s, "failed",
-                            sum->by_reason[0] + sum->by_reason[1] + sum->by_reason[2] +
-                                sum->by_reason[3],
-                            NULL); /* the trajectories written */
-
-cleanup_sync:
-    pthread_mutex_destroy(&ctx.mu);
-    pthread_cond_destroy(&ctx.cv);
-cleanup:
-    if (ctx.hazard)
-        for (int i = 0; i < nthreads; i++)
-            rf_hazard_free(&ctx.hazard[i]);
-    for (size_t ci = 0; ctx.ring && ci < ctx.ahead; ci++)
-        chunk_clear(&ctx.ring[ci]);
-    free(ctx.ring);
-    free(ctx.hazard);
-    free(ctx.release_start);
+    else if (status == 0)
+        status = rf_mc_finish(&m, NULL, s, simulate_and_write(&m, s, o, sum, err), sum, err);
+    rf_mc_free(&m);
     return status;
 }
