@@ -109,6 +109,7 @@ demo:
 test:
 	@$(MAKE) --no-print-directory deps
 	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
+	@$(MAKE) --no-print-directory regional
 	@if command -v mpicc >/dev/null && command -v mpirun >/dev/null; then \
 	  $(MAKE) --no-print-directory MPI=1 SANITIZE= FUZZ= build/mpi/rockfall; fi
 	ROCKFALL_BIN=$(BUILD)/rockfall ROCKFALL_TOOLS=$(BUILD)/tools ROCKFALL_MPI_BIN=build/mpi/rockfall \

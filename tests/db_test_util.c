@@ -98,8 +98,8 @@ void dbt_tables_hash(sqlite3 *db, char *out, size_t cap)
         snprintf(table, sizeof table, "%s", (const char *)sqlite3_column_text(tables, 0));
         snprintf(sql, sizeof sql,
                  "SELECT group_concat('\"' || name || '\"', ', ') FROM pragma_table_info('%s') "
-                 "WHERE name NOT LIKE '%%\\_at' ESCAPE '\\' AND ('%s' <> 'runs' OR name NOT "
-                 "IN ('host', 'ranks', 'threads'))",
+                 "WHERE name NOT LIKE '%%\\_at' ESCAPE '\\' AND name <> 'last_change' AND"
+                 " ('%s' <> 'runs' OR name NOT IN ('host', 'ranks', 'threads'))",
                  table, table);
         sqlite3_stmt *st;
         ENSURE(sqlite3_prepare_v2(db, sql, -1, &st, NULL) == SQLITE_OK);

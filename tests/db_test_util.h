@@ -17,7 +17,8 @@ __attribute__((format(printf, 2, 3))) double dbt_real(sqlite3 *db, const char *f
 unsigned long long dbt_rows_hash(sqlite3 *db, const char *sql, long *nrows);
 /* The hash of every table of the file (in name order; each table's rows by its
  * columns in order), leaving out when and where a run ran: the columns whose name ends
- * in "_at" (when it started and finished) and runs' host, ranks and threads; one line
+ * in "_at" (when it started and finished), gpkg_contents's last_change (when a layer
+ * was last written) and runs' host, ranks and threads; one line
  * per table into out ("NAME ROWS HASH"). */
 void dbt_tables_hash(sqlite3 *db, char *out, size_t cap);
 
