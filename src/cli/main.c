@@ -60,7 +60,8 @@ static const char RUN_HELP[] =
     "  --seed N            override the project's seed\n"
     "  --count N           trajectories per release, per cell of a `cells` release\n"
     "                      (overrides the project's counts)\n"
-    "  --threads N         worker threads (default 1; results do not depend on it)\n"
+    "  --threads N         worker threads (default: the machine's cores online, at most\n"
+    "                      256; results do not depend on it)\n"
     "  -q, --quiet         no progress or summary\n";
 
 static const char CHECK_HELP[] =
@@ -239,7 +240,7 @@ static int cmd_run(int argc, char **argv)
         {"count", required_argument, 0, 'c'},  {"threads", required_argument, 0, 't'},
         {"quiet", no_argument, 0, 'q'},        {0, 0, 0, 0}};
     const char *out = "results.gpkg";
-    long seed = -1, count = 0, threads = 1;
+    long seed = -1, count = 0, threads = rf_cli_default_threads();
     int quiet = 0, c;
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:q", opts, NULL)) != -1) {
@@ -316,9 +317,10 @@ static int cmd_run(int argc, char **argv)
         rf_error_print(&err, stderr);
     } else if (!quiet) {
         char name[256], db[1024];
-        printf("run %lld of '%s' into %s: %ld trajectories in %.2f s (%.0f per second)\n",
+        printf("run %lld of '%s' into %s: %ld trajectories in %.2f s on %ld threads (%.0f per "
+               "second)\n",
                (long long)sum.run_id, rf_term_escape(p.name, name, sizeof name),
-               rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds,
+               rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds, threads,
                sum.seconds > 0 ? (double)sum.n_trajectories / sum.seconds : 0.0);
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
