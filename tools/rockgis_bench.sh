@@ -39,6 +39,8 @@ exe=$RF_ROCKGIS
 [ -x "$exe" ] || { echo "$0: no RockGIS executable at '$exe'" >&2; exit 2; }
 [ -r "$DEM" ] || { echo "$0: cannot read '$DEM'" >&2; exit 2; }
 case $COUNT in '' | *[!0-9]* | 0 | 1) echo "$0: COUNT must be a whole number >= 2" >&2; exit 2 ;; esac
+command -v sqlite3 > /dev/null ||
+    { echo "$0: needs the sqlite3 command (Debian: apt-get install sqlite3)" >&2; exit 2; }
 ROCKFALL=${RF_ROCKFALL:-build/rockfall}
 [ -x "$ROCKFALL" ] || { echo "$0: no rockfall executable at '$ROCKFALL'" >&2; exit 2; }
 MASS=${RF_MASS:-4500} DENSITY=${RF_DENSITY:-2650}
