@@ -263,6 +263,28 @@ static int overlap(const long p[6], const long q[6])
     return 1;
 }
 
+/* No kept triangle's interior overlaps a grid triangle with a nodata node. */
+static void ensure_no_hole_covered(const rf_asc_grid *g, const rf_tri_list *l)
+{
+    for (size_t k = 0; k < l->n; k++) {
+        itri t = itri_of(g, l, k);
+        long p[6] = {t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]};
+        long x0 = p[0], x1 = p[0], y0 = p[1], y1 = p[1];
+        for (int c = 1; c < 3; c++) {
+            x0 = p[2 * c] < x0 ? p[2 * c] : x0, x1 = p[2 * c] > x1 ? p[2 * c] : x1;
+            y0 = p[2 * c + 1] < y0 ? p[2 * c + 1] : y0, y1 = p[2 * c + 1] > y1 ? p[2 * c + 1] : y1;
+        }
+        for (long j = y0; j < y1; j++)
+            for (long i = x0; i < x1; i++) {
+                long lo[6] = {i, j, i + 1, j, i + 1, j + 1}, up[6] = {i, j, i + 1, j + 1, i, j + 1};
+                if (bad(g, i, j) || bad(g, i + 1, j) || bad(g, i + 1, j + 1))
+                    ENSURE_MSG(!overlap(p, lo), "triangle %zu over the hole at %ld %ld", k, i, j);
+                if (bad(g, i, j) || bad(g, i + 1, j + 1) || bad(g, i, j + 1))
+                    ENSURE_MSG(!overlap(p, up), "triangle %zu over the hole at %ld %ld", k, i, j);
+            }
+    }
+}
+
 TEST(tin_keeps_nodata_holes_as_holes)
 {
     rf_asc_grid g = grid_of(61, 47, holed);
@@ -281,19 +303,7 @@ TEST(tin_keeps_nodata_holes_as_holes)
         ENSURE_MSG(worst <= tols[n] * (1 + 1e-9), "error %.17g", worst);
         /* the kept triangles cover the valid grid triangles' area exactly ... */
         ENSURE_MSG(fabs(area - valid / 2.0) < 1e-9, "area %.17g, valid %.17g", area, valid / 2);
-        /* ... and no hole */
-        for (size_t k = 0; k < l.n; k++) {
-            itri t = itri_of(&g, &l, k);
-            long p[6] = {t.x[0], t.y[0], t.x[1], t.y[1], t.x[2], t.y[2]};
-            for (long j = 0; j + 1 < 47; j++)
-                for (long i = 0; i + 1 < 61; i++) {
-                    long lo[6] = {i, j, i + 1, j, i + 1, j + 1}, up[6] = {i, j, i + 1, j + 1, i, j + 1};
-                    if (bad(&g, i, j) || bad(&g, i + 1, j) || bad(&g, i + 1, j + 1))
-                        ENSURE_MSG(!overlap(p, lo), "triangle %zu over the hole at %ld %ld", k, i, j);
-                    if (bad(&g, i, j) || bad(&g, i + 1, j + 1) || bad(&g, i, j + 1))
-                        ENSURE_MSG(!overlap(p, up), "triangle %zu over the hole at %ld %ld", k, i, j);
-                }
-        }
+        ensure_no_hole_covered(&g, &l); /* ... and no hole */
         rf_tri_list_free(&l);
     }
     rf_asc_free(&g);
@@ -364,4 +374,47 @@ TEST(tin_grid_too_long_a_side_is_refused_at_the_dem)
     ENSURE_MSG(strstr(err.message, "too large for 'tolerance'") && strstr(err.file, "long.yaml") &&
                    err.line == 3 && err.column == 8,
                "%s:%d:%d: %s", err.file, err.line, err.column, err.message);
+}
+
+/* Random small grids with random nodata (scattered nodes and blocks, corners among
+ * them) and random tolerances: the bound, the exact cover of the valid grid triangles
+ * and no measurement left without a node to insert, every time. */
+TEST(tin_random_grids_with_holes_keep_bound_and_cover)
+{
+    uint64_t s = 2385;
+    for (int round = 0; round < 300; round++) {
+        s = s * 6364136223846793005ull + 1442695040888963407ull;
+        size_t nx = 2 + (size_t)(s >> 59), ny = 2 + (size_t)((s >> 54) & 31);
+        double share = (double)((s >> 40) & 255) / 600.0; /* nodata share up to 0.43 */
+        double tol = round % 5 == 0 ? 0.0 : (double)((s >> 20) & 1023) / 1000.0;
+        rf_asc_grid g = {nx, ny, -3.5, 7.25, 0.5, 1, NODATA, malloc(nx * ny * sizeof(double))};
+        ENSURE(g.z);
+        size_t bx = (size_t)(s >> 8) % nx, by = (size_t)(s >> 16) % ny; /* a nodata block */
+        for (size_t j = 0; j < ny; j++)
+            for (size_t i = 0; i < nx; i++) {
+                double u = noise((long)i + 1000 * round, (long)j);
+                int block = i >= bx && i < bx + 3 && j >= by && j < by + 2;
+                g.z[j * nx + i] = u < share || block ? NODATA : rough((long)i, (long)j) + u;
+            }
+        double valid = 0;
+        for (long j = 0; j + 1 < (long)ny; j++)
+            for (long i = 0; i + 1 < (long)nx; i++) {
+                valid += !bad(&g, i, j) && !bad(&g, i + 1, j) && !bad(&g, i + 1, j + 1);
+                valid += !bad(&g, i, j) && !bad(&g, i + 1, j + 1) && !bad(&g, i, j + 1);
+            }
+        rf_tin_stats st;
+        rf_tri_list l = {NULL, 0, 0};
+        rf_error err;
+        ENSURE_MSG(rf_tin_build(&g, tol, "grid.asc", &l, &st, &err) == 0, "%s", err.message);
+        ENSURE_MSG(st.unresolved == 0 && st.triangles == l.n, "round %d: unresolved %zu", round,
+                   st.unresolved);
+        double area, worst = tin_error(&g, &l, &area);
+        ENSURE_MSG(worst <= tol * (1 + 1e-9) + 1e-12, "round %d (%zu x %zu, T %g): error %.17g",
+                   round, nx, ny, tol, worst);
+        ENSURE_MSG(fabs(area - valid / 2.0) < 1e-9, "round %d: area %.17g, valid %.17g", round,
+                   area, valid / 2);
+        ensure_no_hole_covered(&g, &l);
+        rf_tri_list_free(&l);
+        rf_asc_free(&g);
+    }
 }
