@@ -4,7 +4,8 @@
 #   make demo       build and run the example project (projects/noto) into noto.gpkg, report/
 #   make test       build and run the tests (ends with "N passed, N failed")
 #   make test SANITIZE=1   the same under AddressSanitizer and UBSan
-#   make bench      speed against error of the motion engines
+#   make bench      speed against error of the motion engines, and of a grid made a TIN;
+#                   with RF_ROCKGIS=/path/to/RockGIS_Linux also against RockGIS
 #   make validate   the engine against the Authume quarry's measured stop points
 #   make report-check   the demo report, its maps and a comparison of variants rendered by headless chromium (PNGs to look at)
 #   make layers     the layer rule of src/ (docs/architecture.md), on sources and objects
@@ -149,6 +150,9 @@ FAST := OPT="-O3 -march=native -flto=auto -fno-math-errno" AR=gcc-ar
 bench:
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench
 	build/bench/tools/bench
+	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench_tin build/bench/rockfall
+	build/bench/tools/bench_tin
+	@if [ -n "$$RF_ROCKGIS" ]; then RF_ROCKFALL=build/bench/rockfall RF_APRON=250 RF_APRON_DEG=25 sh tools/rockgis_bench.sh projects/noto/terrain.asc 170 204 2000; fi
 
 # Peak memory of a run (a child process's ru_maxrss) at two counts: within 10 % of each
 # other, since nothing a run keeps grows with its trajectories (docs/database.md).

@@ -5,7 +5,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include "db_test_util.h"
 #include "rockfall/empirical.h"
 #include "test.h"
 
@@ -697,4 +699,42 @@ TEST(cli_report_runs_compares_variants_and_keeps_run)
     html = rf_test_read_text(path);
     ENSURE(html && strstr(html, "<h1>noto-3.2</h1>") && strstr(html, "plan.svg"));
     free(html);
+}
+
+/* `run` without --threads takes the processors online and writes the rows that one
+ * thread writes (the order of release and index, each trajectory on its own stream). */
+TEST(cli_run_default_threads_are_the_cores_and_rows_match_one_thread)
+{
+    static char out[65536];
+    char args[2048], want[64];
+    const char *dir = rf_test_tmpdir();
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    snprintf(want, sizeof want, " on %ld threads (", cores < 1 ? 1 : (cores > 256 ? 256 : cores));
+    snprintf(args, sizeof args, "run projects/noto/noto-3.2.yaml --count 40 -o %s/default.db",
+             dir);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(strstr(out, want), "expected '%s' in: %s", want, out);
+    snprintf(args, sizeof args,
+             "run projects/noto/noto-3.2.yaml --count 40 --threads 1 -o %s/one.db", dir);
+    ENSURE_MSG(rf_test_rockfall(args, out, sizeof out) == 0, "%s", out);
+    ENSURE_MSG(strstr(out, " on 1 threads ("), "%s", out);
+
+    char path[1024];
+    snprintf(path, sizeof path, "%s/default.db", dir);
+    sqlite3 *db;
+    ENSURE(sqlite3_open(path, &db) == SQLITE_OK);
+    char attach[1100];
+    snprintf(attach, sizeof attach, "ATTACH '%s/one.db' AS one", dir);
+    ENSURE(sqlite3_exec(db, attach, NULL, NULL, NULL) == SQLITE_OK);
+    static const char *const tables[] = {"trajectories", "interceptions", "path_points",
+                                         "hazard_cells"};
+    for (size_t k = 0; k < sizeof tables / sizeof *tables; k++) {
+        long long n = dbt_int(db, "SELECT count(*) FROM main.%s", tables[k]);
+        ENSURE_MSG(n == dbt_int(db, "SELECT count(*) FROM one.%s", tables[k]), "%s", tables[k]);
+        ENSURE_MSG(dbt_int(db, "SELECT count(*) FROM (SELECT * FROM main.%s EXCEPT "
+                               "SELECT * FROM one.%s)", tables[k], tables[k]) == 0,
+                   "%s differ", tables[k]);
+    }
+    ENSURE(dbt_int(db, "SELECT count(*) FROM main.trajectories") == 5 * 40);
+    sqlite3_close(db);
 }

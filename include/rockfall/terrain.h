@@ -83,6 +83,8 @@ typedef struct rf_terrain_spec {
     double *profile;       /* PROFILE: 2 * nprofile numbers (distance, elevation) */
     size_t nprofile;
     double width;          /* PROFILE: extrusion width; y runs from 0 to width */
+    double tolerance;      /* DEM: > 0 makes the grid a TIN within this vertical error
+                              (m; input/tin.h), a mesh (is_grid 0); 0 keeps the grid */
     rf_surface surface;    /* default surface (zone 0) */
     rf_zone_spec *zones;   /* polygon zones and file zones */
     size_t nzones;

@@ -37,7 +37,8 @@ const char CALIBRATE_HELP[] =
     "  --objective w1|ks   w1 (default): the Wasserstein-1 distance of the runouts and\n"
     "                      of the lateral offsets, each over the observed sd; ks: the\n"
     "                      Kolmogorov-Smirnov distances of both, summed\n"
-    "  --threads N         worker threads (default 1; results do not depend on it)\n"
+    "  --threads N         worker threads (default: the machine's cores online, at most\n"
+    "                      256; results do not depend on it)\n"
     "  --count N           trajectories per release in each simulation (default: the\n"
     "                      project's)\n"
     "  --max-evals N       simulations at most (default 300)\n"
@@ -146,7 +147,7 @@ static int parse_args(int argc, char **argv, calibrate_args *a)
         {"tol", required_argument, 0, 'T'},      {"output", required_argument, 0, 'o'},
         {"quiet", no_argument, 0, 'q'},          {"objective", required_argument, 0, 'j'},
         {0, 0, 0, 0}};
-    *a = (calibrate_args){.threads = 1, .max_evals = 300, .coarse = -1, .tol = 0.02};
+    *a = (calibrate_args){.threads = rf_cli_default_threads(), .max_evals = 300, .coarse = -1, .tol = 0.02};
     int c;
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:q", opts, NULL)) != -1) {

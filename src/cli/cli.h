@@ -11,6 +11,10 @@ int parse_long(const char *s, long lo, long hi, long *out);
 /* A finite plain decimal number; 0 on success. */
 int parse_double(const char *s, double *out);
 
+/* The worker threads of `run` and `calibrate` without --threads: the processors online
+ * (sysconf(_SC_NPROCESSORS_ONLN)), at least 1 and at most 256 (threads.c). */
+long rf_cli_default_threads(void);
+
 /* rockfall calibrate (calibrate.c). */
 extern const char CALIBRATE_HELP[];
 int cmd_calibrate(int argc, char **argv);

@@ -64,8 +64,9 @@ static const char RUN_HELP[] =
     "  --seed N            override the project's seed\n"
     "  --count N           trajectories per release, per cell of a `cells` release\n"
     "                      (overrides the project's counts)\n"
-    "  --threads N         worker threads (default 1; results do not depend on it); per\n"
-    "                      rank under mpirun (build/mpi/rockfall, docs/scaling.md)\n"
+    "  --threads N         worker threads (default: the machine's cores online, at most\n"
+    "                      256; results do not depend on it); per rank under mpirun\n"
+    "                      (build/mpi/rockfall, docs/scaling.md: default 1 per rank)\n"
     "  --store maps        keep the run, releases, measures, interceptions, hazard cells and\n"
     "                      the sampled paths, with only the trajectories those need and no\n"
     "                      tree hits (a regional map); no checks.  Default: all\n"
@@ -303,8 +304,12 @@ static int run_command(int argc, char **argv)
         {"quiet", no_argument, 0, 'q'},        {"store", required_argument, 0, 'S'},
         {0, 0, 0, 0}};
     const char *out = "results.gpkg";
-    long seed = -1, count = 0, threads = 1;
+    long seed = -1, count = 0, threads = rf_cli_default_threads();
     int quiet = 0, maps = 0, c;
+#ifdef RF_MPI
+    if (rf_mpi_size() > 1)
+        threads = 1; /* under mpirun: one thread per rank unless --threads is given */
+#endif
     optind = 1;
     while ((c = getopt_long(argc, argv, "o:q", opts, NULL)) != -1) {
         switch (c) {
@@ -386,9 +391,10 @@ static int run_command(int argc, char **argv)
         rf_error_print(&err, stderr);
     } else if (!quiet) {
         char name[256], db[1024];
-        printf("run %lld of '%s' into %s: %ld trajectories in %.2f s (%.0f per second)\n",
+        printf("run %lld of '%s' into %s: %ld trajectories in %.2f s on %ld threads (%.0f per "
+               "second)\n",
                (long long)sum.run_id, rf_term_escape(p.name, name, sizeof name),
-               rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds,
+               rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds, threads,
                sum.seconds > 0 ? (double)sum.n_trajectories / sum.seconds : 0.0);
         printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
                sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],

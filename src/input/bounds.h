@@ -28,6 +28,9 @@
 #define RF_CELL_MIN 1e-3            /* an ASCII grid's cellsize, least (m) */
 #define RF_CELL_MAX 1e5             /* an ASCII grid's cellsize, most (m) */
 #define RF_PROFILE_WIDTH_MAX 1e5    /* a profile terrain's width (m) */
+#define RF_TIN_TOLERANCE_MAX 1e3    /* a grid's 'tolerance' as a TIN (m; > 0) */
+#define RF_TIN_SIDE_MAX 16384       /* nodes along a side of a grid made a TIN: the exact
+                                       in-circle test's terms stay below 2^60 in int64 */
 
 /* ---- vegetation ----------------------------------------------------------------- */
 #define RF_FOREST_DENSITY_MAX 10.0  /* stems per m^2 (100 000 per hectare) */

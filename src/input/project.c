@@ -30,7 +30,7 @@ static const char *const top_keys[] = {"name", "seed", "terrain", "vegetation", 
                                        "releases", "measures", "simulation", "hazard",
                                        "rules", "crs", NULL};
 static const char *const terrain_keys[] = {"dem", "mesh", "profile", "up", "surface",
-                                           "zones", NULL};
+                                           "zones", "tolerance", NULL};
 static const char *const profile_keys[] = {"points", "width", NULL};
 static const char *const surface_keys[] = {"restitution", "friction", "rolling", "class",
                                            "roughness", "impact", "tangential", NULL};
@@ -194,6 +194,16 @@ static int read_terrain(loader *L, const rf_ynode *n)
         if (strcmp(source_key, "mesh"))
             return rf_ydoc_error(&L->d, up, L->err, "'up' applies to 'mesh' terrains only");
         s->up = u ? 'y' : 'z';
+    }
+
+    rf_ynode *tolerance = rf_ydoc_get(&L->d, n, "tolerance");
+    if (tolerance) {
+        if (rf_ydoc_number(&L->d, tolerance, "tolerance",
+                           (rf_yrange){0.0, RF_TIN_TOLERANCE_MAX, 1, 0}, &s->tolerance, L->err))
+            return -1;
+        if (strcmp(source_key, "dem"))
+            return rf_ydoc_error(&L->d, tolerance, L->err,
+                                 "'tolerance' applies to 'dem' terrains only");
     }
 
     if (!strcmp(source_key, "profile")) {

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "input/terrain_io.h"
+#include "input/tin.h"
 #include "base/names.h"
 #include "base/polygon.h"
 #include "base/tolerances.h"
@@ -522,6 +523,27 @@ static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
     return rc;
 }
 
+static int set_from_list(rf_terrain *t, const rf_tri_list *l, const int32_t *zone_of);
+
+/* A grid made a TIN within spec->tolerance (input/tin.h): a mesh from here on. */
+static int build_tin(const rf_terrain_spec *spec, rf_asc_grid *g, rf_terrain *t, rf_error *err)
+{
+    const char *path = spec->files[0];
+    rf_tri_list l = {NULL, 0, 0};
+    rf_tin_stats st;
+    int rc = rf_tin_build(g, spec->tolerance, path, &l, &st, err);
+    rf_asc_free(g);
+    if (rc)
+        return -1;
+    rc = set_from_list(t, &l, NULL);
+    rf_tri_list_free(&l);
+    if (rc)
+        return rf_error_set(err, path, 0, 0, "out of memory for the TIN of the grid");
+    if (t->ntri == 0)
+        return rf_error_set(err, path, 0, 0, "the grid has no cell without nodata");
+    return 0;
+}
+
 static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
 {
     assert(spec->nfiles == 1);
@@ -529,6 +551,8 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
     rf_asc_grid g;
     if (rf_asc_read(path, &g, err))
         return -1;
+    if (spec->tolerance > 0)
+        return build_tin(spec, &g, t, err);
     size_t nx = g.ncols, ny = g.nrows, ncell = (nx - 1) * (ny - 1);
     t->is_grid = 1;
     t->nx = nx;
