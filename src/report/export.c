@@ -9,13 +9,13 @@
  * (PROJ), when the run has a CRS.  Everything is read from the database, opened
  * read-only by the caller. */
 #include "report/report.h"
+#include "report/report_private.h"
 
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "base/util.h"
 #include "input/crs.h"
@@ -54,26 +54,6 @@ typedef struct grid {
     double *v[N_MAPS];  /* nx * ny each, row iy from the south; NaN: nodata */
     unsigned char *live; /* 1 on the terrain, or reached */
 } grid;
-
-static int make_dirs(const char *dir, rf_error *err)
-{
-    char buf[4096];
-    snprintf(buf, sizeof buf, "%s", dir);
-    for (char *p = buf + 1; *p; p++) {
-        if (*p != '/')
-            continue;
-        *p = '\0';
-        if (mkdir(buf, 0777) && errno != EEXIST)
-            return rf_error_set(err, buf, 0, 0, "cannot create folder: %s", strerror(errno));
-        *p = '/';
-    }
-    if (mkdir(buf, 0777) && errno != EEXIST)
-        return rf_error_set(err, dir, 0, 0, "cannot create folder: %s", strerror(errno));
-    struct stat sb;
-    if (stat(buf, &sb) || !S_ISDIR(sb.st_mode))
-        return rf_error_set(err, dir, 0, 0, "not a folder");
-    return 0;
-}
 
 /* The cell of a coordinate along one axis, the far edge in the last cell (as the run's
  * hazard grid counts it); -1 outside. */
@@ -284,7 +264,7 @@ int rf_export_write(sqlite3 *db, int64_t run, const char *dir, rf_error *err)
                                               G.y0 + ((double)(k / G.nx) + 0.5) * G.cell);
     }
     status = read_cells(db, run, &G, err) || run_esri_wkt(db, run, &esri, err) ||
-                     make_dirs(dir, err)
+                     rep_make_dirs(dir, err)
                  ? -1
                  : 0;
     for (int m = 0; status == 0 && m < N_MAPS; m++)
