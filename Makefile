@@ -99,7 +99,7 @@ demo:
 
 test:
 	@$(MAKE) --no-print-directory deps
-	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
+	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS) $(ROLL_DEMS)
 	ROCKFALL_BIN=$(BUILD)/rockfall ROCKFALL_TOOLS=$(BUILD)/tools $(BUILD)/run_tests $(T)
 
 # A file includes and calls only its own layer and those below; the engine's files
@@ -113,7 +113,13 @@ layers: $(LIB_OBJ) $(CLI_OBJ)
 FAST := OPT="-O3 -march=native -flto=auto -fno-math-errno" AR=gcc-ar
 bench:
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench
+	@$(MAKE) --no-print-directory $(ROLL_DEMS)
 	build/bench/tools/bench
+
+# The rolling bench slope's grids at 2, 1 and 0.5 m (tools/mkroll.c; not kept in git).
+ROLL_DEMS := projects/bench/roll-2m.asc projects/bench/roll-1m.asc projects/bench/roll-05m.asc
+projects/bench/roll-%m.asc: $(BUILD)/tools/mkroll
+	$(BUILD)/tools/mkroll $(subst 05,0.5,$*) > $@.tmp && mv $@.tmp $@
 
 # Peak memory of a run (a child process's ru_maxrss) at two counts: within 10 % of each
 # other, since nothing a run keeps grows with its trajectories (docs/database.md).
