@@ -109,7 +109,7 @@ demo:
 
 test:
 	@$(MAKE) --no-print-directory deps
-	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS)
+	@$(MAKE) --no-print-directory $(BUILD)/rockfall $(BUILD)/run_tests $(TOOLS) $(ROLL_DEMS)
 	@$(MAKE) --no-print-directory regional
 	@if command -v mpicc >/dev/null && command -v mpirun >/dev/null; then \
 	  $(MAKE) --no-print-directory MPI=1 SANITIZE= FUZZ= build/mpi/rockfall; fi
@@ -149,10 +149,16 @@ layers: $(LIB_OBJ) $(CLI_OBJ)
 FAST := OPT="-O3 -march=native -flto=auto -fno-math-errno" AR=gcc-ar
 bench:
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench
+	@$(MAKE) --no-print-directory $(ROLL_DEMS)
 	build/bench/tools/bench
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench_tin build/bench/rockfall
 	build/bench/tools/bench_tin
 	@if [ -n "$$RF_ROCKGIS" ]; then RF_ROCKFALL=build/bench/rockfall RF_APRON=250 RF_APRON_DEG=25 sh tools/rockgis_bench.sh projects/noto/terrain.asc 170 204 2000; fi
+
+# The rolling bench slope's grids at 2, 1 and 0.5 m (tools/mkroll.c; not kept in git).
+ROLL_DEMS := projects/bench/roll-2m.asc projects/bench/roll-1m.asc projects/bench/roll-05m.asc
+projects/bench/roll-%m.asc: $(BUILD)/tools/mkroll
+	$(BUILD)/tools/mkroll $(subst 05,0.5,$*) > $@.tmp && mv $@.tmp $@
 
 # Peak memory of a run (a child process's ru_maxrss) at two counts: within 10 % of each
 # other, since nothing a run keeps grows with its trajectories (docs/database.md).

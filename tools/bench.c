@@ -11,7 +11,8 @@
  * reference (the exact engine in the same contact mode and rock model over many more
  * trajectories).
  * It ends with the throughput ratios of the exact engine over the fixed-step
- * settings, all of which have larger errors. */
+ * settings, all of which have larger errors, and the rolling slope's table
+ * (roll_table; `bench --roll` prints it alone). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,6 +32,8 @@
 typedef struct stats {
     double runout_mean, runout_p95, energy_mean, energy_p95, road_mean, road_p95;
     double runout_se, energy_se, road_se; /* standard errors of the means */
+    /* per trajectory: simulated seconds, and the work of rf_trajectory_record */
+    double sim_s, flights, segments, impacts, edges;
 } stats;
 
 /* The speed of a trajectory at its first crossing of a control line (the road). */
@@ -80,12 +83,18 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
     sink.ctx = &rp;
     sink.interception = on_crossing;
     rf_body body = rf_release_body(p, 0, sim->model); /* in the row's model */
+    double work[5] = {0, 0, 0, 0, 0};
     for (long k = 0; k < n; k++) {
         gsl_rng_set(rng, rf_trajectory_seed(p->seed, 0, first + k));
         rf_state s0 = rf_release_start(p, 0, &body, rng);
         rf_trajectory_record rec;
         rp.speed = NAN;
         rf_simulate(&scene, &body, &s0, rng, ws, &sink, &rec);
+        work[0] += rec.duration_s;
+        work[1] += (double)rec.n_flights;
+        work[2] += (double)rec.n_segments;
+        work[3] += (double)rec.n_impacts;
+        work[4] += (double)rec.n_edge_transitions;
         if (st) {
             runout[k] = hypot(rec.stop.x - rel->x, rec.stop.y - rel->y);
             energy[k] = rec.max_energy_kj;
@@ -94,6 +103,11 @@ static void run_slope(const rf_project *p, const rf_simulation *sim, long first,
         }
     }
     if (st) {
+        st->sim_s = work[0] / (double)n;
+        st->flights = work[1] / (double)n;
+        st->segments = work[2] / (double)n;
+        st->impacts = work[3] / (double)n;
+        st->edges = work[4] / (double)n;
         mean_se(runout, n, &st->runout_mean, &st->runout_se);
         mean_se(energy, n, &st->energy_mean, &st->energy_se);
         st->runout_p95 = p95(runout, (size_t)n);
@@ -153,8 +167,87 @@ static double worst_closed(const row *r)
     return w;
 }
 
+/* ---- the rolling slope ------------------------------------------------------------ */
+
+/* The rolling-dominated slope (projects/bench, tools/mkroll.c) at three cell sizes,
+ * where rocks roll most of the way and the grid's edges, not the bounces, can make the
+ * events: per setting and cell size the throughput on one thread, the work per
+ * trajectory (flights, surface segments, impacts, edge transitions: events, whose sum
+ * the time per event divides), and the statistics with their standard errors (speed at
+ * the slope's foot, maximum energy, runout), which are the reference of any change to
+ * the engine's events: a change that keeps the physics keeps them within a few
+ * standard errors. */
+#define N_ROLL 2000
+
+static void roll_table(void)
+{
+    static const char *paths[] = {"projects/bench/roll-2m.yaml", "projects/bench/roll.yaml",
+                                  "projects/bench/roll-05m.yaml"};
+    static const double cells[] = {2.0, 1.0, 0.5};
+    static const struct {
+        const char *name;
+        rf_engine_kind engine;
+        rf_contact_kind contact;
+        rf_rock_model model;
+    } set[] = {{"sphere, full contact", RF_ENGINE_EXACT, RF_CONTACT_FULL, RF_MODEL_SPHERE},
+               {"sphere, centre contact", RF_ENGINE_EXACT, RF_CONTACT_CENTRE, RF_MODEL_SPHERE},
+               {"point mass", RF_ENGINE_EXACT, RF_CONTACT_FULL, RF_MODEL_POINT},
+               {"fixed dt=0.01 s, centre", RF_ENGINE_FIXED_STEP, RF_CONTACT_CENTRE, RF_MODEL_SPHERE}};
+    enum { NSET = sizeof set / sizeof set[0], NCELL = sizeof cells / sizeof cells[0] };
+    double per_s[NCELL][NSET];
+    printf("Rolling slope (projects/bench, tools/mkroll.c: a 175 m slope, 170 m drop over 180 m,\n"
+           "gentle gullies, a 14-degree counter-sloped run-out), %d trajectories per row, one\n"
+           "thread.  Per trajectory: simulated seconds, flights, surface segments, impacts and\n"
+           "edge transitions; us/event: time over their sum.  Statistics: mean +- standard error.\n\n",
+           N_ROLL);
+    printf("| cell | engine | traj/s | sim s | flights | segments | impacts | edge transitions "
+           "| us/event | foot speed m/s | max energy kJ | runout m |\n"
+           "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    for (int c = 0; c < NCELL; c++) {
+        rf_project p;
+        rf_error err;
+        if (rf_project_load(paths[c], &p, &err)) {
+            rf_error_print(&err, stderr);
+            exit(2);
+        }
+        for (int i = 0; i < NSET; i++) {
+            rf_simulation sim = p.sim;
+            sim.engine = set[i].engine;
+            sim.contact = set[i].contact;
+            sim.model = set[i].model;
+            sim.dt = 0.01;
+            fprintf(stderr, "rolling slope, %g m: %s ...\n", cells[c], set[i].name);
+            stats st;
+            double t0 = rf_now_s();
+            run_slope(&p, &sim, 0, N_ROLL, &st);
+            double best = rf_now_s() - t0;
+            for (int round = 1; round < TIMING_ROUNDS; round++)
+                best = fmin(best, run_seconds(&p, &sim, N_ROLL));
+            per_s[c][i] = N_ROLL / best;
+            double events = st.flights + st.segments + st.impacts + st.edges;
+            printf("| %g m | %s | %.0f | %.2f | %.1f | %.1f | %.1f | %.1f | %.2f | %.3f +- %.3f "
+                   "| %.0f +- %.0f | %.2f +- %.2f |\n",
+                   cells[c], set[i].name, per_s[c][i], st.sim_s, st.flights, st.segments,
+                   st.impacts, st.edges, 1e6 * best / N_ROLL / events, st.road_mean, st.road_se,
+                   st.energy_mean, st.energy_se, st.runout_mean, st.runout_se);
+            fflush(stdout);
+        }
+        rf_project_free(&p);
+    }
+    printf("\n");
+    for (int c = 0; c < NCELL; c++)
+        printf("%g m cells: full contact / fixed dt=0.01 s: %.2fx the throughput; centre %.2fx; "
+               "point mass %.2fx\n",
+               cells[c], per_s[c][0] / per_s[c][NSET - 1], per_s[c][1] / per_s[c][NSET - 1],
+               per_s[c][2] / per_s[c][NSET - 1]);
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && strcmp(argv[1], "--roll") == 0) {
+        roll_table(); /* the rolling slope alone */
+        return 0;
+    }
     const char *path = argc > 1 ? argv[1] : "projects/noto/noto-3.1-no-trees.yaml";
     rf_project p;
     rf_error err;
@@ -286,5 +379,7 @@ int main(int argc, char **argv)
            ex->per_s / (fine->per_s * dt_need / fine->sim.dt),
            rows[0].per_s / (fine->per_s * dt_need / fine->sim.dt));
     rf_project_free(&p);
+    printf("\n");
+    roll_table();
     return 0;
 }

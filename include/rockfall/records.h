@@ -20,6 +20,14 @@ typedef struct rf_trajectory_record {
     double max_energy_kj;    /* largest total kinetic energy along the path */
     long n_impacts;
     long n_tree_hits;
+    /* The work of the trajectory, for the bench (not stored): flights (one per pass of
+     * the event loop in flight, one per step of the fixed-step engine), surface segments
+     * (the set-ups of a segment on a face, a wall or a crease: one per pass on the
+     * surface, one per step), and the grid edges crossed onto a rising face without an
+     * impact (docs/engine.md, "The rolling phase"). */
+    long n_flights;
+    long n_segments;
+    long n_edge_transitions;
     int rest_on_steep_face;  /* 1: the fixed-step engine put the rock to rest on a face
                               * steeper than its friction holds (tan theta > mu), which
                               * the exact engine would not; 0 otherwise (the exact engine

@@ -401,6 +401,10 @@ int rf_simulate_fixed_step(rf_motion *m)
         if (end >= 0) /* after a rescue (RF_RESCUED), in flight: fresh as every flight */
             return end;
         double h = fmin(dt, m->cfg.t_end - m->rock.s.t);
+        if (m->rock.sup.n == 0)
+            m->book.rec->n_flights++;
+        else
+            m->book.rec->n_segments++;
         if (m->rock.sup.n == 1) {
             end = face_step(m, h, &run);
         } else {

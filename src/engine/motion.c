@@ -73,6 +73,7 @@ void rf_workspace_free(rf_workspace *ws)
 /* One flight until its next event; returns -1 to go on, or the end reason. */
 static int flight_step(rf_motion *m)
 {
+    m->book.rec->n_flights++;
     rf_arc arc = {m->rock.s.p, m->rock.s.v, rf_v3(0, 0, -RF_GRAVITY)};
     double T = fmax(0.0, m->cfg.t_end - m->rock.s.t);
     /* below every face: the rock has left the terrain */
@@ -126,6 +127,7 @@ static int run_exact(rf_motion *m)
                 return end;
             continue;
         }
+        m->book.rec->n_segments++;
         switch (rf_surface_step(m)) {
         case RF_SURF_REST:
             return RF_END_REST;
