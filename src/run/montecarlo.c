@@ -439,6 +439,29 @@ void rf_mc_progress(int mode, size_t done, size_t total, double t0, double *last
             fmod(floor(left), 60.0), mode == 1 ? "   " : "\n");
 }
 
+int rf_mc_check_interrupted(const rf_mc *m, size_t ci, const rf_run_options *o, rf_error *err)
+{
+    if (!o->interrupted || !*o->interrupted)
+        return 0;
+    size_t n = ci * RF_CHUNK_SIZE < m->total ? ci * RF_CHUNK_SIZE : m->total;
+    return rf_error_set(err, "", 0, 0, "interrupted after %zu of %zu trajectories", n, m->total);
+}
+
+int rf_mc_write_next(rf_mc *m, rf_store *s, size_t ci, const rf_run_options *o,
+                     rf_run_summary *sum, double t0, double *last_report, rf_error *err)
+{
+    rf_chunk *c = &m->ring[ci % m->ahead];
+    int status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
+    rf_chunk_clear(c);
+    pthread_mutex_lock(&m->mu);
+    m->written = ci + 1;
+    pthread_cond_broadcast(&m->cv);
+    pthread_mutex_unlock(&m->mu);
+    size_t n = (ci + 1) * RF_CHUNK_SIZE < m->total ? (ci + 1) * RF_CHUNK_SIZE : m->total;
+    rf_mc_progress(status ? 0 : o->progress, n, m->total, t0, last_report);
+    return status;
+}
+
 /* Simulates every chunk on the worker threads and writes them in order; 0 or -1 with
  * err set. */
 static int simulate_and_write(rf_mc *m, rf_store *s, const rf_run_options *o,
@@ -447,25 +470,14 @@ static int simulate_and_write(rf_mc *m, rf_store *s, const rf_run_options *o,
     int status = rf_mc_start(m, err);
     double t0 = rf_now_s(), last_report = t0;
     for (size_t ci = 0; status == 0 && ci < m->nchunks; ci++) {
-        if (o->interrupted && *o->interrupted) {
-            size_t n = ci * RF_CHUNK_SIZE < m->total ? ci * RF_CHUNK_SIZE : m->total;
-            status = rf_error_set(err, "", 0, 0, "interrupted after %zu of %zu trajectories",
-                                  n, m->total);
+        if ((status = rf_mc_check_interrupted(m, ci, o, err)) != 0)
             break;
-        }
         rf_chunk *c = &m->ring[ci % m->ahead];
         pthread_mutex_lock(&m->mu);
         while (!c->done)
             pthread_cond_wait(&m->cv, &m->mu);
         pthread_mutex_unlock(&m->mu);
-        status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
-        rf_chunk_clear(c);
-        pthread_mutex_lock(&m->mu);
-        m->written = ci + 1;
-        pthread_cond_broadcast(&m->cv);
-        pthread_mutex_unlock(&m->mu);
-        size_t n = (ci + 1) * RF_CHUNK_SIZE < m->total ? (ci + 1) * RF_CHUNK_SIZE : m->total;
-        rf_mc_progress(status ? 0 : o->progress, n, m->total, t0, &last_report);
+        status = rf_mc_write_next(m, s, ci, o, sum, t0, &last_report, err);
     }
     if (status && o->progress == 1)
         fprintf(stderr, "\r%*s\r", 72, "");

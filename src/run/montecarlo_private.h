@@ -108,6 +108,12 @@ void rf_mc_wait(rf_mc *m, double seconds);
  * counts the trajectories committed. */
 int rf_mc_write_chunk(struct rf_store *s, const rf_chunk *c, int maps, long by_reason[4],
                       rf_error *err);
+/* The writer's step for chunk ci, filled (c->done): writes it, clears its slot, lets the
+ * workers run on (m->written), reports progress; the write's status. */
+int rf_mc_write_next(rf_mc *m, struct rf_store *s, size_t ci, const rf_run_options *o,
+                     rf_run_summary *sum, double t0, double *last_report, rf_error *err);
+/* -1 with err set when the run was interrupted before chunk ci was written, else 0. */
+int rf_mc_check_interrupted(const rf_mc *m, size_t ci, const rf_run_options *o, rf_error *err);
 /* Progress on stderr (mode: rf_run_options.progress): done of total trajectories,
  * their rate since t0 and the time left at that rate, when a second (mode 1) or ten
  * (mode 2) have passed since *last; mode 1 clears its line once done == total. */

@@ -214,12 +214,8 @@ static int write_in_order(root *r, rf_store *s, const rf_run_options *o, rf_run_
     for (size_t ci = 0; status == 0 && ci < m->nchunks; ci++) {
         rf_chunk *c = &m->ring[ci % m->ahead];
         for (;;) {
-            if (o->interrupted && *o->interrupted) {
-                size_t n = ci * RF_CHUNK_SIZE < m->total ? ci * RF_CHUNK_SIZE : m->total;
-                status = rf_error_set(err, "", 0, 0, "interrupted after %zu of %zu trajectories",
-                                      n, m->total);
+            if ((status = rf_mc_check_interrupted(m, ci, o, err)) != 0)
                 break;
-            }
             if ((status = poll_messages(r, err)) != 0)
                 break;
             pthread_mutex_lock(&m->mu);
@@ -232,14 +228,7 @@ static int write_in_order(root *r, rf_store *s, const rf_run_options *o, rf_run_
         }
         if (status)
             break;
-        status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
-        rf_chunk_clear(c);
-        pthread_mutex_lock(&m->mu);
-        m->written = ci + 1;
-        pthread_cond_broadcast(&m->cv);
-        pthread_mutex_unlock(&m->mu);
-        size_t n = (ci + 1) * RF_CHUNK_SIZE < m->total ? (ci + 1) * RF_CHUNK_SIZE : m->total;
-        rf_mc_progress(status ? 0 : o->progress, n, m->total, t0, &last_report);
+        status = rf_mc_write_next(m, s, ci, o, sum, t0, &last_report, err);
     }
     if (status && o->progress == 1)
         fprintf(stderr, "\r%*s\r", 72, "");
