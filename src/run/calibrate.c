@@ -185,8 +185,10 @@ static void *stops_main(void *vw)
     return NULL;
 }
 
-long rf_stops_simulate(const rf_project *p, int threads, double **stop, double **start,
-                       size_t *not_rest)
+/* rf_stops_simulate on the terrain's tables, built by the caller (once for a whole
+ * calibration). */
+static long simulate_stops(const rf_project *p, const rf_terrain_tables *tables, int threads,
+                           double **stop, double **start, size_t *not_rest)
 {
     *stop = NULL;
     if (start)
@@ -209,12 +211,10 @@ long rf_stops_simulate(const rf_project *p, int threads, double **stop, double *
     c->nthreads = nt;
     c->stop = malloc((2 * c->total + 1) * sizeof *c->stop);
     c->start = start ? malloc((2 * c->total + 1) * sizeof *c->start) : NULL;
-    rf_terrain_tables *tables = rf_terrain_tables_build(&p->terrain);
     c->tables = tables;
-    if (!c->stop || (start && !c->start) || !tables) {
+    if (!c->stop || (start && !c->start)) {
         free(c->stop);
         free(c->start);
-        rf_terrain_tables_free(tables);
         goto done;
     }
     int created[256] = {0};
@@ -233,7 +233,6 @@ long rf_stops_simulate(const rf_project *p, int threads, double **stop, double *
     int failed = 0;
     for (int i = 0; i < nt; i++)
         nr += c->not_rest[i], failed |= c->oom[i];
-    rf_terrain_tables_free(tables);
     if (failed) {
         free(c->stop);
         free(c->start);
@@ -249,6 +248,17 @@ done:
     free(rs);
     free(c);
     return result;
+}
+
+long rf_stops_simulate(const rf_project *p, int threads, double **stop, double **start,
+                       size_t *not_rest)
+{
+    rf_terrain_tables *tables = rf_terrain_tables_build(&p->terrain);
+    long n = tables ? simulate_stops(p, tables, threads, stop, start, not_rest) : -1;
+    if (!tables)
+        *stop = NULL;
+    rf_terrain_tables_free(tables);
+    return n;
 }
 
 /* ---- the objective ------------------------------------------------------------------ */
@@ -279,12 +289,13 @@ const char *rf_objective_name(rf_objective k)
                                 : "w1_runout / sd_runout + w1_lateral / sd_lateral";
 }
 
-int rf_calibrate_objective(const rf_project *p, const double *obs, size_t nobs, int threads,
-                           rf_objective kind, double *objective, rf_agreement *a,
-                           size_t *not_rest)
+/* rf_calibrate_objective on the terrain's tables, built by the caller. */
+static int objective_on(const rf_project *p, const rf_terrain_tables *tables, const double *obs,
+                        size_t nobs, int threads, rf_objective kind, double *objective,
+                        rf_agreement *a, size_t *not_rest)
 {
     double *stop, *start;
-    long n = rf_stops_simulate(p, threads, &stop, &start, not_rest);
+    long n = simulate_stops(p, tables, threads, &stop, &start, not_rest);
     if (n < 0)
         return -1;
     double x0, y0;
@@ -297,6 +308,17 @@ int rf_calibrate_objective(const rf_project *p, const double *obs, size_t nobs, 
     return rc;
 }
 
+int rf_calibrate_objective(const rf_project *p, const double *obs, size_t nobs, int threads,
+                           rf_objective kind, double *objective, rf_agreement *a,
+                           size_t *not_rest)
+{
+    rf_terrain_tables *tables = rf_terrain_tables_build(&p->terrain);
+    int rc = tables ? objective_on(p, tables, obs, nobs, threads, kind, objective, a, not_rest)
+                    : -1;
+    rf_terrain_tables_free(tables);
+    return rc;
+}
+
 typedef struct fit_ctx {
     rf_project *p;
     const double *obs;
@@ -304,6 +326,7 @@ typedef struct fit_ctx {
     const rf_fit_key *keys;
     size_t nkeys;
     const rf_calibrate_options *o;
+    const rf_terrain_tables *tables; /* the terrain's, built once for every simulation */
     long evals;
     int failed;
     /* the best point seen: its values, objective, agreement */
@@ -328,8 +351,8 @@ static double evaluate(fit_ctx *f, const double *x)
     rf_agreement a;
     size_t nr = 0;
     f->evals++;
-    if (rf_calibrate_objective(f->p, f->obs, f->nobs, f->o->threads, f->o->objective, &obj, &a,
-                               &nr)) {
+    if (objective_on(f->p, f->tables, f->obs, f->nobs, f->o->threads, f->o->objective, &obj, &a,
+                     &nr)) {
         f->failed = 1;
         return GSL_POSINF;
     }
@@ -448,10 +471,11 @@ int rf_calibrate(rf_project *p, const double *obs, size_t nobs, const rf_fit_key
     out->start = malloc(nkeys * sizeof *out->start);
     out->value = malloc(nkeys * sizeof *out->value);
     double *x = malloc(nkeys * sizeof *x);
-    fit_ctx f = {p, obs, nobs, keys, nkeys, o, 0, 0, malloc(nkeys * sizeof(double)),
+    rf_terrain_tables *tables = rf_terrain_tables_build(&p->terrain);
+    fit_ctx f = {p, obs, nobs, keys, nkeys, o, tables, 0, 0, malloc(nkeys * sizeof(double)),
                  GSL_POSINF, {0}, 0};
     int rc = -1;
-    if (!out->start || !out->value || !x || !f.best) {
+    if (!out->start || !out->value || !x || !f.best || !tables) {
         rf_error_set(err, "", 0, 0, "out of memory");
         goto done;
     }
@@ -486,6 +510,7 @@ int rf_calibrate(rf_project *p, const double *obs, size_t nobs, const rf_fit_key
 done:
     free(x);
     free(f.best);
+    rf_terrain_tables_free(tables);
     if (rc)
         rf_calibration_free(out);
     return rc;
