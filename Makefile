@@ -153,6 +153,9 @@ bench:
 	build/bench/tools/bench
 	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench_tin build/bench/rockfall
 	build/bench/tools/bench_tin
+	@$(MAKE) --no-print-directory $(FAST) BUILD=build/bench build/bench/tools/bench_threads
+	build/bench/tools/bench_threads
+	@if [ -n "$$RF_ROCKGIS" ]; then RF_ROCKFALL=build/bench/rockfall RF_APRON=400 RF_APRON_DEG=14 sh tools/rockgis_bench.sh projects/bench/roll-1m.asc 50 253 2000; fi
 	@if [ -n "$$RF_ROCKGIS" ]; then RF_ROCKFALL=build/bench/rockfall RF_APRON=250 RF_APRON_DEG=25 sh tools/rockgis_bench.sh projects/noto/terrain.asc 170 204 2000; fi
 
 # The rolling bench slope's grids at 2, 1 and 0.5 m (tools/mkroll.c; not kept in git).

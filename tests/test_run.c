@@ -14,8 +14,10 @@
 #include "db_test_util.h"
 #include "test.h"
 
-/* Runs the project with `count` trajectories per release into `db`. */
-static void run_project(const char *yaml, const char *db, long count, int threads, long seed)
+/* Runs the project with `count` trajectories per release into `db`; its summary into
+ * *out when out is not NULL. */
+static void run_project_summary(const char *yaml, const char *db, long count, int threads,
+                                long seed, rf_run_summary *out)
 {
     rf_project p;
     rf_error err;
@@ -31,8 +33,15 @@ static void run_project(const char *yaml, const char *db, long count, int thread
     rf_run_summary sum;
     ENSURE_MSG(rf_montecarlo_run(&p, s, &o, &sum, &err) == 0, "%s", err.message);
     ENSURE(sum.n_trajectories == count * (long)p.nreleases);
+    if (out)
+        *out = sum;
     rf_store_close(s);
     rf_project_free(&p);
+}
+
+static void run_project(const char *yaml, const char *db, long count, int threads, long seed)
+{
+    run_project_summary(yaml, db, count, threads, seed, NULL);
 }
 
 /* A digest of every value of a query's rows (exact: doubles by their bits). */
@@ -115,6 +124,27 @@ TEST(run_same_seed_identical_rows_any_threads)
     ENSURE(digest(a, TREE_SQL, &na) == digest(b, TREE_SQL, &nb));
     ENSURE(na > 0 && na == nb);
     ENSURE_MSG(digest(c, TRAJ_SQL, &nc) != da, "another seed gave the same trajectories");
+}
+
+/* The summary's engine events are the trajectories' own counters, summed: its impacts
+ * are the stored n_impacts, and none depends on the threads. */
+TEST(run_summary_counts_the_engine_events_of_its_trajectories)
+{
+    char a[600], b[600];
+    snprintf(a, sizeof a, "%s/ev-a.db", rf_test_tmpdir());
+    snprintf(b, sizeof b, "%s/ev-b.db", rf_test_tmpdir());
+    rf_run_summary sa, sb;
+    run_project_summary("projects/noto/noto-3.2.yaml", a, 100, 1, -1, &sa);
+    run_project_summary("projects/noto/noto-3.2.yaml", b, 100, 3, -1, &sb);
+    sqlite3 *h;
+    ENSURE(sqlite3_open_v2(a, &h, SQLITE_OPEN_READONLY, NULL) == SQLITE_OK);
+    double impacts = dbt_real(h, "SELECT SUM(n_impacts) FROM trajectories");
+    sqlite3_close(h);
+    ENSURE_MSG(sa.events[2] == impacts, "summary %g impacts, stored %g", sa.events[2], impacts);
+    ENSURE_MSG(sa.events[0] >= sa.n_trajectories && sa.events[1] > sa.n_trajectories,
+               "%g flights, %g segments", sa.events[0], sa.events[1]);
+    for (int k = 0; k < 4; k++)
+        ENSURE_MSG(sa.events[k] == sb.events[k], "event %d: %g vs %g", k, sa.events[k], sb.events[k]);
 }
 
 TEST(run_writes_complete_run_with_paths_and_hazard)

@@ -24,7 +24,10 @@
 # RockGIS starts its blocks at 0.01 m/s along x, as its own study case does: a block
 # falling exactly vertically gets no impact frame there (its velocity becomes NaN).
 # Each program runs COUNT trajectories and one trajectory; the time per trajectory is
-# the difference over COUNT - 1, so loading the DEM counts in neither.
+# the difference over COUNT - 1, so loading the DEM counts in neither.  Events per
+# trajectory: rockfall's flights, surface segments, impacts and edge transitions (its
+# run summary); RockGIS's steps (simulated seconds over dt).  Microseconds per event:
+# the time per trajectory over them.
 set -eu
 
 usage() {
@@ -173,22 +176,28 @@ releases:
   - {name: release, point: [$X, $Y], height: $HEIGHT, rock: rock, count: 1}
 simulation: {stop_speed: $STOP, max_time: 300, paths: 0}
 EOF
-rockfall_run() { # tag simulation-keys count -> "seconds simulated_seconds_mean impacts_mean"
+rockfall_run() { # tag simulation-keys count -> "seconds simulated_seconds_mean impacts_mean events_mean"
     n=$3 p=$work/project-$1.yaml db=$work/rf-$1-$3.gpkg
     sed "s/paths: 0}/paths: 0, $2}/" "$work/project.yaml" > "$p"
     t0=$(now)
-    "$ROCKFALL" run "$p" -o "$db" --count "$n" --threads 1 -q
+    "$ROCKFALL" run "$p" -o "$db" --count "$n" --threads 1 > "$work/rf-$1-$3.log"
     t1=$(now)
-    sqlite3 "$db" "SELECT printf('%.6f %.6g %.1f', $t1 - $t0, avg(duration_s), avg(n_impacts)) FROM trajectories"
+    # the run's summary: "engine events per trajectory: F flights, S surface segments,
+    # I impacts, E edge transitions"
+    events=$(awk '/engine events per trajectory:/ { sub(/.*trajectory: /, ""); split($0, f, ", ");
+        s = 0; for (i in f) { split(f[i], w, " "); s += w[1] } printf "%.1f", s }' "$work/rf-$1-$3.log")
+    sqlite3 "$db" "SELECT printf('%.6f %.6g %.1f ${events:-0}', $t1 - $t0, avg(duration_s), avg(n_impacts)) FROM trajectories"
 }
 
-row() { # name "seconds sim events" of one trajectory, the same of COUNT, COUNT
-    awk -v name="$1" -v one="$2" -v all="$3" -v n="$4" -v ref="${REF:-0}" 'BEGIN {
+row() { # name "seconds sim impacts events" of one trajectory, the same of COUNT, COUNT, dt
+    # (RockGIS: its events are its steps, simulated seconds over dt)
+    awk -v name="$1" -v one="$2" -v all="$3" -v n="$4" -v dt="${5:-0}" -v ref="${REF:-0}" 'BEGIN {
         split(one, a, " "); split(all, b, " ")
         per = (b[1] - a[1]) / (n - 1); if (per <= 0) per = b[1] / n
         rate = 1 / per
-        printf "| %s | %.1f | %.0f | %.2f | %s | %s |\n", name, 1e3 * per, rate, b[2], b[3],
-            (ref > 0 ? sprintf("%.2fx", rate / ref) : "1")
+        ev = dt > 0 ? b[2] / dt : b[4]
+        printf "| %s | %.1f | %.0f | %.2f | %s | %.0f | %.2f | %s |\n", name, 1e3 * per, rate, b[2], b[3],
+            ev, (ev > 0 ? 1e6 * per / ev : 0), (ref > 0 ? sprintf("%.2fx", rate / ref) : "1")
     }'
 }
 
@@ -197,8 +206,8 @@ echo "one core each; $MASS kg (RockGIS: $volume m^3 at $DENSITY kg/m^3), restitu
 echo "(RockGIS: Kna $REST, Knb 0), friction $FRIC (RockGIS: none; its tangential law, drag $DRAG m/s^2),"
 echo "stop speed $STOP m/s; rockfall's restitution and friction sd $REST_SD and $FRIC_SD."
 echo
-echo "| program | ms per trajectory | trajectories/s per core | simulated s per trajectory | impacts per trajectory | against RockGIS dt 0.01 s |"
-echo "|---|---:|---:|---:|---:|---:|"
+echo "| program | ms per trajectory | trajectories/s per core | simulated s per trajectory | impacts per trajectory | events per trajectory | us per event | against RockGIS dt 0.01 s |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 REF=0
 for dt in 0.01 0.001; do
     one=$(rockgis_run "$dt" 1)
@@ -210,7 +219,7 @@ for dt in 0.01 0.001; do
         REF=$(awk -v a="${one%% *}" -v b="${all%% *}" -v n="$COUNT" \
             'BEGIN { p = (b - a) / (n - 1); if (p <= 0) p = b / n; printf "%.10g", 1 / p }')
     fi
-    row "RockGIS dt $dt s" "${one% *} -" "${all% *} -" "$COUNT" # it counts no impacts
+    row "RockGIS dt $dt s" "${one% *} - 0" "${all% *} - 0" "$COUNT" "$dt" # it counts no impacts
 done
 for setting in "full:model: sphere, contact: full:sphere, full contact" \
     "centre:model: sphere, contact: centre:sphere, centre contact" "point:model: point:point mass"; do

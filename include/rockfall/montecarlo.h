@@ -33,6 +33,9 @@ typedef struct rf_run_summary {
     int64_t run_id;
     long n_trajectories;
     long by_reason[4]; /* indexed by rf_stop_reason */
+    /* The engine's work summed over the trajectories (rf_trajectory_record): flights,
+     * surface segments, impacts and edge transitions, the events the time divides. */
+    double events[4];
     double seconds;    /* wall-clock time of the simulation and writing */
 } rf_run_summary;
 

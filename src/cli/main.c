@@ -233,6 +233,18 @@ static int print_run_integrity(sqlite3 *db, int64_t run)
 
 /* ---- run ---------------------------------------------------------------------- */
 
+/* How the run's trajectories ended, and the engine's events per trajectory. */
+static void print_run_ends(const rf_run_summary *sum)
+{
+    printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum->by_reason[RF_END_REST],
+           sum->by_reason[RF_END_EXITED], sum->by_reason[RF_END_STOPPED],
+           sum->by_reason[RF_END_MAX_TIME]);
+    double n = sum->n_trajectories > 0 ? (double)sum->n_trajectories : 1.0;
+    printf("  engine events per trajectory: %.1f flights, %.1f surface segments, %.1f impacts, "
+           "%.1f edge transitions\n",
+           sum->events[0] / n, sum->events[1] / n, sum->events[2] / n, sum->events[3] / n);
+}
+
 static volatile sig_atomic_t interrupted;
 
 static void on_interrupt(int sig)
@@ -396,9 +408,7 @@ static int run_command(int argc, char **argv)
                (long long)sum.run_id, rf_term_escape(p.name, name, sizeof name),
                rf_term_escape(out, db, sizeof db), sum.n_trajectories, sum.seconds, threads,
                sum.seconds > 0 ? (double)sum.n_trajectories / sum.seconds : 0.0);
-        printf("  rest %ld, exited %ld, stopped %ld, max_time %ld\n", sum.by_reason[RF_END_REST],
-               sum.by_reason[RF_END_EXITED], sum.by_reason[RF_END_STOPPED],
-               sum.by_reason[RF_END_MAX_TIME]);
+        print_run_ends(&sum);
         rc = maps ? print_maps_kept() : print_run_integrity(rf_store_db(s), sum.run_id);
     }
     int status = rc ? EXIT_BAD_INPUT : EXIT_OK;

@@ -388,7 +388,7 @@ void rf_mc_stop(rf_mc *m, int abort)
 
 /* ---- writing ------------------------------------------------------------------- */
 
-int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, int maps, long by_reason[4],
+int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, int maps, rf_run_summary *sum,
                       rf_error *err)
 {
     if (c->oom)
@@ -396,10 +396,15 @@ int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, int maps, long by_reason[4
     if (rf_store_batch_begin(s, err))
         return -1;
     long counted[4] = {0};
+    double events[4] = {0};
     for (size_t k = 0; k < c->n; k++) {
         const rf_traj_out *o = &c->traj[k];
         int64_t tid;
         counted[o->rec.reason]++;
+        events[0] += (double)o->rec.n_flights;
+        events[1] += (double)o->rec.n_segments;
+        events[2] += (double)o->rec.n_impacts;
+        events[3] += (double)o->rec.n_edge_transitions;
         if (maps && o->path_end == o->path_begin && o->icpt_end == o->icpt_begin)
             continue;
         /* a row that fails rolls the batch back */
@@ -417,8 +422,10 @@ int rf_mc_write_chunk(rf_store *s, const rf_chunk *c, int maps, long by_reason[4
     }
     if (rf_store_batch_commit(s, err))
         return -1;
-    for (int r = 0; r < 4; r++)
-        by_reason[r] += counted[r];
+    for (int r = 0; r < 4; r++) {
+        sum->by_reason[r] += counted[r];
+        sum->events[r] += events[r];
+    }
     return 0;
 }
 
@@ -451,7 +458,7 @@ int rf_mc_write_next(rf_mc *m, rf_store *s, size_t ci, const rf_run_options *o,
                      rf_run_summary *sum, double t0, double *last_report, rf_error *err)
 {
     rf_chunk *c = &m->ring[ci % m->ahead];
-    int status = rf_mc_write_chunk(s, c, o->maps, sum->by_reason, err);
+    int status = rf_mc_write_chunk(s, c, o->maps, sum, err);
     rf_chunk_clear(c);
     pthread_mutex_lock(&m->mu);
     m->written = ci + 1;

@@ -104,9 +104,9 @@ void rf_mc_stop(rf_mc *m, int abort);
 void rf_mc_wait(rf_mc *m, double seconds);
 
 /* Writes one chunk's rows in one batch, all or none (with `maps`, only the trajectories
- * that crossed a measure or have sampled path points, and no tree hits); by_reason
- * counts the trajectories committed. */
-int rf_mc_write_chunk(struct rf_store *s, const rf_chunk *c, int maps, long by_reason[4],
+ * that crossed a measure or have sampled path points, and no tree hits); sum's
+ * by_reason and events count the trajectories committed. */
+int rf_mc_write_chunk(struct rf_store *s, const rf_chunk *c, int maps, rf_run_summary *sum,
                       rf_error *err);
 /* The writer's step for chunk ci, filled (c->done): writes it, clears its slot, lets the
  * workers run on (m->written), reports progress; the write's status. */
