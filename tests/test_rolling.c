@@ -53,3 +53,108 @@ TEST(motion_counts_flights_between_impacts)
     mt_run_free(&r);
     rf_terrain_free(&t);
 }
+
+/* ---- the rolling phase on grids ----------------------------------------------------- */
+
+#define G RF_GRAVITY
+
+/* A plane falling by 0.5 per m along x and 0.2 along y as a grid of 1 m cells (node i,
+ * j at x = i + 0.5, y = j + 0.5): its fall line crosses the grid's lines and diagonals
+ * at an angle. */
+static double tilted_plane(int i, int j, void *ctx)
+{
+    (void)ctx;
+    return 100.0 - 0.5 * i - 0.2 * j;
+}
+
+/* A rock set on the grid plane from rest moves down its fall line across many grid
+ * edges (every face is coplanar with the next: no impact, no edge transition), and after
+ * T its centre is where the closed form puts it: Eq. 1-2 for the point mass (a = g (sin
+ * theta - mu cos theta)), the 5/7 law for the rolling sphere (a = 5/7 g (sin theta -
+ * mu_r cos theta)), to 1e-12 of the path. */
+TEST(rolling_down_a_grid_plane_across_its_edges_matches_the_closed_forms)
+{
+    const double mu = 0.45, mu_r = 0.1, T = 5.0;
+    rf_terrain t;
+    mt_grid_terrain(&t, 0, 80, 60, 1.0, tilted_plane, NULL,
+                    (rf_surface){{0.2, 0.0}, {mu, 0.0}, {mu_r, 0.0}});
+    double gx = 0.5, gy = 0.2, gl = hypot(gx, gy);
+    double tan_t = gl, cos_t = 1.0 / sqrt(1.0 + tan_t * tan_t), sin_t = tan_t * cos_t;
+    rf_vec3 n = rf_v3_scale(rf_v3(gx, gy, 1.0), cos_t); /* the plane's upward unit normal */
+    rf_vec3 e1 = rf_v3(cos_t * gx / gl, cos_t * gy / gl, -sin_t); /* down the fall line */
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(2385.0, 2650.0, md);
+        double r0 = rf_body_contact_radius(&b);
+        rf_vec3 q = rf_v3(10.3, 20.7, 100.0 - 0.5 * (10.3 - 0.5) - 0.2 * (20.7 - 0.5));
+        rf_state s = mt_state(rf_v3_madd(q, r0, n), rf_v3(0, 0, 0));
+        rf_simulation sim = mt_sim(md, RF_CONTACT_FULL, T);
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, 7, 0.0, &r);
+        ENSURE_MSG(r.rec.reason == RF_END_MAX_TIME, "reason %d", (int)r.rec.reason);
+        double a = model ? G * (sin_t - mu * cos_t) : 5.0 / 7.0 * G * (sin_t - mu_r * cos_t);
+        double len = 0.5 * a * T * T;
+        rf_vec3 want = rf_v3_madd(s.p, len, e1);
+        ENSURE_MSG(rf_v3_norm(rf_v3_sub(r.rec.stop, want)) <= 1e-12 * len,
+                   "model %d: at (%.15g, %.15g, %.15g), closed form (%.15g, %.15g, %.15g)", model,
+                   r.rec.stop.x, r.rec.stop.y, r.rec.stop.z, want.x, want.y, want.z);
+        ENSURE_REL(r.last.speed_ms, a * T, 1e-12);
+        ENSURE(len > 9.0 && r.rec.n_segments > 10); /* a segment per face crossed */
+        ENSURE(r.rec.n_impacts == 0 && r.rec.n_edge_transitions == 0 && r.rec.n_flights == 0);
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+
+/* A profile along x as a grid of 1 m cells (node i at x = i + 0.5): a slope of tan 0.6
+ * down to x = 30.5, then, beyond that concave grid edge, a slope of tan `after` (ctx). */
+static double bent_slope(int i, int j, void *ctx)
+{
+    (void)j;
+    double after = *(const double *)ctx;
+    return i <= 30 ? 60.0 - 0.6 * i : 60.0 - 0.6 * 30 - after * (i - 30);
+}
+
+/* A rock running down the bent slope meets the next face at the concave edge x = 30.
+ * Bent by 0.3 degrees it meets it slower than v_stay along its normal: a change of face,
+ * counted as an edge transition and not as an impact, and the energy it takes is in the
+ * record.  Met fast - a counter-slope beyond the edge - it is an impact (n_impacts
+ * counts impacts at an approach above RF_APPROACH_EPS that are not such changes of
+ * face). */
+TEST(rolling_concave_grid_edge_slow_is_a_face_change_fast_an_impact)
+{
+    for (int model = 0; model < 2; model++) {
+        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+        rf_body b = rf_body_make(2385.0, 2650.0, md);
+        double r0 = rf_body_contact_radius(&b);
+        rf_vec3 n = rf_v3_scale(rf_v3(0.6, 0.0, 1.0), 1.0 / sqrt(1.36));
+        rf_vec3 q = rf_v3(24.0, 10.0, 60.0 - 0.6 * 23.5);
+        rf_state s = mt_state(rf_v3_madd(q, r0, n), rf_v3(3.0 / sqrt(1.36), 0, -1.8 / sqrt(1.36)));
+        double gentle = tan(atan(0.6) - 0.3 * PI / 180.0), counter = -0.4;
+        rf_terrain t;
+        mt_grid_terrain(&t, 0, 60, 20, 1.0, bent_slope, &gentle,
+                        (rf_surface){{0.2, 0.0}, {0.5, 0.0}, {0.2, 0.0}});
+        rf_simulation sim = mt_sim(md, RF_CONTACT_FULL, 3.0);
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, 3, 0.0, &r);
+        ENSURE_MSG(r.rec.stop.x > 32.5, "model %d: stops at x %.3f", model, r.rec.stop.x);
+        ENSURE_MSG(r.rec.n_edge_transitions == 1 && r.rec.n_impacts == 0,
+                   "model %d: %ld edge transitions, %ld impacts", model,
+                   r.rec.n_edge_transitions, r.rec.n_impacts);
+        /* the projection takes sin^2(0.3 deg) of the energy, the turn's friction (mu (1 +
+         * e) = 0.6 of the normal impulse) at most 2 x 0.6 sin(0.3 deg): under 1 % */
+        ENSURE(r.rec.edge_loss_kj > 0.0 && r.rec.edge_loss_kj < 1e-2 * r.rec.max_energy_kj);
+        mt_run_free(&r);
+        rf_terrain_free(&t);
+
+        mt_grid_terrain(&t, 0, 60, 20, 1.0, bent_slope, &counter,
+                        (rf_surface){{0.2, 0.0}, {0.5, 0.0}, {0.2, 0.0}});
+        mt_simulate_opts(&t, &sim, &b, &s, 3, 0.0, &r);
+        ENSURE_MSG(r.rec.n_impacts >= 1 && r.rec.n_edge_transitions == 0,
+                   "model %d, counter-slope: %ld edge transitions, %ld impacts", model,
+                   r.rec.n_edge_transitions, r.rec.n_impacts);
+        ENSURE(r.rec.edge_loss_kj == 0.0);
+        mt_run_free(&r);
+        rf_terrain_free(&t);
+    }
+}
