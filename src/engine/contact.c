@@ -568,18 +568,60 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     return 1;
 }
 
-/* 1 when every vertex of T is on or below one support plane, the same for all three:
- * T lies in that plane's lower half-space, which the sphere, touching the plane from
- * above, never enters.  (Vertices below different planes of a crease are not enough: a
- * point between them can lie above both.) */
-static int vertices_below(const rf_support_planes *sp, const rf_triangle *T)
+/* The support's reach bound of a surface segment's search (one per support plane,
+ * normal n, offset d): a sphere whose centre c is g above the plane's offset (g = n.c -
+ * d - rho) touches a point X of height h = n.X - d above the plane, |X - c| <= R0 (R0
+ * = rho and a slack), only when its contact point q = c - rho n is near X:
+ * |X - q|^2 = |X - c|^2 + 2 rho (h - g) - rho^2 <= R0^2 - rho^2 + 2 rho (h - g).  Over
+ * a triangle whose highest vertex is H above the plane and along an arc on which g
+ * stays above gmin, X lies within sqrt(R0^2 - rho^2 + 2 rho (H - gmin)) of the arc's
+ * contact points: a face that rises a little above the plane is met only near the
+ * path (within sqrt(2 rho H)), not anywhere within rho of it. */
+typedef struct reach_bound {
+    rf_vec3 qlo, qhi; /* the box of the arc's contact points q = c - rho n */
+    double gmin;      /* the least height of the centre above the plane's offset */
+} reach_bound;
+
+static void reach_bounds(const rf_search *s, const rf_arc *arc, double T, rf_vec3 lo, rf_vec3 hi,
+                         reach_bound *rb)
 {
-    unsigned x = rf_vertex_out(sp, T->a);
-    if (x)
-        x &= rf_vertex_out(sp, T->b);
-    if (x)
-        x &= rf_vertex_out(sp, T->c);
-    return x != 0;
+    double rho = s->m->cfg.rho;
+    for (int k = 0; k < s->sp.n; k++) {
+        rf_vec3 n = s->sp.nrm[k];
+        rf_vec3 sh = rf_v3_scale(n, -rho);
+        rb[k].qlo = rf_v3_add(lo, sh), rb[k].qhi = rf_v3_add(hi, sh);
+        double g[3] = {rf_v3_dot(n, arc->p) - s->sp.d[k] - rho, rf_v3_dot(n, arc->v),
+                       0.5 * rf_v3_dot(n, arc->a)};
+        double gmax;
+        rf_quadratic_range(g, 0.0, T, &rb[k].gmin, &gmax);
+    }
+}
+
+/* 1 when T is out of reach of the centre on the arc by one support plane: every vertex
+ * of T on or below it (T lies in the plane's lower half-space, which the sphere,
+ * touching the plane from above, never enters; vertices below different planes of a
+ * crease are not enough, a point between them can lie above both), or every point of
+ * T farther than the plane's reach bound (reach_bound; r0sq = R0^2) from the box of
+ * the arc's contact points. */
+static int beyond_support_reach(const rf_search *s, const reach_bound *rb, const float *box,
+                                const rf_triangle *T, double r0sq)
+{
+    double rho = s->m->cfg.rho;
+    for (int k = 0; k < s->sp.n; k++) {
+        rf_vec3 n = s->sp.nrm[k];
+        double d = s->sp.d[k];
+        double H = dmax(rf_v3_dot(n, T->a) - d, dmax(rf_v3_dot(n, T->b) - d, rf_v3_dot(n, T->c) - d));
+        if (H <= s->sp.tol)
+            return 1;
+        double r2 = r0sq - rho * rho + 2.0 * rho * (H - rb[k].gmin);
+        if (!(r2 >= 0.0))
+            return 1;
+        double r = sqrt(r2);
+        if (box[1] < rb[k].qlo.x - r || box[0] > rb[k].qhi.x + r || box[3] < rb[k].qlo.y - r ||
+            box[2] > rb[k].qhi.y + r || box[5] < rb[k].qlo.z - r || box[4] > rb[k].qhi.z + r)
+            return 1;
+    }
+    return 0;
 }
 
 
@@ -603,6 +645,12 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     const rf_terrain *t = m->cfg.terrain;
     int filter = !m->cfg.centre && !m->cfg.point;
     rf_support_planes_set(m, &s.sp);
+    /* the support's reach bound, with a slack above every tolerance a contact is taken
+     * within (the touch band; a contact point outside its face by RF_RADIUS_REL_TOL r) */
+    reach_bound rb[2];
+    double r0 = m->cfg.rho + RF_TOUCH_BAND * m->cfg.tol_len + RF_RADIUS_REL_TOL * m->cfg.rho;
+    if (filter)
+        reach_bounds(&s, arc, T, lo, hi, rb);
     size_t n = rf_gather(m, xl, yl, xh, yh);
     if (rf_grow((void **)&ws->near_hit, &ws->near_cap, n, sizeof *ws->near_hit))
         return 0;
@@ -615,9 +663,11 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
             continue;
         if (filter) {
             /* faces in a support's plane or wholly on or below a support plane are out
-             * of reach for the whole segment */
+             * of reach for the whole segment, and so are faces beyond the support's
+             * reach bound of this arc */
             const rf_triangle *Tr = &t->tri[idx];
-            if (rf_coplanar_with_support(t, &m->rock.sup, Tr, m->cfg.tol_len) || vertices_below(&s.sp, Tr))
+            if (beyond_support_reach(&s, rb, b, Tr, r0 * r0) ||
+                rf_coplanar_with_support(t, &m->rock.sup, Tr, m->cfg.tol_len))
                 continue;
         }
         ws->near_hit[nhit++] = idx;
