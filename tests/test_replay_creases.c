@@ -70,10 +70,21 @@ TEST(hard_replay_flight_off_an_edge_past_its_end_goes_on)
  * their common edge: the crease's direction, from the two normals, strayed from that
  * edge by a hair, and the point left the crease over it at once, flew, landed on the
  * first face, crossed onto the second, and so on in no time, until the rescues ran out
- * (17 000 events).  It now slides on along the valley and leaves the terrain. */
+ * (17 000 events).  It now slides on along the valley (y = 2051.2814, over 3.5 m of it)
+ * and, its friction drawn at 0.88, rests beyond it. */
 TEST(hard_replay_point_along_a_shallow_valley_line_goes_on)
 {
-    replay_ends(1, 40, 251, RF_MODEL_POINT, RF_END_EXITED);
+    replay rp;
+    mt_run r;
+    replay_ends_open(1, 40, 251, RF_MODEL_POINT, RF_END_REST, &rp, &r);
+    double x0 = INFINITY, x1 = -INFINITY;
+    for (size_t i = 0; i < r.npoints; i++)
+        if (fabs(r.points[i].p.y - 2051.2814) < 1e-3) {
+            x0 = fmin(x0, r.points[i].p.x);
+            x1 = fmax(x1, r.points[i].p.x);
+        }
+    ENSURE_MSG(x1 - x0 > 3.5, "along the valley from x %.3f to %.3f", x0, x1);
+    replay_finish(&rp, &r, 1, 40, 251);
 }
 
 /* A point mass landing on one wall of a narrow gully exactly on its thalweg, moving a

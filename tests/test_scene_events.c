@@ -536,9 +536,9 @@ static void note_line(void *ctx, const rf_interception_record *r)
     c->t[r->measure] = r->t_s;
 }
 
-/* Two control lines 3 cm apart, both inside the move of rock D 21 of Noto 3.2 over an
- * edge (y 22.05 to 21.99 in no time): each is recorded once, in the order the move
- * crosses them, at the moment of the move. */
+/* Two control lines 3 cm apart, both inside the move of rock E 67 of Noto 3.2 over an
+ * edge (in no time): each is recorded once, in the order the move crosses them, at the
+ * moment of the move. */
 TEST(scene_events_roll_over_an_edge_across_two_lines_records_both)
 {
     rf_project p;
@@ -551,15 +551,15 @@ TEST(scene_events_roll_over_an_edge_across_two_lines_records_both)
     rf_scene scene = {&p.terrain, &p.sim, p.forests, p.nforests, ms, 2};
     rf_workspace *ws = rf_workspace_alloc(&p.terrain);
     gsl_rng *rng = gsl_rng_alloc(rf_rng_type());
-    gsl_rng_set(rng, rf_trajectory_seed(p.seed, 1, 21));
-    rf_body b = rf_release_body(&p, 1, p.sim.model);
-    rf_state s = rf_release_start(&p, 1, &b, rng);
+    gsl_rng_set(rng, rf_trajectory_seed(p.seed, 2, 67));
+    rf_body b = rf_release_body(&p, 2, p.sim.model);
+    rf_state s = rf_release_start(&p, 2, &b, rng);
     lines_seen c = {{0, 0}, {NAN, NAN}};
     rf_sink sink = {.ctx = &c, .interception = note_line};
     rf_trajectory_record rec;
     ENSURE(rf_simulate(&scene, &b, &s, rng, ws, &sink, &rec) == 0);
     ENSURE_MSG(c.n[0] == 1 && c.n[1] == 1, "crossings %d and %d", c.n[0], c.n[1]);
-    ENSURE_MSG(c.t[0] == c.t[1] && fabs(c.t[0] - 15.953122185) < 1e-6, "at %.9f and %.9f", c.t[0],
+    ENSURE_MSG(c.t[0] == c.t[1] && fabs(c.t[0] - 23.194682151) < 1e-6, "at %.9f and %.9f", c.t[0],
                c.t[1]);
     gsl_rng_free(rng);
     rf_workspace_free(ws);

@@ -179,6 +179,58 @@ static double worst_closed(const row *r)
  * standard errors. */
 #define N_ROLL 2000
 
+/* The rolling slope's statistics of the engine before the rolling phase on grids
+ * (commit c08debc, where every slow meeting of a concave grid edge was an impact), over
+ * the same N_ROLL trajectories of each row, measured once with this bench: foot speed
+ * (m/s), maximum energy (kJ), runout (m), each mean and standard error, by cell (2, 1,
+ * 0.5 m) and setting (roll_table's order). */
+static const double roll_before[3][4][6] = {
+    {{41.473, 0.050, 5439, 13, 248.81, 0.26},
+     {43.466, 0.011, 5957, 5, 248.57, 0.30},
+     {41.560, 0.038, 3903, 6, 213.68, 0.18},
+     {43.288, 0.011, 5909, 5, 248.56, 0.30}},
+    {{41.634, 0.048, 5481, 12, 249.27, 0.25},
+     {44.088, 0.010, 6125, 6, 248.48, 0.33},
+     {41.590, 0.032, 3905, 6, 214.31, 0.18},
+     {43.689, 0.009, 6012, 7, 248.42, 0.35}},
+    {{41.791, 0.045, 5520, 12, 248.89, 0.26},
+     {44.973, 0.009, 6369, 7, 248.26, 0.35},
+     {41.564, 0.037, 3901, 6, 214.65, 0.17},
+     {44.159, 0.009, 6138, 7, 248.15, 0.37}},
+};
+
+/* One statistic now and before: both with their standard errors, and their difference
+ * in standard errors of the difference. */
+static void print_against(double now, double se, double before, double se_before, int digits)
+{
+    double z = (now - before) / sqrt(se * se + se_before * se_before);
+    printf(" %.*f +- %.*f / %.*f +- %.*f (%+.1f) |", digits, now, digits, se, digits, before, digits,
+           se_before, z);
+}
+
+/* The rolling table's statistics (st, by cell and setting) against the engine before
+ * the rolling phase on grids (roll_before): within the Monte Carlo noise where the
+ * differences stay within a few standard errors. */
+static void roll_reference(const char *const *names, const double *cells, int ncell, int nset,
+                           const stats *st)
+{
+    printf("\nAgainst the engine before the rolling phase on grids (commit c08debc, the same\n"
+           "trajectories): now / before, mean +- standard error, and (the difference in standard\n"
+           "errors of the difference).\n\n"
+           "| cell | engine | foot speed m/s | max energy kJ | runout m |\n|---:|---|---:|---:|---:|\n");
+    for (int c = 0; c < ncell && c < 3; c++) {
+        for (int i = 0; i < nset && i < 4; i++) {
+            const stats *x = &st[c * nset + i];
+            const double *b = roll_before[c][i];
+            printf("| %g m | %s |", cells[c], names[i]);
+            print_against(x->road_mean, x->road_se, b[0], b[1], 3);
+            print_against(x->energy_mean, x->energy_se, b[2], b[3], 0);
+            print_against(x->runout_mean, x->runout_se, b[4], b[5], 2);
+            printf("\n");
+        }
+    }
+}
+
 static void roll_table(void)
 {
     static const char *paths[] = {"projects/bench/roll-2m.yaml", "projects/bench/roll.yaml",
@@ -195,6 +247,10 @@ static void roll_table(void)
                {"fixed dt=0.01 s, centre", RF_ENGINE_FIXED_STEP, RF_CONTACT_CENTRE, RF_MODEL_SPHERE}};
     enum { NSET = sizeof set / sizeof set[0], NCELL = sizeof cells / sizeof cells[0] };
     double per_s[NCELL][NSET];
+    stats all[NCELL][NSET];
+    const char *names[NSET];
+    for (int i = 0; i < NSET; i++)
+        names[i] = set[i].name;
     printf("Rolling slope (projects/bench, tools/mkroll.c: a 175 m slope, 170 m drop over 180 m,\n"
            "gentle gullies, a 14-degree counter-sloped run-out), %d trajectories per row, one\n"
            "thread.  Per trajectory: simulated seconds, flights, surface segments, impacts and\n"
@@ -231,9 +287,11 @@ static void roll_table(void)
                    st.impacts, st.edges, 1e6 * best / N_ROLL / events, st.road_mean, st.road_se,
                    st.energy_mean, st.energy_se, st.runout_mean, st.runout_se);
             fflush(stdout);
+            all[c][i] = st;
         }
         rf_project_free(&p);
     }
+    roll_reference(names, cells, NCELL, NSET, &all[0][0]);
     printf("\n");
     for (int c = 0; c < NCELL; c++)
         printf("%g m cells: full contact / fixed dt=0.01 s: %.2fx the throughput; centre %.2fx; "

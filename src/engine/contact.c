@@ -65,6 +65,107 @@ size_t rf_gather(rf_motion *m, double xmin, double ymin, double xmax, double yma
     }
 }
 
+/* ---- reach bounds --------------------------------------------------------------------
+ *
+ * The reach bound of a plane (normal n, offset d) over an arc: a sphere whose centre c
+ * is g above the plane's offset (g = n.c - d - rho) touches a point X of height h =
+ * n.X - d above the plane, |X - c| <= R0 (R0 = rho and a slack), only when its contact
+ * point q = c - rho n is near X: |X - q|^2 = |X - c|^2 + 2 rho (h - g) - rho^2 <= R0^2 -
+ * rho^2 + 2 rho (h - g).  Over a triangle whose highest vertex is H above the plane and
+ * a stretch of the arc on which g stays above gmin, X lies within sqrt(R0^2 - rho^2 +
+ * 2 rho (H - gmin)) of the stretch's points q: a face that rises a little above a
+ * support plane is met only near the path (within sqrt(2 rho H)), not anywhere within
+ * rho of it, and so is a face near the plane of the face a short hop flew off. */
+struct rf_reach_bound {
+    rf_vec3 n, sh; /* the plane's normal; -rho n, from a centre to its point q */
+    double d;      /* the plane's offset */
+    double g[3];   /* g over the arc: g[0] + g[1] t + g[2] t^2 */
+    rf_vec3 qlo, qhi; /* a surface search: the box of the arc's points q over [0, T] */
+    double gmin;      /* ... and the least g there */
+};
+typedef struct rf_reach_bound reach_bound;
+
+/* The reach bound of the plane (n, d) along arc; over [0, T] when lo, hi (the arc's box
+ * over it) are given. */
+static void reach_bound_set(rf_vec3 n, double d, double rho, const rf_arc *arc, double T,
+                            const rf_vec3 *lo, const rf_vec3 *hi, reach_bound *rb)
+{
+    rb->n = n, rb->d = d;
+    rb->sh = rf_v3_scale(n, -rho);
+    rb->g[0] = rf_v3_dot(n, arc->p) - d - rho;
+    rb->g[1] = rf_v3_dot(n, arc->v);
+    rb->g[2] = 0.5 * rf_v3_dot(n, arc->a);
+    if (lo) {
+        rb->qlo = rf_v3_add(*lo, rb->sh), rb->qhi = rf_v3_add(*hi, rb->sh);
+        double gmax;
+        rf_quadratic_range(rb->g, 0.0, T, &rb->gmin, &gmax);
+    }
+}
+
+/* The height of T's highest vertex above the bound's plane. */
+static double bound_height(const reach_bound *rb, const rf_triangle *T)
+{
+    rf_vec3 n = rb->n;
+    double d = rb->d;
+    return dmax(rf_v3_dot(n, T->a) - d, dmax(rf_v3_dot(n, T->b) - d, rf_v3_dot(n, T->c) - d));
+}
+
+/* 1 when every point of a triangle whose box is `box` and whose highest vertex is H
+ * above the bound's plane is farther than the bound from the box qlo, qhi of the
+ * stretch's points q, on which g stays above gmin (r0sq = R0^2): no point of it comes
+ * within R0 of the centre there. */
+static int beyond_bound(double rho, double r0sq, const float *box, double H, double gmin,
+                        rf_vec3 qlo, rf_vec3 qhi)
+{
+    double r2 = r0sq - rho * rho + 2.0 * rho * (H - gmin);
+    if (!(r2 >= 0.0))
+        return 1;
+    double r = sqrt(r2);
+    return box[1] < qlo.x - r || box[0] > qhi.x + r || box[3] < qlo.y - r || box[2] > qhi.y + r ||
+           box[5] < qlo.z - r || box[4] > qhi.z + r;
+}
+
+/* R0 of the reach bounds: rho and a slack above every tolerance a contact is taken
+ * within (the touch band; a contact point outside its face by RF_RADIUS_REL_TOL rho). */
+static double bound_r0(const rf_motion *m)
+{
+    return m->cfg.rho + RF_TOUCH_BAND * m->cfg.tol_len + RF_RADIUS_REL_TOL * m->cfg.rho;
+}
+
+/* 1 when T is out of reach of the centre on the arc by one support plane (the reach
+ * bounds rb of s->sp's planes over the arc): every vertex of T on or below it (T lies in
+ * the plane's lower half-space, which the sphere, touching the plane from above, never
+ * enters; vertices below different planes of a crease are not enough, a point between
+ * them can lie above both), or beyond the plane's reach bound. */
+static int beyond_support_reach(const rf_search *s, const reach_bound *rb, const float *box,
+                                const rf_triangle *T, double r0sq)
+{
+    for (int k = 0; k < s->sp.n; k++) {
+        double H = bound_height(&rb[k], T);
+        if (H <= s->sp.tol ||
+            beyond_bound(s->m->cfg.rho, r0sq, box, H, rb[k].gmin, rb[k].qlo, rb[k].qhi))
+            return 1;
+    }
+    return 0;
+}
+
+/* A flight off a face (s->flight_bound): 1 when triangle idx, T, is beyond the reach
+ * bound of that face's plane over [tl, th], the window in which it can be within reach. */
+static int beyond_flight_reach(const rf_search *s, int32_t idx, const rf_triangle *T, double tl,
+                               double th)
+{
+    const reach_bound *rb = s->flight_bound;
+    double gmin, gmax;
+    rf_quadratic_range(rb->g, tl, th, &gmin, &gmax);
+    double H = bound_height(rb, T), rho = s->m->cfg.rho;
+    if (!(s->r0sq - rho * rho + 2.0 * rho * (H - gmin) >= 0.0))
+        return 1;
+    rf_vec3 lo, hi;
+    rf_arc_box(s->arc, tl, th, &lo, &hi);
+    return beyond_bound(rho, s->r0sq, s->m->ws->tables->tri_box + 6 * (size_t)idx, H, gmin,
+                        rf_v3_add(lo, rb->sh), rf_v3_add(hi, rb->sh));
+}
+
 /* ---- shared edges and vertices --------------------------------------------------------
  *
  * Neighbouring triangles share edges and vertices (on a grid an edge belongs to two
@@ -343,6 +444,8 @@ static void line_candidate(rf_search *s, int32_t idx, double T, size_t *npend)
     } else if (zt < zlo - reach) {
         return;
     }
+    if (s->flight_bound && beyond_flight_reach(s, idx, Tr, tl, th))
+        return;
     if (rf_excluded_tri(s->ex, idx)) {
         test_left(s, idx, tl, th, T, npend);
         return;
@@ -540,6 +643,7 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
 {
     const rf_terrain *t = m->cfg.terrain;
     rf_search s = {m, arc, ex, INFINITY, 0, c, rf_start_hspeed(arc)};
+    reach_bound fb;
     if (!(T >= 0))
         return 0;
     double vh0 = s.vh;
@@ -552,6 +656,14 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         s.hr = line_reach(m);
         s.reach = sphere_reach(m);
         s.zq[0] = arc->p.z, s.zq[1] = arc->v.z, s.zq[2] = 0.5 * arc->a.z;
+        if (ex && ex->n > 0 && !m->cfg.centre && !m->cfg.point) {
+            /* off a face: its plane's reach bound (a hop over a bent grid edge stays
+             * near that plane) */
+            const rf_triangle *F = &t->tri[ex->tri[0]];
+            reach_bound_set(F->n, F->d, m->cfg.rho, arc, T, NULL, NULL, &fb);
+            s.flight_bound = &fb;
+            s.r0sq = bound_r0(m) * bound_r0(m);
+        }
         rf_workspace *ws = m->ws;
         if (++ws->test_epoch == 0) { /* a new mark for the triangles tested */
             memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
@@ -567,21 +679,6 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
     finish(m, arc, c);
     return 1;
 }
-
-/* 1 when every vertex of T is on or below one support plane, the same for all three:
- * T lies in that plane's lower half-space, which the sphere, touching the plane from
- * above, never enters.  (Vertices below different planes of a crease are not enough: a
- * point between them can lie above both.) */
-static int vertices_below(const rf_support_planes *sp, const rf_triangle *T)
-{
-    unsigned x = rf_vertex_out(sp, T->a);
-    if (x)
-        x &= rf_vertex_out(sp, T->b);
-    if (x)
-        x &= rf_vertex_out(sp, T->c);
-    return x != 0;
-}
-
 
 int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_support *ex,
                            const rf_contact *skip, int nskip, rf_contact *c)
@@ -603,6 +700,11 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     const rf_terrain *t = m->cfg.terrain;
     int filter = !m->cfg.centre && !m->cfg.point;
     rf_support_planes_set(m, &s.sp);
+    /* the support planes' reach bounds over the arc */
+    reach_bound rb[2];
+    double r0 = bound_r0(m);
+    for (int k = 0; filter && k < s.sp.n; k++)
+        reach_bound_set(s.sp.nrm[k], s.sp.d[k], m->cfg.rho, arc, T, &lo, &hi, &rb[k]);
     size_t n = rf_gather(m, xl, yl, xh, yh);
     if (rf_grow((void **)&ws->near_hit, &ws->near_cap, n, sizeof *ws->near_hit))
         return 0;
@@ -615,9 +717,11 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
             continue;
         if (filter) {
             /* faces in a support's plane or wholly on or below a support plane are out
-             * of reach for the whole segment */
+             * of reach for the whole segment, and so are faces beyond the support's
+             * reach bound of this arc */
             const rf_triangle *Tr = &t->tri[idx];
-            if (rf_coplanar_with_support(t, &m->rock.sup, Tr, m->cfg.tol_len) || vertices_below(&s.sp, Tr))
+            if (beyond_support_reach(&s, rb, b, Tr, r0 * r0) ||
+                rf_coplanar_with_support(t, &m->rock.sup, Tr, m->cfg.tol_len))
                 continue;
         }
         ws->near_hit[nhit++] = idx;

@@ -31,6 +31,9 @@ typedef struct rf_search {
     rf_support_planes sp; /* a surface segment's support planes (n = 0 in a flight) */
     const rf_contact *skip; /* features passed over (rf_contact_search_near) */
     int nskip;
+    /* a flight off a face: the reach bound of its plane (contact.c), and R0^2 */
+    const struct rf_reach_bound *flight_bound;
+    double r0sq;
 } rf_search;
 
 /* 1 when triangle idx is one of the support triangles ex ignores (NULL: none). */

@@ -240,6 +240,86 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
     return 1;
 }
 
+/* 1 when faces a and b of a grid lie in the same or neighbouring cells (they share a
+ * node, or nearly: the grid's own neighbourhood, from grid_node in O(1)). */
+static int grid_neighbours(const rf_terrain *t, int32_t a, int32_t b)
+{
+    if (a < 0 || b < 0)
+        return 0;
+    long na = t->grid_node[a] / 2, nb = t->grid_node[b] / 2;
+    long nx = (long)t->nx;
+    long di = na % nx - nb % nx, dj = na / nx - nb / nx;
+    return di >= -1 && di <= 1 && dj >= -1 && dj <= 1;
+}
+
+/* The tangential impulse of the turn onto face `to` (normal n), whose normal approach
+ * speed is jn (m/s): Eq. 8's Coulomb impulse, |J_t| <= mu J_n with J_n = m (1 + e_n) jn,
+ * with the support's drawn friction mu (the mean friction of the face's zone where that
+ * is another zone) and the mean restitution e_n of the face's zone (the rebound itself,
+ * below v_stay, is not kept: the rock stays on the surface).  A
+ * point mass loses at most all of its tangential speed; a sphere's slip u on the new
+ * face is opposed, capped where the slip vanishes (|u| / K per unit mass, K = 1 + m r^2
+ * / I, Eq. 8's rolling cap), its spin changed by the same impulse (Eq. 8b). */
+static void turn_resistance(rf_motion *m, int32_t to, rf_vec3 n, double jn)
+{
+    const rf_body *b = m->cfg.body;
+    const rf_terrain *t = m->cfg.terrain;
+    int32_t z = t->tri[to].zone;
+    const rf_surface *sf = &t->zones[z >= 0 && (size_t)z < t->nzones ? z : 0].surface;
+    double mu = z == m->rock.sup.zone ? m->rock.sup.mu : rf_fmax(0.0, sf->friction.mean);
+    mu *= 1.0 + rf_fmin(1.0, rf_fmax(0.0, sf->restitution.mean));
+    if (m->cfg.point) {
+        double speed = rf_v3_norm(m->rock.s.v);
+        if (speed > 0)
+            m->rock.s.v = rf_v3_scale(m->rock.s.v, rf_fmax(0.0, speed - mu * jn) / speed);
+        return;
+    }
+    rf_vec3 u = rf_slip_of(m, n);
+    double ul = rf_v3_norm(u);
+    if (!(ul > 0))
+        return;
+    double p = rf_fmin(mu * jn, ul / rf_slip_factor(b, m->cfg.rho));
+    rf_vec3 jt = rf_v3_scale(u, -b->mass * p / ul);
+    m->rock.s.v = rf_v3_madd(m->rock.s.v, 1.0 / b->mass, jt);
+    m->rock.s.w = rf_v3_add(m->rock.s.w, rf_v3_scale(rf_v3_cross(rf_v3_scale(n, -m->cfg.rho), jt),
+                                                     1.0 / b->inertia));
+}
+
+/* The rolling phase on grids: a rock on the surface (one face, or a crease) whose
+ * contact is a face in the grid's neighbourhood of its support (the next face at a
+ * concave edge), met slower than v_stay along its normal, so that it stays on the
+ * surface after any impact, changes face where the face's zone has Eq. 8's law
+ * (docs/engine.md, "The rolling phase on grids"): the velocity is projected onto the
+ * new face and the turn's tangential impulse taken (turn_resistance); no coefficient is
+ * drawn and no impact counted (n_edge_transitions counts it).  The kinetic energy it takes
+ * (Eq. 8 with e_n = 0 only takes energy) is added to the record's edge_loss_kj.
+ * Returns 1 when the contact was such a change of face. */
+static int edge_transition(rf_motion *m, const rf_contact *c)
+{
+    const rf_terrain *t = m->cfg.terrain;
+    if (!t->is_grid || m->cfg.centre || m->rock.sup.n == 0 || c->kind != RF_FEAT_FACE)
+        return 0;
+    int32_t z = t->tri[c->tri].zone;
+    if (t->zones[z >= 0 && (size_t)z < t->nzones ? z : 0].surface.law != RF_IMPACT_EQ8)
+        return 0; /* the rt law's tangential restitution is no turn's */
+    double vn = rf_v3_dot(m->rock.s.v, c->n);
+    if (!(-vn < m->cfg.v_stay))
+        return 0;
+    int near = 0;
+    for (int k = 0; k < m->rock.sup.n; k++)
+        near |= grid_neighbours(t, m->rock.sup.tri[k], c->tri);
+    if (!near)
+        return 0;
+    double e0 = rf_motion_energy(m);
+    if (vn < 0) {
+        m->rock.s.v = rf_v3_madd(m->rock.s.v, -vn, c->n);
+        turn_resistance(m, c->tri, c->n, -vn);
+    }
+    m->book.rec->n_edge_transitions++;
+    m->book.rec->edge_loss_kj += rf_fmax(0.0, e0 - rf_motion_energy(m)) / 1000.0;
+    return 1;
+}
+
 void rf_contact_resolve(rf_motion *m, const rf_contact *c)
 {
     const rf_terrain *t = m->cfg.terrain;
@@ -256,6 +336,10 @@ void rf_contact_resolve(rf_motion *m, const rf_contact *c)
     if (!m->cfg.centre) {
         double dist = rf_feature_distance(t, c, m->rock.s.p);
         m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dist, n);
+    }
+    if (edge_transition(m, c)) {
+        land(m, c->tri);
+        return;
     }
     rf_impact_site site = {RF_IMPACT_SLOPE, c->tri, n};
     double rebound = rf_impact(m, &site, NULL);
