@@ -21,7 +21,7 @@
 
 void rf_support_single(rf_motion *m, int32_t tri, int fresh)
 {
-    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    const rf_triangle *T = RF_FACE(m, tri);
     if (fresh || m->rock.sup.n == 0 || m->rock.sup.zone != T->zone)
         rf_support_draw(m, tri);
     m->rock.sup.n = 1;
@@ -41,7 +41,7 @@ void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1);
 /* The rock on face A meets face B gently: a crease when both faces press on it. */
 int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
 {
-    const rf_triangle *A = &m->cfg.terrain->tri[a], *B = &m->cfg.terrain->tri[b];
+    const rf_triangle *A = RF_FACE(m, a), *B = RF_FACE(m, b);
     if (a == b || rf_coplanar(A, B, m->cfg.tol_len))
         return -1;
     if (rf_v3_dot(m->rock.s.v, A->n) > m->cfg.v_stay)
@@ -89,7 +89,7 @@ static void land(rf_motion *m, int32_t tri)
  * roll is only taken where the two faces are all there is. */
 int rf_pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
 {
-    rf_vec3 c = rf_v3_madd(q, m->cfg.rho, m->cfg.terrain->tri[to].n);
+    rf_vec3 c = rf_v3_madd(q, m->cfg.rho, RF_FACE(m, to)->n);
     rf_contact near;
     double d = rf_closest_feature(m, c, m->cfg.rho + RF_PIVOT_REACH, &near);
     return d >= m->cfg.rho - RF_RADIUS_REL_TOL * m->cfg.rho - m->cfg.tol_len;
@@ -161,7 +161,7 @@ int rf_pay_lift(rf_motion *m, rf_vec3 move)
 int rf_wall_for(const rf_motion *m, int32_t to, double ke)
 {
     double gap;
-    rf_vec3 move = rf_centre_lift_move(m, &m->cfg.terrain->tri[to], &gap);
+    rf_vec3 move = rf_centre_lift_move(m, RF_FACE(m, to), &gap);
     return gap > m->cfg.tol_len && rf_lift_cost(m, move) >= ke;
 }
 
@@ -180,7 +180,7 @@ static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
     size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
-        const rf_triangle *T = &m->cfg.terrain->tri[k];
+        const rf_triangle *T = RF_FACE(m, k);
         if (k != skip && T->n.z > 0 && rf_in_column(T, q, 0.5 * tol) &&
             rf_wall_for(m, k, ke))
             return 1;
@@ -216,7 +216,7 @@ static int wall_corner_ahead(rf_motion *m, rf_vec3 v, const void *ctx)
 
 static int centre_lift(rf_motion *m, const rf_contact *c)
 {
-    const rf_triangle *T = &m->cfg.terrain->tri[c->tri];
+    const rf_triangle *T = RF_FACE(m, c->tri);
     double gap;
     rf_vec3 move = rf_centre_lift_move(m, T, &gap);
     if (!(gap > 0) || rf_pay_lift(m, move))
@@ -296,7 +296,7 @@ void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
          * r), which slips on the face by v (1 - n . n_m): it slides until the slip
          * vanishes (the spin is kept, so no energy is made) */
         m->rock.sup.rolling = 0;
-        rf_face_slip(m, m->cfg.terrain->tri[on].n);
+        rf_face_slip(m, RF_FACE(m, on)->n);
     }
 }
 
