@@ -189,6 +189,7 @@ TEST(grid_compact_zones_beyond_255_take_16_bits)
  * tables and a stamp per triangle and thread, took 1.3 GB. */
 #define BIG_BOUND_KB ((long)(1.5 * BIG_N * BIG_N * 8 / 1024) + 16 * 1024)
 
+#ifndef RF_UNDER_SANITIZER
 /* Writes a BIG_N x BIG_N grid of 1 m cells (a 30 % slope with waves) and its project. */
 static const char *write_big_project(void)
 {
@@ -214,6 +215,7 @@ static const char *write_big_project(void)
                          "measures:\n  - {name: foot, kind: control, line: [[500, 1500], [1500, 1500]]}\n"
                          "simulation: {model: sphere, max_time: 60, paths: 8}\nhazard: {cell: 10.0}\n");
 }
+#endif
 
 TEST(grid_compact_2000_by_2000_grid_runs_within_a_memory_bound)
 {
