@@ -9,10 +9,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gsl/gsl_rng.h>
+
+#include "rockfall/body.h"
 #include "rockfall/montecarlo.h"
 #include "rockfall/project.h"
 #include "engine/state.h"
 #include "engine/tables.h"
+#include "motion_test_util.h"
 #include "results/store.h"
 #include "test.h"
 
@@ -251,4 +255,60 @@ TEST(grid_compact_2000_by_2000_grid_runs_within_a_memory_bound)
     ENSURE_MSG(ru.ru_maxrss <= BIG_BOUND_KB, "peak %ld kB over the bound %ld kB", ru.ru_maxrss,
                BIG_BOUND_KB);
 #endif
+}
+
+/* ---- the engine on a derived grid ----------------------------------------------------- */
+
+static double rough_holed_z(int i, int j, void *ctx)
+{
+    gsl_rng *rng = ctx;
+    double z = 60.0 - 0.8 * i + 0.15 * j + 1.385 * gsl_rng_uniform(rng);
+    return (i >= 25 && i <= 27 && j >= 12 && j <= 14) ? -9999.0 : z;
+}
+
+/* Every engine and contact mode gives the same records and path points, bit for bit, on
+ * a rough grid with a hole whether it keeps or derives its triangles. */
+TEST(grid_compact_every_engine_runs_as_on_the_kept_grid)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    gsl_rng_set(rng, 2385);
+    char *txt = mt_grid_text(61, 31, 1.0, 0.0, 0.0, rough_holed_z, rng);
+    const char *path = rf_test_write("rough.asc", txt);
+    free(txt);
+    rf_terrain kept, der;
+    build(path, 0, NULL, 0, &kept);
+    build(path, 1, NULL, 0, &der);
+    ENSURE(kept.tri != NULL && der.tri == NULL && der.grid_hole != NULL);
+    const struct {
+        rf_rock_model model;
+        rf_contact_kind contact;
+        rf_engine_kind engine;
+    } mode[4] = {{RF_MODEL_SPHERE, RF_CONTACT_FULL, RF_ENGINE_EXACT},
+                 {RF_MODEL_SPHERE, RF_CONTACT_CENTRE, RF_ENGINE_EXACT},
+                 {RF_MODEL_POINT, RF_CONTACT_FULL, RF_ENGINE_EXACT},
+                 {RF_MODEL_SPHERE, RF_CONTACT_FULL, RF_ENGINE_FIXED_STEP}};
+    long impacts = 0;
+    for (int md = 0; md < 4; md++) {
+        rf_simulation sim = mt_sim(mode[md].model, mode[md].contact, 60.0);
+        sim.engine = mode[md].engine;
+        sim.dt = 0.002;
+        rf_body body = rf_body_make(1385.0, 2650.0, mode[md].model);
+        for (int k = 0; k < 6; k++) {
+            rf_state s = mt_state(rf_v3(3.0 + 0.7 * k, 4.0 + 3.9 * k, 62.0), rf_v3(2.0, 0.3 * k, 0.0));
+            mt_run a, b;
+            mt_simulate_opts(&kept, &sim, &body, &s, 700 + (unsigned long)k, 0.0, &a);
+            mt_simulate_opts(&der, &sim, &body, &s, 700 + (unsigned long)k, 0.0, &b);
+            ENSURE_MSG(memcmp(&a.rec, &b.rec, sizeof a.rec) == 0, "mode %d, rock %d: records differ", md, k);
+            ENSURE(a.npoints == b.npoints && a.npoints > 0);
+            ENSURE_MSG(memcmp(a.points, b.points, a.npoints * sizeof *a.points) == 0,
+                       "mode %d, rock %d: path points differ", md, k);
+            impacts += a.rec.n_impacts;
+            mt_run_free(&a);
+            mt_run_free(&b);
+        }
+    }
+    ENSURE_MSG(impacts > 50, "%ld impacts", impacts);
+    rf_terrain_free(&kept);
+    rf_terrain_free(&der);
+    gsl_rng_free(rng);
 }
