@@ -132,7 +132,7 @@ typedef struct rf_terrain {
 } rf_terrain;
 
 /* A grid's triangle idx (not a hole), derived from its heights into out with the
- * arithmetic of a mesh's triangles (rf_triangle_set): bit for bit the same. */
+ * arithmetic the grid's build and a mesh's triangles use: bit for bit the same. */
 void rf_grid_triangle(const rf_terrain *t, int32_t idx, rf_triangle *out);
 /* The vertices of a grid's triangle idx (a, b, c as rf_grid_triangle gives them). */
 static inline void rf_grid_vertices(const rf_terrain *t, int32_t idx, rf_vec3 v[3])
@@ -198,10 +198,6 @@ static inline int32_t rf_tri_zone(const rf_terrain *t, int32_t idx)
         return t->tri[idx].zone;
     return t->zone8 ? t->zone8[idx] : t->zone16 ? t->zone16[idx] : 0;
 }
-
-/* Sets vertices, unit upward normal, offset and zone; returns 0 for a triangle with no
- * area (or a NaN vertex), leaving t's fields unspecified. */
-int rf_triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t zone);
 
 /* Builds a terrain from its spec.  Errors (missing or unreadable files, malformed
  * content with file:line:column inside the terrain file, empty meshes) fill err.

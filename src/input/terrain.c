@@ -67,7 +67,9 @@ static inline void triangle_fill(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c
     t->zone = zone;
 }
 
-int rf_triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t zone)
+/* Sets vertices, unit upward normal, offset and zone; returns 0 for a triangle with no
+ * area (or a NaN vertex), leaving t's fields unspecified. */
+static int triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t zone)
 {
     rf_vec3 ab = rf_v3_sub(b, a), ac = rf_v3_sub(c, a), bc = rf_v3_sub(c, b);
     rf_vec3 cr = rf_v3_cross(ab, ac);
@@ -624,7 +626,7 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
             rf_triangle T;
             rf_vec3 v[3];
             rf_grid_vertices(t, (int32_t)(2 * c) + k, v);
-            if (rf_triangle_set(&T, v[0], v[1], v[2], 0)) {
+            if (triangle_set(&T, v[0], v[1], v[2], 0)) {
                 nvalid++;
                 continue;
             }
@@ -649,7 +651,7 @@ void rf_grid_triangle(const rf_terrain *t, int32_t idx, rf_triangle *out)
 {
     rf_vec3 v[3];
     rf_grid_vertices(t, idx, v);
-    /* as rf_triangle_set, which the build found the triangle to have an area with */
+    /* as triangle_set, which the build found the triangle to have an area with */
     rf_vec3 cr = rf_v3_cross(rf_v3_sub(v[1], v[0]), rf_v3_sub(v[2], v[0]));
     triangle_fill(out, v[0], v[1], v[2], cr, rf_v3_norm(cr), rf_tri_zone(t, idx));
 }
@@ -661,7 +663,7 @@ static int set_from_list(rf_terrain *t, const rf_tri_list *l, const int32_t *zon
         return -1;
     size_t n = 0;
     for (size_t k = 0; k < l->n; k++)
-        if (rf_triangle_set(&t->tri[n], l->v[3 * k], l->v[3 * k + 1], l->v[3 * k + 2],
+        if (triangle_set(&t->tri[n], l->v[3 * k], l->v[3 * k + 1], l->v[3 * k + 2],
                          zone_of ? zone_of[k] : 0))
             n++;
     t->ntri = n;
