@@ -209,7 +209,9 @@ double mt_terrain_distance(const rf_terrain *t, rf_vec3 p)
 {
     double best = INFINITY;
     for (size_t i = 0; i < t->ntri; i++) {
-        rf_vec3 q = rf_triangle_closest_point(&t->tri[i], p);
+        if (t->is_grid && rf_grid_slot(t, i) < 0)
+            continue; /* a hole */
+        rf_vec3 q = rf_triangle_closest_point(RF_TRI(t, i), p);
         double d = rf_v3_norm(rf_v3_sub(p, q));
         if (d < best)
             best = d;

@@ -50,7 +50,7 @@ static double gap(const rf_terrain *t, mode md, double rho, rf_vec3 p, int32_t k
             }
         return g;
     }
-    const rf_triangle *T = &t->tri[k];
+    const rf_triangle *T = RF_TRI(t, k);
     if (md == POINT)
         return p.z - rf_triangle_z_at(T, p.x, p.y);
     return rf_v3_dot(T->n, p) - T->d - rho;
@@ -249,7 +249,7 @@ TEST(contact_centre_meets_a_cliff_above_the_terrain_top)
     double x = t.x0 + 1.9, y = t.y0 + 0.5; /* 0.1 m from the top, over the cliff */
     int32_t k = rf_terrain_locate(&t, x, y);
     ENSURE(k >= 0 && t.zmax == 10.0);
-    const rf_triangle *T = &t.tri[k];
+    const rf_triangle *T = RF_TRI(&t, k);
     double zc = rf_triangle_z_at(T, x, y) + m.cfg.rho / T->n.z; /* the offset plane, 14.02 */
     ENSURE(zc > t.zmax + 3.0);
     /* straight down from 0.1 m above it, and a falling parabola from 0.2 m */
@@ -286,18 +286,18 @@ TEST(contact_centre_at_a_node_takes_the_highest_column)
         int32_t steepest = -1, got = rf_highest_column(&m, rf_terrain_locate(&t, i, j));
         int got_at = 0;
         for (size_t k = 0; k < t.ntri; k++) {
-            const rf_triangle *T = &t.tri[k];
+            const rf_triangle *T = RF_TRI(&t, k);
             int at = 0;
             for (int v = 0; v < 3; v++)
                 at |= rf_tri_vertex(T, v).x == i && rf_tri_vertex(T, v).y == j;
-            if (at && (steepest < 0 || T->n.z < t.tri[steepest].n.z))
+            if (at && (steepest < 0 || T->n.z < RF_TRI(&t, steepest)->n.z))
                 steepest = (int32_t)k;
             got_at |= at && (int32_t)k == got;
         }
         /* one of the steepest (several can be as steep) */
         ENSURE(steepest >= 0 && got >= 0 && got_at);
-        ENSURE_MSG(t.tri[got].n.z == t.tri[steepest].n.z, "node %d: n.z %.17g, the steepest %.17g",
-                   node, t.tri[got].n.z, t.tri[steepest].n.z);
+        ENSURE_MSG(RF_TRI(&t, got)->n.z == RF_TRI(&t, steepest)->n.z, "node %d: n.z %.17g, the steepest %.17g",
+                   node, RF_TRI(&t, got)->n.z, RF_TRI(&t, steepest)->n.z);
     }
     rf_workspace_free(m.ws);
     rf_terrain_free(&t);

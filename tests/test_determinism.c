@@ -93,14 +93,23 @@ static uint64_t rows_hash(const char *db, const char *sql, long *nrows)
     return hash;
 }
 
-/* The project's run with `threads` workers into a fresh database `name`; its path. */
-static const char *run_into(const char *name, int threads)
+/* The project's run with `threads` workers into a fresh database `name`; its path.  With
+ * `derive` its grid derives its triangles from its heights (rf_terrain_spec.grid_derive)
+ * instead of keeping them. */
+static const char *run_derived_into(const char *name, int threads, int derive)
 {
     const char *db = rf_test_path(name);
     rf_project p;
     rf_error err;
     ENSURE_MSG(rf_project_load(DET_PROJECT, &p, &err) == 0, "%s:%d:%d: %s", err.file, err.line,
                err.column, err.message);
+    ENSURE(p.terrain.is_grid && p.terrain.tri != NULL);
+    if (derive) {
+        rf_terrain_free(&p.terrain);
+        p.terrain_spec.grid_derive = 1;
+        ENSURE_MSG(rf_terrain_build(&p.terrain_spec, &p.terrain, &err) == 0, "%s", err.message);
+        ENSURE(p.terrain.tri == NULL);
+    }
     for (size_t i = 0; i < p.nreleases; i++)
         p.releases[i].count = DET_PER_RELEASE;
     rf_store *s;
@@ -112,6 +121,11 @@ static const char *run_into(const char *name, int threads)
     rf_store_close(s);
     rf_project_free(&p);
     return db;
+}
+
+static const char *run_into(const char *name, int threads)
+{
+    return run_derived_into(name, threads, 0);
 }
 
 TEST(determinism_noto_rows_hash_same_any_threads_and_stored)
@@ -137,6 +151,23 @@ TEST(determinism_noto_rows_hash_same_any_threads_and_stored)
                (unsigned long long)t1, DET_TRAJECTORIES_HASH);
     ENSURE_MSG(i1 == DET_INTERCEPTIONS_HASH, "interceptions 0x%016llx, stored 0x%016llx",
                (unsigned long long)i1, DET_INTERCEPTIONS_HASH);
+}
+
+/* The grid that derives its triangles from its heights gives the rows of the one that
+ * keeps them, bit for bit, on 1 and on 3 threads. */
+TEST(determinism_noto_rows_hash_same_with_derived_triangles)
+{
+    const int threads[2] = {1, 3};
+    for (int k = 0; k < 2; k++) {
+        const char *db = run_derived_into(k ? "derived3.db" : "derived1.db", threads[k], 1);
+        long n;
+        uint64_t t = rows_hash(db, TRAJECTORIES_SQL, &n);
+        uint64_t i = rows_hash(db, INTERCEPTIONS_SQL, &n);
+        ENSURE_MSG(t == DET_TRAJECTORIES_HASH, "%d threads: trajectories 0x%016llx, stored 0x%016llx",
+                   threads[k], (unsigned long long)t, DET_TRAJECTORIES_HASH);
+        ENSURE_MSG(i == DET_INTERCEPTIONS_HASH, "%d threads: interceptions 0x%016llx, stored 0x%016llx",
+                   threads[k], (unsigned long long)i, DET_INTERCEPTIONS_HASH);
+    }
 }
 
 /* ---- the same trajectory twice ------------------------------------------------------ */

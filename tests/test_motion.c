@@ -125,7 +125,7 @@ TEST(motion_release_puts_the_lowest_point_at_the_release_height)
             gsl_rng_set(rng, rf_trajectory_seed(p.seed, 0, k));
             rf_body sp = rf_release_body(&p, 0, RF_MODEL_SPHERE);
             rf_state ss = rf_release_start(&p, 0, &sp, rng);
-            rf_vec3 n = p.terrain.tri[tri].n;
+            rf_vec3 n = RF_TRI(&p.terrain, tri)->n;
             ENSURE_MSG(fabs(rf_v3_dot(rf_v3_sub(ss.p, rf_v3(s.p.x, s.p.y, zg)), n) -
                             sp.radius - heights[h] * n.z) < 1e-9,
                        "sphere %d: centre not r + height above the face", k);

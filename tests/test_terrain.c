@@ -96,12 +96,12 @@ TEST(terrain_eq4_plane_coefficients)
     rf_terrain t;
     one_triangle(rf_v3(1.25, 0.5, 2.385), rf_v3(3.25, 0.5, 3.385), rf_v3(1.25, 4.5, 0.385), &t);
     double a, b, d;
-    rf_triangle_plane_abd(&t.tri[0], &a, &b, &d);
+    rf_triangle_plane_abd(RF_TRI(&t, 0), &a, &b, &d);
     ENSURE_SMALL(a - (-0.5), 1e-14);
     ENSURE_SMALL(b - 0.5, 1e-14);
     ENSURE_SMALL(d - 2.01, 1e-13);
-    ensure_plane_consistent(&t.tri[0]);
-    ENSURE_SMALL(rf_triangle_z_at(&t.tri[0], 2.0, 3.0) - (2.385 + 0.375 - 1.25), 1e-13);
+    ensure_plane_consistent(RF_TRI(&t, 0));
+    ENSURE_SMALL(rf_triangle_z_at(RF_TRI(&t, 0), 2.0, 3.0) - (2.385 + 0.375 - 1.25), 1e-13);
     rf_terrain_free(&t);
 
     /* A general triangle (clockwise in xy) against the paper's formulas. */
@@ -110,14 +110,14 @@ TEST(terrain_eq4_plane_coefficients)
     one_triangle(i, j, k, &t);
     double ea, eb, ed;
     paper_eq4(i, j, k, &ea, &eb, &ed);
-    rf_triangle_plane_abd(&t.tri[0], &a, &b, &d);
+    rf_triangle_plane_abd(RF_TRI(&t, 0), &a, &b, &d);
     ENSURE_REL(a, ea, 1e-12);
     ENSURE_REL(b, eb, 1e-12);
     ENSURE_REL(d, ed, 1e-12);
     rf_vec3 ijk[3] = {i, j, k};
     for (int m = 0; m < 3; m++)
         ENSURE_SMALL(a * ijk[m].x + b * ijk[m].y + ijk[m].z - d, 1e-12);
-    ensure_plane_consistent(&t.tri[0]);
+    ensure_plane_consistent(RF_TRI(&t, 0));
     rf_terrain_free(&t);
 }
 
@@ -125,7 +125,7 @@ TEST(terrain_eq5_6_point_location_on_triangle)
 {
     rf_terrain t;
     one_triangle(rf_v3(1.25, 0.5, 2.385), rf_v3(3.25, 0.5, 3.385), rf_v3(1.25, 4.5, 0.385), &t);
-    const rf_triangle *tri = &t.tri[0];
+    const rf_triangle *tri = RF_TRI(&t, 0);
     double ts, ss;
     /* P = (0.5, 1.0) = 0.25 u + 0.25 v */
     ENSURE(rf_triangle_contains_xy(tri, 1.75, 1.5, 0.0, &ts, &ss));
@@ -163,7 +163,7 @@ TEST(terrain_eq7_plane_distance)
 {
     rf_terrain t;
     one_triangle(rf_v3(1.25, 0.5, 2.385), rf_v3(3.25, 0.5, 3.385), rf_v3(1.25, 4.5, 0.385), &t);
-    const rf_triangle *tri = &t.tri[0];
+    const rf_triangle *tri = RF_TRI(&t, 0);
     /* |a X + b Y + Z - d| / sqrt(a^2 + b^2 + 1) with a = -0.5, b = 0.5, d = 2.01 */
     double expect = (-0.5 * 2.0 + 0.5 * 3.0 + 5.0 - 2.01) / sqrt(1.5);
     ENSURE_SMALL(rf_triangle_plane_distance(tri, rf_v3(2.0, 3.0, 5.0)) - expect, 1e-13);
@@ -183,7 +183,7 @@ static void check_steep(double deg)
     rf_vec3 c = rf_v3(10.7, 20.7 + h * cos(th), 5.1 + h * sin(th));
     rf_terrain t;
     one_triangle(a, b, c, &t);
-    const rf_triangle *tri = &t.tri[0];
+    const rf_triangle *tri = RF_TRI(&t, 0);
     ENSURE_MSG(fabs(rf_triangle_slope(tri) - th) < 1e-12, "slope %.17g at %g deg",
                rf_triangle_slope(tri), deg);
     ensure_plane_consistent(tri);
@@ -212,7 +212,7 @@ TEST(terrain_vertical_face)
     rf_terrain t;
     rf_vec3 a = rf_v3(10.3, 20.7, 5.1), b = rf_v3(12.685, 20.7, 5.1), c = rf_v3(10.7, 20.7, 7.03);
     one_triangle(a, b, c, &t);
-    const rf_triangle *tri = &t.tri[0];
+    const rf_triangle *tri = RF_TRI(&t, 0);
     ENSURE(tri->n.z == 0.0);
     ENSURE_SMALL(fabs(tri->n.y) - 1.0, 1e-15);
     ENSURE_SMALL(rf_triangle_slope(tri) - PI / 2, 1e-15);
@@ -250,7 +250,7 @@ TEST(terrain_closest_point_regions)
     rf_vec3 a = rf_v3(0.3, -0.2, 1.1), b = rf_v3(4.1, 0.5, 1.7), c = rf_v3(1.2, 3.6, 2.9);
     rf_terrain t;
     one_triangle(a, b, c, &t);
-    const rf_triangle *tri = &t.tri[0];
+    const rf_triangle *tri = RF_TRI(&t, 0);
     rf_vec3 n = tri->n;
 
     /* Face: a point above an inner point projects onto it. */
@@ -312,7 +312,7 @@ TEST(terrain_closest_point_sliver)
             c = rf_v3(104.09, 200.5000002, 31.675);
     rf_terrain t;
     one_triangle(a, b, c, &t);
-    const rf_triangle *tri = &t.tri[0];
+    const rf_triangle *tri = RF_TRI(&t, 0);
     ENSURE_SMALL(rf_v3_norm(tri->n) - 1.0, 1e-14);
     ENSURE(tri->n.z >= 0);
     /* Beyond vertex b along the needle. */
@@ -345,7 +345,12 @@ TEST(terrain_asc_corner_nodata)
     ENSURE_SMALL(t.x0 - (502.385 + 1.25), 1e-12);
     ENSURE_SMALL(t.y0 - (7211.64 + 1.25), 1e-12);
     ENSURE_SMALL(t.cell - 2.5, 0);
-    ENSURE(t.ntri == 9); /* 12 triangles, 3 touch the nodata node */
+    ENSURE(t.ntri == 12 && t.grid_hole != NULL);
+    size_t holes = 0;
+    for (size_t m = 0; m < t.ntri; m++)
+        holes += rf_grid_slot(&t, m) < 0;
+    ENSURE(holes == 3); /* 12 triangles, 3 touch the nodata node */
+    ENSURE(t.grid_hole[4] == 3 && t.grid_hole[5] == 2); /* cell (1, 1), the top of (2, 1) */
     ENSURE(t.nzones == 1 && strcmp(t.zones[0].name, "default") == 0);
     for (size_t j = 0; j < 3; j++)
         for (size_t i = 0; i < 4; i++) {
@@ -366,17 +371,19 @@ TEST(terrain_asc_corner_nodata)
     /* Middle of cell (0, 0), lower triangle: SW 10.12, SE 11.447, NE 12.604. */
     double z;
     int32_t k = rf_terrain_height(&t, t.x0 + 0.6 * t.cell, t.y0 + 0.25 * t.cell, &z);
-    ENSURE(k == t.grid_tri[0]);
+    ENSURE(k == 0);
     ENSURE_SMALL(z - (10.12 + 0.6 * (11.447 - 10.12) + 0.25 * (12.604 - 11.447)), 1e-12);
     /* Outside the grid. */
     ENSURE(rf_terrain_locate(&t, t.x0 - 0.01, t.y0 + 1.0) == -1);
     ENSURE(rf_terrain_locate(&t, t.x0 + 1.0, t.y0 + 2 * t.cell + 0.01) == -1);
     /* Triangle shapes as terrain.h describes. */
-    const rf_triangle *lo = &t.tri[t.grid_tri[0]], *hi = &t.tri[t.grid_tri[1]];
+    ENSURE(t.tri != NULL); /* a grid this small keeps its triangles */
+    const rf_triangle *lo = RF_TRI(&t, 0), *hi = RF_TRI(&t, 1);
     ENSURE(lo->a.x == t.x0 && lo->a.y == t.y0 && lo->b.x > t.x0 && lo->b.y == t.y0);
     ENSURE(hi->c.x == t.x0 && hi->c.y > t.y0);
     for (size_t m = 0; m < t.ntri; m++)
-        ensure_plane_consistent(&t.tri[m]);
+        if (rf_grid_slot(&t, m) >= 0)
+            ensure_plane_consistent(RF_TRI(&t, (int32_t)m));
     rf_terrain_free(&t);
 }
 
@@ -416,7 +423,7 @@ static void ensure_build_error(const char *path, rf_terrain_source src, int line
     ENSURE_MSG(err.line == line && err.column == column, "%s:%d:%d: %s (expected %d:%d)",
                err.file, err.line, err.column, err.message, line, column);
     ENSURE_MSG(strstr(err.message, needle) != NULL, "message '%s' lacks '%s'", err.message, needle);
-    ENSURE(t.tri == NULL && t.zones == NULL && t.grid_tri == NULL && t.grid_node == NULL && t.bucket_start == NULL);
+    ENSURE(t.tri == NULL && t.zones == NULL && t.z == NULL && t.grid_hole == NULL && t.bucket_start == NULL);
 }
 
 TEST(terrain_bad_files)
@@ -450,7 +457,7 @@ TEST(terrain_stl_ascii)
     build_mesh(DATA "slab.stl", 'z', &t);
     ENSURE(t.is_grid == 0 && t.ntri == 2);
     ENSURE(t.nzones == 2 && strcmp(t.zones[1].name, "slab") == 0);
-    ENSURE(t.tri[0].zone == 1 && t.tri[1].zone == 1);
+    ENSURE(RF_TRI(&t, 0)->zone == 1 && RF_TRI(&t, 1)->zone == 1);
     for (int i = 0; i < 4; i++) {
         double z;
         ENSURE(rf_terrain_height(&t, v[i][0], v[i][1], &z) >= 0);
@@ -529,7 +536,7 @@ TEST(terrain_obj)
         ENSURE_SMALL(z - v[i][2], 1e-12);
     }
     /* The last face is (3, 6, 7) through negative indices. */
-    const rf_triangle *last = &t.tri[4];
+    const rf_triangle *last = RF_TRI(&t, 4);
     ENSURE(last->a.x == 4.2 && last->a.y == 3.7 && last->b.x == 8.6 && last->c.y == 6.1);
     ENSURE(rf_terrain_locate(&t, 8.0, 5.9) == -1);
     rf_terrain_free(&t);
@@ -543,7 +550,7 @@ TEST(terrain_obj_y_up)
     rf_terrain t;
     build_mesh(path, 'y', &t);
     ENSURE(t.ntri == 1);
-    ENSURE(t.tri[0].a.x == 1.5 && t.tri[0].a.y == -2.0 && t.tri[0].a.z == 7.25);
+    ENSURE(RF_TRI(&t, 0)->a.x == 1.5 && RF_TRI(&t, 0)->a.y == -2.0 && RF_TRI(&t, 0)->a.z == 7.25);
     double z;
     ENSURE(rf_terrain_height(&t, 1.5, 3.75, &z) >= 0);
     ENSURE_SMALL(z - 9.375, 1e-12);
@@ -576,7 +583,7 @@ TEST(terrain_mesh_files_and_zones)
     ENSURE(t.zones[1].surface.restitution.mean == SURF_DEFAULT.restitution.mean);
     ENSURE(t.zones[2].surface.restitution.mean == SURF_OTHER.restitution.mean);
     for (size_t k = 0; k < t.ntri; k++) {
-        const rf_triangle *tri = &t.tri[k];
+        const rf_triangle *tri = RF_TRI(&t, k);
         double cx = (tri->a.x + tri->b.x + tri->c.x) / 3;
         int in_strip = cx >= 2.5 && cx <= 5.0;
         int32_t want = in_strip ? 3 : (k < 5 ? 1 : 2);
@@ -617,7 +624,7 @@ TEST(terrain_profile)
     /* Slope of the second segment. */
     int32_t k = rf_terrain_locate(&t, 20.0, 3.3);
     ENSURE(k >= 0);
-    ENSURE_SMALL(rf_triangle_slope(&t.tri[k]) - atan((41.2 - 22.9) / (30.7 - 12.385)), 1e-14);
+    ENSURE_SMALL(rf_triangle_slope(RF_TRI(&t, k)) - atan((41.2 - 22.9) / (30.7 - 12.385)), 1e-14);
     rf_terrain_free(&t);
 }
 
@@ -649,7 +656,8 @@ static void check_boxes(const rf_terrain *t, const double (*box)[4], int nbox)
         }
         size_t expect = 0;
         for (size_t k = 0; k < t->ntri; k++)
-            if (tri_bbox_overlaps(&t->tri[k], q[0], q[1], q[2], q[3])) {
+            if ((!t->is_grid || rf_grid_slot(t, k) >= 0) &&
+                tri_bbox_overlaps(RF_TRI(t, k), q[0], q[1], q[2], q[3])) {
                 expect++;
                 ENSURE_MSG(seen[k], "box %d: triangle %zu missing", b, k);
             }
@@ -772,9 +780,9 @@ TEST(terrain_authume_mesh)
     size_t count[4] = {0};
     for (size_t k = 0; k < t.ntri; k++) {
         int32_t want = k < facets[0] ? 1 : (k < facets[0] + facets[1] ? 2 : 3);
-        ENSURE_MSG(t.tri[k].zone == want, "triangle %zu in zone %d", k, t.tri[k].zone);
-        count[t.tri[k].zone]++;
-        ENSURE(t.tri[k].n.z >= 0);
+        ENSURE_MSG(RF_TRI(&t, k)->zone == want, "triangle %zu in zone %d", k, RF_TRI(&t, k)->zone);
+        count[RF_TRI(&t, k)->zone]++;
+        ENSURE(RF_TRI(&t, k)->n.z >= 0);
     }
     ENSURE(count[1] == 5300 && count[2] == 2953 && count[3] == 748);
 
@@ -804,8 +812,8 @@ TEST(terrain_authume_mesh)
         double best = -INFINITY;
         for (size_t k = 0; k < t.ntri; k++) {
             double tt, ss;
-            if (rf_triangle_contains_xy(&t.tri[k], px, py, 1e-9, &tt, &ss)) {
-                const rf_triangle *tri = &t.tri[k];
+            if (rf_triangle_contains_xy(RF_TRI(&t, k), px, py, 1e-9, &tt, &ss)) {
+                const rf_triangle *tri = RF_TRI(&t, k);
                 double zz = tri->a.z + tt * (tri->b.z - tri->a.z) + ss * (tri->c.z - tri->a.z);
                 if (zz > best)
                     best = zz;
@@ -1069,7 +1077,7 @@ TEST(terrain_30000_vertex_zone_polygon_zones_as_the_plain_test)
     ENSURE(t.ntri == 2 * (side - 1) * (side - 1));
     size_t inside = 0;
     for (size_t k = 0; k < t.ntri; k++) {
-        const rf_triangle *tri = &t.tri[k];
+        const rf_triangle *tri = RF_TRI(&t, k);
         inside += tri->zone == 1;
         if (k % 53)
             continue;

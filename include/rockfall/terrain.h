@@ -85,27 +85,42 @@ typedef struct rf_terrain_spec {
     double width;          /* PROFILE: extrusion width; y runs from 0 to width */
     double tolerance;      /* DEM: > 0 makes the grid a TIN within this vertical error
                               (m; input/tin.h), a mesh (is_grid 0); 0 keeps the grid */
+    int grid_derive;       /* DEM: 1 derives the triangles of the grid from its heights
+                              whatever its size (tests); 0 keeps them in an array up to
+                              RF_GRID_KEEP_TRIANGLES (rf_terrain.tri) */
     rf_surface surface;    /* default surface (zone 0) */
     rf_zone_spec *zones;   /* polygon zones and file zones */
     size_t nzones;
 } rf_terrain_spec;
 
+/* A grid of at most this many triangles keeps them in an array besides its heights (the
+ * same triangles rf_grid_triangle derives, read faster: docs/terrain.md); a larger one
+ * derives them where needed. */
+#define RF_GRID_KEEP_TRIANGLES (1 << 20)
+
 typedef struct rf_terrain {
-    rf_triangle *tri;
-    size_t ntri;
+    rf_triangle *tri; /* meshes and profiles, and grids of at most RF_GRID_KEEP_TRIANGLES
+                         triangles (holes among them unset); NULL for a larger grid, whose
+                         triangles rf_tri derives */
+    size_t ntri;      /* triangle indices 0 .. ntri - 1 (a grid's include its holes) */
     rf_zone *zones; /* zones[0] is the default surface ("default") */
     size_t nzones;
     double xmin, xmax, ymin, ymax, zmin, zmax;
 
-    /* DEM grids: O(1) location.  Nodes at x0 + i*cell, y0 + j*cell (i < nx, j < ny);
-     * cell (i, j) spans nodes i..i+1, j..j+1 and holds triangles
-     * grid_tri[2*(j*(nx-1)+i)+k], k = 0 below the SW-NE diagonal (SW,SE,NE), k = 1
-     * above it (SW,NE,NW); -1 marks a hole (a triangle with a nodata vertex). */
+    /* DEM grids: O(1) location, kept as their heights.  Nodes at x0 + i*cell,
+     * y0 + j*cell (i < nx, j < ny) of height z[j*nx+i] (NaN at nodata); cell (i, j)
+     * spans nodes i..i+1, j..j+1 and holds triangles 2*(j*(nx-1)+i)+k, k = 0 below the
+     * SW-NE diagonal (SW,SE,NE), k = 1 above it (SW,NE,NW).  grid_hole: per cell, bit k
+     * set when triangle k is a hole (a nodata vertex, or no area); NULL when none is.
+     * zone8 / zone16: per triangle its zone when polygon zones exist (uint8_t up to 255
+     * zones, uint16_t beyond); both NULL: zone 0. */
     int is_grid;
     size_t nx, ny;
     double x0, y0, cell;
-    int32_t *grid_tri;
-    int32_t *grid_node; /* per triangle: 2 * (j * nx + i) + k, its SW node and k */
+    double *z;
+    uint8_t *grid_hole;
+    uint8_t *zone8;
+    uint16_t *zone16;
 
     /* Meshes and profiles (is_grid == 0): uniform bucket grid over the xy bounding box; the triangles whose
      * xy bounding box overlaps bucket b are bucket_items[bucket_start[b] ..
@@ -115,6 +130,74 @@ typedef struct rf_terrain {
     uint32_t *bucket_start;
     int32_t *bucket_items;
 } rf_terrain;
+
+/* A grid's triangle idx (not a hole), derived from its heights into out with the
+ * arithmetic the grid's build and a mesh's triangles use: bit for bit the same. */
+void rf_grid_triangle(const rf_terrain *t, int32_t idx, rf_triangle *out);
+/* The vertices of a grid's triangle idx (a, b, c as rf_grid_triangle gives them). */
+static inline void rf_grid_vertices(const rf_terrain *t, int32_t idx, rf_vec3 v[3])
+{
+    size_t c = (size_t)idx >> 1, row = t->nx - 1, j = c / row, i = c - j * row;
+    const double *z = t->z + j * t->nx + i;
+    double xw = t->x0 + (double)i * t->cell, xe = t->x0 + (double)(i + 1) * t->cell;
+    double ys = t->y0 + (double)j * t->cell, yn = t->y0 + (double)(j + 1) * t->cell;
+    v[0] = rf_v3(xw, ys, z[0]); /* SW */
+    if ((idx & 1) == 0) {
+        v[1] = rf_v3(xe, ys, z[1]);         /* SE */
+        v[2] = rf_v3(xe, yn, z[t->nx + 1]); /* NE */
+    } else {
+        v[1] = rf_v3(xe, yn, z[t->nx + 1]); /* NE */
+        v[2] = rf_v3(xw, yn, z[t->nx]);     /* NW */
+    }
+}
+
+/* Triangle idx of terrain t (not a hole): a mesh's own, held in t; a grid's derived
+ * into buf, which the pointer returned then points to (valid while buf is). */
+static inline const rf_triangle *rf_tri(const rf_terrain *t, int32_t idx, rf_triangle *buf)
+{
+    if (t->tri)
+        return &t->tri[idx];
+    rf_grid_triangle(t, idx, buf);
+    return buf;
+}
+
+/* Triangle idx of terrain t with only its vertices a, b, c to be read (a grid's derived
+ * into buf without its plane): for culls before the face itself is needed. */
+static inline const rf_triangle *rf_tri_corners(const rf_terrain *t, int32_t idx, rf_triangle *buf)
+{
+    if (t->tri)
+        return &t->tri[idx];
+    rf_vec3 v[3];
+    rf_grid_vertices(t, idx, v);
+    buf->a = v[0], buf->b = v[1], buf->c = v[2];
+    return buf;
+}
+
+/* rf_tri into a buffer of the enclosing block (a compound literal): the pointer is not
+ * to be kept beyond that block. */
+#define RF_TRI(t, idx)                                                                           \
+    ((t)->tri ? &(t)->tri[idx] : rf_tri((t), (idx), &(rf_triangle){.zone = 0}))
+
+/* A grid's triangle index at slot 2*(j*(nx-1)+i)+k of cell (i, j), or -1 for a hole. */
+static inline int32_t rf_grid_slot(const rf_terrain *t, size_t slot)
+{
+    return t->grid_hole && (t->grid_hole[slot >> 1] >> (slot & 1) & 1) ? -1 : (int32_t)slot;
+}
+
+/* A grid's triangle idx as 2 * (node index of its SW node) + k. */
+static inline int64_t rf_grid_node(const rf_terrain *t, int32_t idx)
+{
+    size_t c = (size_t)idx >> 1, row = t->nx - 1, j = c / row, i = c - j * row;
+    return 2 * (int64_t)(j * t->nx + i) + (idx & 1);
+}
+
+/* The zone of triangle idx. */
+static inline int32_t rf_tri_zone(const rf_terrain *t, int32_t idx)
+{
+    if (t->tri)
+        return t->tri[idx].zone;
+    return t->zone8 ? t->zone8[idx] : t->zone16 ? t->zone16[idx] : 0;
+}
 
 /* Builds a terrain from its spec.  Errors (missing or unreadable files, malformed
  * content with file:line:column inside the terrain file, empty meshes) fill err.

@@ -126,6 +126,16 @@ int rf_map_file(const char *path, uint64_t max_bytes, rf_mapped *m, rf_error *er
     return 0;
 }
 
+void rf_map_release(const rf_mapped *m, size_t upto)
+{
+    long page = sysconf(_SC_PAGESIZE);
+    if (!m->mapped || page <= 0 || upto > m->len)
+        return;
+    size_t n = upto - upto % (size_t)page;
+    if (n > 0)
+        madvise((void *)m->data, n, MADV_DONTNEED);
+}
+
 void rf_unmap_file(rf_mapped *m)
 {
     if (m->mapped)

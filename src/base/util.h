@@ -29,6 +29,11 @@ typedef struct rf_mapped {
     int mapped;
 } rf_mapped;
 
+/* Gives back the memory of the pages of m wholly before byte `upto` (a mapped file read
+ * from front to back holds only what is still to be read); reading them again reads
+ * the file again.  Nothing for a file that is not mapped. */
+void rf_map_release(const rf_mapped *m, size_t upto);
+
 /* Maps a regular file of at most max_bytes, refused as rf_read_file refuses. */
 int rf_map_file(const char *path, uint64_t max_bytes, rf_mapped *m, rf_error *err);
 void rf_unmap_file(rf_mapped *m);

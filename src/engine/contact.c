@@ -37,12 +37,12 @@ static size_t gather_grid(rf_motion *m, double xmin, double ymin, double xmax, d
         return 0;
     size_t n = 0, row = t->nx - 1;
     for (size_t j = r[2]; j <= r[3]; j++) {
-        const int32_t *g = t->grid_tri + 2 * (j * row + r[0]);
+        size_t g = 2 * (j * row + r[0]);
         for (size_t i = r[0]; i <= r[1]; i++, g += 2) {
-            if (g[0] >= 0)
-                ws->cand[n++] = g[0];
-            if (g[1] >= 0)
-                ws->cand[n++] = g[1];
+            if (rf_grid_slot(t, g) >= 0)
+                ws->cand[n++] = (int32_t)g;
+            if (rf_grid_slot(t, g + 1) >= 0)
+                ws->cand[n++] = (int32_t)g + 1;
         }
     }
     return n;
@@ -162,8 +162,68 @@ static int beyond_flight_reach(const rf_search *s, int32_t idx, const rf_triangl
         return 1;
     rf_vec3 lo, hi;
     rf_arc_box(s->arc, tl, th, &lo, &hi);
-    return beyond_bound(rho, s->r0sq, s->m->ws->tables->tri_box + 6 * (size_t)idx, H, gmin,
+    float box[6];
+    return beyond_bound(rho, s->r0sq, rf_tri_box(s->m->ws, idx, box), H, gmin,
                         rf_v3_add(lo, rb->sh), rf_v3_add(hi, rb->sh));
+}
+
+/* ---- the triangles a flight's search has tested ----------------------------------------- */
+
+static inline size_t tested_slot(int32_t tri, size_t cap)
+{
+    return (size_t)(((uint64_t)(uint32_t)tri * 0x9E3779B97F4A7C15ULL) >> 40) & (cap - 1);
+}
+
+/* Empties the set. */
+static void tested_clear(rf_workspace *ws)
+{
+    ws->tested_n = 0;
+    if (++ws->tested_gen == 0) {
+        memset(ws->tested, 0, ws->tested_cap * sizeof *ws->tested);
+        ws->tested_gen = 1;
+    }
+}
+
+/* Doubles the set's slots, keeping its members; -1 out of memory. */
+static int tested_grow(rf_workspace *ws)
+{
+    size_t cap = 2 * ws->tested_cap;
+    rf_tested_slot *slots = calloc(cap, sizeof *slots);
+    if (!slots)
+        return -1;
+    for (size_t k = 0; k < ws->tested_cap; k++) {
+        if (ws->tested[k].gen != ws->tested_gen)
+            continue;
+        size_t h = tested_slot(ws->tested[k].tri, cap);
+        while (slots[h].gen == 1)
+            h = (h + 1) & (cap - 1);
+        slots[h] = (rf_tested_slot){ws->tested[k].tri, 1};
+    }
+    free(ws->tested);
+    ws->tested = slots;
+    ws->tested_cap = cap;
+    ws->tested_gen = 1;
+    return 0;
+}
+
+/* 1 when triangle tri was not in the set (it is now); 0 when it was. */
+static inline int tested_add(rf_workspace *ws, int32_t tri)
+{
+    size_t mask = ws->tested_cap - 1, h = tested_slot(tri, ws->tested_cap);
+    for (; ws->tested[h].gen == ws->tested_gen; h = (h + 1) & mask)
+        if (ws->tested[h].tri == tri)
+            return 0;
+    if (2 * (ws->tested_n + 1) > ws->tested_cap) {
+        if (tested_grow(ws))
+            return 1; /* out of memory: tested again, as without the set */
+        mask = ws->tested_cap - 1;
+        for (h = tested_slot(tri, ws->tested_cap); ws->tested[h].gen == ws->tested_gen;
+             h = (h + 1) & mask)
+            ;
+    }
+    ws->tested[h] = (rf_tested_slot){tri, ws->tested_gen};
+    ws->tested_n++;
+    return 1;
 }
 
 /* ---- shared edges and vertices --------------------------------------------------------
@@ -183,8 +243,8 @@ static int beyond_flight_reach(const rf_search *s, int32_t idx, const rf_triangl
 static void feature_keys(const rf_terrain *t, int32_t idx, uint64_t ek[3], uint64_t vk[3])
 {
     if (t->is_grid) {
-        uint64_t n = (uint64_t)t->grid_node[idx] >> 1, nx = t->nx;
-        if ((t->grid_node[idx] & 1) == 0) {
+        uint64_t n = (uint64_t)rf_grid_node(t, idx) >> 1, nx = t->nx;
+        if ((idx & 1) == 0) {
             vk[0] = 4 * n + 3, vk[1] = 4 * (n + 1) + 3, vk[2] = 4 * (n + nx + 1) + 3;
             ek[0] = 4 * n, ek[1] = 4 * (n + 1) + 1, ek[2] = 4 * n + 2;
         } else {
@@ -298,7 +358,7 @@ static void test_features(rf_search *s, size_t npend, double tb, rf_vec3 blo, rf
         if (!(w0 < s->best))
             continue;
         int32_t idx = ws->pend_idx[p];
-        const rf_triangle *T = &t->tri[idx];
+        const rf_triangle *T = RF_FACE(m, idx);
         uint64_t ek[3], vk[3];
         feature_keys(t, idx, ek, vk);
         int xv[3] = {-1, -1, -1}; /* vertex_out of vertex k (-1: not known yet) */
@@ -407,10 +467,9 @@ static void line_candidate(rf_search *s, int32_t idx, double T, size_t *npend)
 {
     rf_motion *m = s->m;
     rf_workspace *ws = m->ws;
-    if (ws->tested[idx] == ws->test_epoch)
+    if (!tested_add(ws, idx))
         return;
-    ws->tested[idx] = ws->test_epoch;
-    const rf_triangle *Tr = &m->cfg.terrain->tri[idx];
+    const rf_triangle *Tr = RF_CORNERS(m, idx);
     double reach = s->reach, hr = s->hr;
     /* a point of the triangle within reach of the centre: within reach of the
      * horizontal line, the centre horizontally within reach of it meanwhile, and
@@ -544,7 +603,6 @@ static void test_candidates(rf_search *s, const int32_t *cand, size_t n, double 
 {
     rf_motion *m = s->m;
     rf_workspace *ws = m->ws;
-    const rf_terrain *t = m->cfg.terrain;
     const rf_support *ex = s->ex;
     double reach = sphere_reach(m);
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
@@ -553,7 +611,7 @@ static void test_candidates(rf_search *s, const int32_t *cand, size_t n, double 
     size_t npend = 0;
     for (size_t k = 0; k < n; k++) {
         int32_t idx = cand[k];
-        const rf_triangle *Tr = &t->tri[idx];
+        const rf_triangle *Tr = RF_CORNERS(m, idx);
         /* the triangle's box against the arc's box widened by the reach */
         if ((Tr->a.x < xl && Tr->b.x < xl && Tr->c.x < xl) ||
             (Tr->a.x > xh && Tr->b.x > xh && Tr->c.x > xh) ||
@@ -582,11 +640,11 @@ static void finish(const rf_motion *m, const rf_arc *arc, rf_contact *c)
 {
     rf_vec3 p = rf_arc_pos(arc, c->t);
     if (c->kind == RF_FEAT_FACE) {
-        c->n = m->cfg.terrain->tri[c->tri].n;
+        c->n = RF_FACE(m, c->tri)->n;
     } else {
         rf_vec3 d = rf_v3_sub(p, c->point);
         double dl = rf_v3_norm(d);
-        c->n = dl > 0 ? rf_v3_scale(d, 1.0 / dl) : m->cfg.terrain->tri[c->tri].n;
+        c->n = dl > 0 ? rf_v3_scale(d, 1.0 / dl) : RF_FACE(m, c->tri)->n;
     }
 }
 
@@ -659,16 +717,13 @@ int rf_contact_search(rf_motion *m, const rf_arc *arc, double T, const rf_suppor
         if (ex && ex->n > 0 && !m->cfg.centre && !m->cfg.point) {
             /* off a face: its plane's reach bound (a hop over a bent grid edge stays
              * near that plane) */
-            const rf_triangle *F = &t->tri[ex->tri[0]];
+            const rf_triangle *F = RF_FACE(m, ex->tri[0]);
             reach_bound_set(F->n, F->d, m->cfg.rho, arc, T, NULL, NULL, &fb);
             s.flight_bound = &fb;
             s.r0sq = bound_r0(m) * bound_r0(m);
         }
         rf_workspace *ws = m->ws;
-        if (++ws->test_epoch == 0) { /* a new mark for the triangles tested */
-            memset(ws->tested, 0, t->ntri * sizeof *ws->tested);
-            ws->test_epoch = 1;
-        }
+        tested_clear(ws);
     }
     if (s.line && t->is_grid && (m->cfg.centre || m->cfg.point))
         walk_grid(&s, T);
@@ -696,7 +751,6 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
     double xl = lo.x - reach, xh = hi.x + reach, yl = lo.y - reach, yh = hi.y + reach;
     double zl = lo.z - reach, zh = hi.z + reach;
     size_t nhit = 0;
-    const float *box = ws->tables->tri_box;
     const rf_terrain *t = m->cfg.terrain;
     int filter = !m->cfg.centre && !m->cfg.point;
     rf_support_planes_set(m, &s.sp);
@@ -710,7 +764,8 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
         return 0;
     for (size_t k = 0; k < n; k++) {
         int32_t idx = ws->cand[k];
-        const float *b = box + 6 * (size_t)idx;
+        float box[6];
+        const float *b = rf_tri_box(ws, idx, box);
         if (b[1] < xl || b[0] > xh || b[3] < yl || b[2] > yh || b[5] < zl || b[4] > zh)
             continue;
         if (rf_excluded_tri(&m->rock.sup, idx))
@@ -719,9 +774,8 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
             /* faces in a support's plane or wholly on or below a support plane are out
              * of reach for the whole segment, and so are faces beyond the support's
              * reach bound of this arc */
-            const rf_triangle *Tr = &t->tri[idx];
-            if (beyond_support_reach(&s, rb, b, Tr, r0 * r0) ||
-                rf_coplanar_with_support(t, &m->rock.sup, Tr, m->cfg.tol_len))
+            if (beyond_support_reach(&s, rb, b, RF_CORNERS(m, idx), r0 * r0) ||
+                rf_coplanar_with_support(t, &m->rock.sup, RF_FACE(m, idx), m->cfg.tol_len))
                 continue;
         }
         ws->near_hit[nhit++] = idx;

@@ -84,7 +84,7 @@ void rf_support_planes_set(const rf_motion *m, rf_support_planes *sp)
 {
     sp->n = 0;
     for (int k = 0; k < m->rock.sup.n && k < 2; k++) {
-        const rf_triangle *S = &m->cfg.terrain->tri[m->rock.sup.tri[k]];
+        const rf_triangle *S = RF_FACE(m, m->rock.sup.tri[k]);
         sp->nrm[sp->n] = S->n;
         sp->d[sp->n] = S->d;
         sp->n++;
@@ -118,13 +118,12 @@ unsigned rf_vertex_out(const rf_support_planes *sp, rf_vec3 v)
  * one may be asked for by another holder). */
 static int skipped(const rf_search *s, int32_t idx, rf_feature kind, int index)
 {
-    const rf_triangle *tri = s->m->cfg.terrain->tri;
     int e = kind == RF_FEAT_EDGE ? 4 : 0;
     for (int k = 0; k < s->nskip; k++) {
         const rf_contact *c = &s->skip[k];
         if (c->kind == kind && (kind == RF_FEAT_FACE ? c->tri == idx
-                                                     : rf_same_feature(&tri[c->tri], c->index | e,
-                                                                       &tri[idx], index | e)))
+                                                     : rf_same_feature(RF_FACE(s->m, c->tri), c->index | e,
+                                                                       RF_FACE(s->m, idx), index | e)))
             return 1;
     }
     return 0;
@@ -276,7 +275,7 @@ static int face_entry(const double f[3], double t0, double t1, double tol, doubl
  * `left`: the face flown off, met only once the centre moves over its column again. */
 void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
 {
-    const rf_triangle *T = &s->m->cfg.terrain->tri[idx];
+    const rf_triangle *T = RF_FACE(s->m, idx);
     const rf_arc *arc = s->arc;
     double tol = s->m->cfg.tol_len;
     double f[3] = {rf_v3_dot(T->n, arc->p) - T->d - s->m->cfg.rho, rf_v3_dot(T->n, arc->v),
@@ -289,7 +288,8 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
     double lo = t0, hi = t1;
     double al[3], be[3]; /* the centre's inward distance from edge k: al + be t */
     rf_vec3 P[3] = {T->a, T->b, T->c};
-    const double *hedge = s->m->ws->tables->hedge + 3 * (size_t)idx;
+    double hedge_buf[3];
+    const double *hedge = rf_tri_hedge(s->m->ws->tables, idx, hedge_buf);
     double orient = (P[1].x - P[0].x) * (P[2].y - P[0].y) - (P[1].y - P[0].y) * (P[2].x - P[0].x);
     if (orient == 0.0)
         return;
@@ -356,7 +356,7 @@ void rf_test_centre(rf_search *s, int32_t idx, double t0, double t1, int left)
 int rf_test_face(rf_search *s, int32_t idx, double t0, double t1, double *w0)
 {
     rf_motion *m = s->m;
-    const rf_triangle *T = &m->cfg.terrain->tri[idx];
+    const rf_triangle *T = RF_FACE(m, idx);
     const rf_arc *arc = s->arc;
     double rho = m->cfg.rho, tol = m->cfg.tol_len;
     if (t1 > s->best)
@@ -402,7 +402,7 @@ int rf_test_face(rf_search *s, int32_t idx, double t0, double t1, double *w0)
 void rf_test_edges(rf_search *s, int32_t idx, double w0, double t1)
 {
     rf_motion *m = s->m;
-    const rf_triangle *T = &m->cfg.terrain->tri[idx];
+    const rf_triangle *T = RF_FACE(m, idx);
     double w1 = t1 < s->best ? t1 : s->best;
     if (!(w1 >= w0))
         return;
@@ -432,7 +432,7 @@ int rf_coplanar_with_support(const rf_terrain *t, const rf_support *ex, const rf
     if (!ex)
         return 0;
     for (int k = 0; k < ex->n; k++) {
-        const rf_triangle *S = &t->tri[ex->tri[k]];
+        const rf_triangle *S = RF_TRI(t, ex->tri[k]);
         if (rf_coplanar(S, T, tol))
             return 1;
     }

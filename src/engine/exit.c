@@ -73,7 +73,7 @@ static double grid_gap_entry(const rf_terrain *t, const rf_arc *arc, double ta, 
     for (long j = j0; j <= j1; j++)
         for (long ii = i0; ii <= i1; ii++)
             for (int k = 0; k < 2; k++) {
-                if (t->grid_tri[2 * ((size_t)j * ncx + (size_t)ii) + (size_t)k] >= 0)
+                if (rf_grid_slot(t, 2 * ((size_t)j * ncx + (size_t)ii) + (size_t)k) >= 0)
                     continue;
                 double x0 = t->x0 + (double)ii * cell, y0 = t->y0 + (double)j * cell;
                 double x1 = x0 + cell, y1 = y0 + cell;
@@ -110,7 +110,7 @@ static double mesh_gap_entry(rf_motion *m, const rf_arc *arc, double vh, double 
         unsigned border = m->ws->tables->edge_live[idx] / RF_EDGE_BORDER;
         if (!border)
             continue;
-        const rf_triangle *T = &t->tri[idx];
+        const rf_triangle *T = RF_FACE(m, idx);
         for (int k = 0; k < 3; k++) {
             if (!(border >> k & 1))
                 continue;

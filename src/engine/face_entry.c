@@ -21,7 +21,7 @@
 
 void rf_support_single(rf_motion *m, int32_t tri, int fresh)
 {
-    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    const rf_triangle *T = RF_FACE(m, tri);
     if (fresh || m->rock.sup.n == 0 || m->rock.sup.zone != T->zone)
         rf_support_draw(m, tri);
     m->rock.sup.n = 1;
@@ -41,7 +41,7 @@ void rf_surface_enter(rf_motion *m, int32_t tri) { rf_support_single(m, tri, 1);
 /* The rock on face A meets face B gently: a crease when both faces press on it. */
 int rf_try_crease(rf_motion *m, int32_t a, int32_t b)
 {
-    const rf_triangle *A = &m->cfg.terrain->tri[a], *B = &m->cfg.terrain->tri[b];
+    const rf_triangle *A = RF_FACE(m, a), *B = RF_FACE(m, b);
     if (a == b || rf_coplanar(A, B, m->cfg.tol_len))
         return -1;
     if (rf_v3_dot(m->rock.s.v, A->n) > m->cfg.v_stay)
@@ -89,7 +89,7 @@ static void land(rf_motion *m, int32_t tri)
  * roll is only taken where the two faces are all there is. */
 int rf_pivot_clear(rf_motion *m, rf_vec3 q, int32_t to)
 {
-    rf_vec3 c = rf_v3_madd(q, m->cfg.rho, m->cfg.terrain->tri[to].n);
+    rf_vec3 c = rf_v3_madd(q, m->cfg.rho, RF_FACE(m, to)->n);
     rf_contact near;
     double d = rf_closest_feature(m, c, m->cfg.rho + RF_PIVOT_REACH, &near);
     return d >= m->cfg.rho - RF_RADIUS_REL_TOL * m->cfg.rho - m->cfg.tol_len;
@@ -161,7 +161,7 @@ int rf_pay_lift(rf_motion *m, rf_vec3 move)
 int rf_wall_for(const rf_motion *m, int32_t to, double ke)
 {
     double gap;
-    rf_vec3 move = rf_centre_lift_move(m, &m->cfg.terrain->tri[to], &gap);
+    rf_vec3 move = rf_centre_lift_move(m, RF_FACE(m, to), &gap);
     return gap > m->cfg.tol_len && rf_lift_cost(m, move) >= ke;
 }
 
@@ -180,7 +180,7 @@ static int wall_ahead(rf_motion *m, int32_t skip, rf_vec3 v)
     size_t n = rf_gather(m, q.x - tol, q.y - tol, q.x + tol, q.y + tol);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
-        const rf_triangle *T = &m->cfg.terrain->tri[k];
+        const rf_triangle *T = RF_FACE(m, k);
         if (k != skip && T->n.z > 0 && rf_in_column(T, q, 0.5 * tol) &&
             rf_wall_for(m, k, ke))
             return 1;
@@ -216,7 +216,7 @@ static int wall_corner_ahead(rf_motion *m, rf_vec3 v, const void *ctx)
 
 static int centre_lift(rf_motion *m, const rf_contact *c)
 {
-    const rf_triangle *T = &m->cfg.terrain->tri[c->tri];
+    const rf_triangle *T = RF_FACE(m, c->tri);
     double gap;
     rf_vec3 move = rf_centre_lift_move(m, T, &gap);
     if (!(gap > 0) || rf_pay_lift(m, move))
@@ -241,12 +241,12 @@ static int centre_lift(rf_motion *m, const rf_contact *c)
 }
 
 /* 1 when faces a and b of a grid lie in the same or neighbouring cells (they share a
- * node, or nearly: the grid's own neighbourhood, from grid_node in O(1)). */
+ * node, or nearly: the grid's own neighbourhood, by cell arithmetic in O(1)). */
 static int grid_neighbours(const rf_terrain *t, int32_t a, int32_t b)
 {
     if (a < 0 || b < 0)
         return 0;
-    long na = t->grid_node[a] / 2, nb = t->grid_node[b] / 2;
+    long na = (long)(rf_grid_node(t, a) / 2), nb = (long)(rf_grid_node(t, b) / 2);
     long nx = (long)t->nx;
     long di = na % nx - nb % nx, dj = na / nx - nb / nx;
     return di >= -1 && di <= 1 && dj >= -1 && dj <= 1;
@@ -264,7 +264,7 @@ static void turn_resistance(rf_motion *m, int32_t to, rf_vec3 n, double jn)
 {
     const rf_body *b = m->cfg.body;
     const rf_terrain *t = m->cfg.terrain;
-    int32_t z = t->tri[to].zone;
+    int32_t z = rf_tri_zone(t, to);
     const rf_surface *sf = &t->zones[z >= 0 && (size_t)z < t->nzones ? z : 0].surface;
     double mu = z == m->rock.sup.zone ? m->rock.sup.mu : rf_fmax(0.0, sf->friction.mean);
     mu *= 1.0 + rf_fmin(1.0, rf_fmax(0.0, sf->restitution.mean));
@@ -299,7 +299,7 @@ static int edge_transition(rf_motion *m, const rf_contact *c)
     const rf_terrain *t = m->cfg.terrain;
     if (!t->is_grid || m->cfg.centre || m->rock.sup.n == 0 || c->kind != RF_FEAT_FACE)
         return 0;
-    int32_t z = t->tri[c->tri].zone;
+    int32_t z = rf_tri_zone(t, c->tri);
     if (t->zones[z >= 0 && (size_t)z < t->nzones ? z : 0].surface.law != RF_IMPACT_EQ8)
         return 0; /* the rt law's tangential restitution is no turn's */
     double vn = rf_v3_dot(m->rock.s.v, c->n);
@@ -380,7 +380,7 @@ void rf_crease_ends(rf_motion *m, int32_t on, int32_t left)
          * r), which slips on the face by v (1 - n . n_m): it slides until the slip
          * vanishes (the spin is kept, so no energy is made) */
         m->rock.sup.rolling = 0;
-        rf_face_slip(m, m->cfg.terrain->tri[on].n);
+        rf_face_slip(m, RF_FACE(m, on)->n);
     }
 }
 

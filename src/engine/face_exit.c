@@ -100,7 +100,7 @@ typedef enum next_kind { RF_NEXT_IMPACT, RF_NEXT_ON, RF_NEXT_AWAY } next_kind;
 
 static next_kind next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
 {
-    const rf_triangle *Tn = &m->cfg.terrain->tri[to];
+    const rf_triangle *Tn = RF_FACE(m, to);
     double vn = rf_v3_dot(m->rock.s.v, Tn->n);
     if (fabs(vn) <= RF_APPROACH_EPS) {
         /* moving along the edge: the acceleration decides */
@@ -124,7 +124,7 @@ static next_kind next_face(const rf_motion *m, int32_t to, rf_vec3 acc)
 /* The impact on the next face at a concave edge (the point model is put on it). */
 static void impact_on_face(rf_motion *m, int32_t to)
 {
-    const rf_triangle *Tn = &m->cfg.terrain->tri[to];
+    const rf_triangle *Tn = RF_FACE(m, to);
     rf_contact c;
     memset(&c, 0, sizeof c);
     c.tri = to;
@@ -140,7 +140,7 @@ static void impact_on_face(rf_motion *m, int32_t to)
  * none). */
 int32_t rf_face_over_edge(const rf_terrain *t, int32_t from, int edge, const rf_face_edges *fe)
 {
-    const rf_triangle *F = &t->tri[from];
+    const rf_triangle *F = RF_TRI(t, from);
     rf_vec3 mid = rf_v3_scale(rf_v3_add(rf_tri_vertex(F, edge), rf_tri_vertex(F, edge + 1)), 0.5);
     int32_t to = rf_face_beyond(t, from, mid, rf_v3_scale(fe->m[edge], -1.0));
     return to == from ? -1 : to;
@@ -179,14 +179,14 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
 {
     const rf_terrain *t = m->cfg.terrain;
     int32_t from = m->rock.sup.tri[slot];
-    const rf_triangle *F = &t->tri[from];
+    const rf_triangle *F = RF_TRI(t, from);
     rf_vec3 q = m->cfg.centre ? m->rock.s.p : rf_v3_madd(m->rock.s.p, -m->cfg.rho, F->n);
     int32_t to = rf_face_after(m, from, edge, fe, q, acc);
     if (to < 0 && (m->cfg.point || m->cfg.centre))
         return RF_SURF_EXITED;
     if (m->rock.sup.n == 2) {
         int32_t other = m->rock.sup.tri[1 - slot];
-        if (to >= 0 && rf_coplanar(F, &t->tri[to], m->cfg.tol_len)) {
+        if (to >= 0 && rf_coplanar(F, RF_TRI(t, to), m->cfg.tol_len)) {
             m->rock.sup.tri[slot] = to;
             m->rock.sup.left = from;
             return RF_SURF_CONTINUE;
@@ -202,7 +202,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         rf_go_flight(m, from);
         return RF_SURF_FLIGHT;
     }
-    const rf_triangle *Tn = &t->tri[to];
+    const rf_triangle *Tn = RF_TRI(t, to);
     if (rf_coplanar(F, Tn, m->cfg.tol_len)) {
         rf_support_single(m, to, 0);
         m->rock.sup.left = from;
@@ -257,7 +257,7 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
 rf_crease_kind rf_crease_law(rf_motion *m, rf_crease *cr)
 {
     const rf_terrain *t = m->cfg.terrain;
-    const rf_triangle *A = &t->tri[m->rock.sup.tri[0]], *B = &t->tri[m->rock.sup.tri[1]];
+    const rf_triangle *A = RF_TRI(t, m->rock.sup.tri[0]), *B = RF_TRI(t, m->rock.sup.tri[1]);
     double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
     rf_vec3 l;
     if (rf_crease_forces(A->n, B->n, &xA, &xB, &l) || xA < 0 || xB < 0) {

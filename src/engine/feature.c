@@ -14,7 +14,7 @@ static inline double dmax(double a, double b) { return a > b ? a : b; }
 
 double rf_feature_distance(const rf_terrain *t, const rf_contact *c, rf_vec3 p)
 {
-    const rf_triangle *T = &t->tri[c->tri];
+    const rf_triangle *T = RF_TRI(t, c->tri);
     switch (c->kind) {
     case RF_FEAT_FACE:
         return rf_v3_dot(T->n, p) - T->d;
@@ -35,7 +35,7 @@ double rf_closest_feature(rf_motion *m, rf_vec3 p, double reach, rf_contact *c)
     c->kind = RF_FEAT_EDGE;
     for (size_t k = 0; k < n; k++) {
         int32_t idx = m->ws->cand[k];
-        const rf_triangle *T = &t->tri[idx];
+        const rf_triangle *T = RF_TRI(t, idx);
         rf_vec3 q = rf_triangle_closest_point(T, p);
         double d = rf_v3_norm(rf_v3_sub(p, q));
         double dplane = fabs(rf_v3_dot(T->n, p) - T->d);
@@ -132,7 +132,7 @@ double rf_clear_height(rf_motion *m, rf_vec3 p)
         int moved = 0;
         for (size_t k = 0; k < n; k++) {
             double lo = INFINITY, hi = -INFINITY;
-            vertical_overlap(&t->tri[m->ws->cand[k]], p.x, p.y, rho, &lo, &hi);
+            vertical_overlap(RF_TRI(t, m->ws->cand[k]), p.x, p.y, rho, &lo, &hi);
             if (lo < z && z < hi) {
                 z = hi;
                 moved = 1;

@@ -122,8 +122,8 @@ static int flight_step(rf_motion *m, double h)
      * plane of the face under it at the step's end */
     int32_t tri0 = rf_terrain_locate(t, p0.x, p0.y);
     if (tri0 >= 0 &&
-        rf_triangle_plane_distance(&t->tri[tri0], p0) < -RF_TOUCH_BAND * m->cfg.tol_len &&
-        rf_v3_dot(t->tri[tri0].n, m->rock.s.v) < 0) {
+        rf_triangle_plane_distance(RF_FACE(m, tri0), p0) < -RF_TOUCH_BAND * m->cfg.tol_len &&
+        rf_v3_dot(RF_FACE(m, tri0)->n, m->rock.s.v) < 0) {
         /* a centre under the face it is over, sinking further: the search finds no
          * entry into a plane the centre is already under, so it is rescued at once,
          * onto the highest offset plane there.  (Under the offset plane alone is left
@@ -137,7 +137,7 @@ static int flight_step(rf_motion *m, double h)
     int hit = 0, out = 0;
     rf_contact c;
     if (tri1 != tri0 || tri1 < 0 ||
-        rf_v3_dot(t->tri[tri1].n, pe) - t->tri[tri1].d - m->cfg.rho < m->cfg.tol_len) {
+        rf_v3_dot(RF_FACE(m, tri1)->n, pe) - RF_FACE(m, tri1)->d - m->cfg.rho < m->cfg.tol_len) {
         /* the step's straight piece p0 + ve t, searched as the exact engine searches a
          * flight (Eq. 6-7: the centre moves over a column already within reach of its
          * plane, or reaches the plane over the column) */
@@ -202,7 +202,7 @@ static int face_step(rf_motion *m, double h, face_run *run)
     int seg_start = run->fresh;
     run->fresh = 1;
     int32_t tri = m->rock.sup.tri[0];
-    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    const rf_triangle *T = RF_FACE(m, tri);
     rf_vec3 n = T->n;
     m->rock.s.v = rf_in_plane(m->rock.s.v, n);
     rf_vec3 u = rf_v3(0, 0, 0);
@@ -324,7 +324,7 @@ static int crease_step(rf_motion *m, double h)
     case RF_CREASE_MOVES: break;
     }
     const rf_terrain *t = m->cfg.terrain;
-    const rf_triangle *A = &t->tri[m->rock.sup.tri[0]], *B = &t->tri[m->rock.sup.tri[1]];
+    const rf_triangle *A = RF_TRI(t, m->rock.sup.tri[0]), *B = RF_TRI(t, m->rock.sup.tri[1]);
     double s1 = cr.s + h * cr.as;
     int zero = 0;
     if (s1 < 0) {
@@ -357,7 +357,7 @@ static int crease_step(rf_motion *m, double h)
         int32_t from = m->rock.sup.tri[slot], other = m->rock.sup.tri[1 - slot];
         int32_t to = rf_face_after(m, from, edge, &col[slot], m->rock.s.p, rf_v3_scale(cr.l, cr.as));
         rf_motion_event(m);
-        if (to >= 0 && rf_coplanar(&m->cfg.terrain->tri[from], &m->cfg.terrain->tri[to], m->cfg.tol_len)) {
+        if (to >= 0 && rf_coplanar(RF_TRI(t, from), RF_TRI(t, to), m->cfg.tol_len)) {
             m->rock.sup.tri[slot] = to;
             m->rock.sup.left = from;
             return -1;

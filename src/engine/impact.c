@@ -27,7 +27,7 @@
 static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
 {
     const rf_terrain *t = m->cfg.terrain;
-    int32_t z = t->tri[tri].zone;
+    int32_t z = rf_tri_zone(t, tri);
     if (z < 0 || (size_t)z >= t->nzones)
         z = 0;
     return &t->zones[z].surface;
@@ -36,7 +36,7 @@ static const rf_surface *surface_of(const rf_motion *m, int32_t tri)
 void rf_support_draw(rf_motion *m, int32_t tri)
 {
     const rf_surface *s = surface_of(m, tri);
-    m->rock.sup.zone = m->cfg.terrain->tri[tri].zone;
+    m->rock.sup.zone = rf_tri_zone(m->cfg.terrain, tri);
     m->rock.sup.mu = rf_draw_truncated(m->rng, s->friction, 0.0, INFINITY);
     m->rock.sup.mu_r = rf_draw_truncated(m->rng, s->rolling, 0.0, INFINITY);
 }
@@ -304,7 +304,7 @@ double rf_pivot_rise(const rf_motion *m, rf_vec3 q, rf_vec3 n)
 int rf_pivot(rf_motion *m, rf_vec3 q, int32_t to)
 {
     const rf_body *b = m->cfg.body;
-    const rf_triangle *T = &m->cfg.terrain->tri[to];
+    const rf_triangle *T = RF_FACE(m, to);
     rf_vec3 n = T->n;
     rf_vec3 c_new = rf_v3_madd(q, m->cfg.rho, n);
     double e = rf_kinetic_energy(b, m->rock.s.v, m->rock.s.w) +

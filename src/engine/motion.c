@@ -35,9 +35,12 @@ rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt)
     ws->tables = tt;
     ws->cap = 256;
     ws->cand = malloc(ws->cap * sizeof *ws->cand);
-    ws->stamp = calloc(t->ntri ? t->ntri : 1, sizeof *ws->stamp);
-    ws->tested = calloc(t->ntri ? t->ntri : 1, sizeof *ws->tested);
-    if (!ws->cand || !ws->stamp || !ws->tested) {
+    ws->stamp = t->is_grid ? NULL : calloc(t->ntri ? t->ntri : 1, sizeof *ws->stamp);
+    for (int h = 0; h < RF_FACE_CACHE; h++)
+        ws->face_key[h] = ws->box_key[h] = -1;
+    ws->tested_cap = 256;
+    ws->tested = calloc(ws->tested_cap, sizeof *ws->tested);
+    if (!ws->cand || (!t->is_grid && !ws->stamp) || !ws->tested) {
         rf_workspace_free(ws);
         return NULL;
     }

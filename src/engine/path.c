@@ -197,7 +197,7 @@ static double event_rate(rf_motion *m, const rf_face_dyn *f, rf_ev_kind kind, co
     }
     case RF_EV_CONTACT: {
         const rf_contact *c = &ev->con;
-        const rf_triangle *T = &m->cfg.terrain->tri[c->tri];
+        const rf_triangle *T = RF_FACE(m, c->tri);
         if (c->kind == RF_FEAT_FACE)
             return rf_v3_dot(T->n, v);
         rf_vec3 p = rf_v3_add(c0, y_c(y));

@@ -25,7 +25,7 @@ static int place_start(rf_motion *m)
     memset(&c, 0, sizeof c);
     double dist;
     if (m->cfg.point || m->cfg.centre) {
-        const rf_triangle *T = &t->tri[tri];
+        const rf_triangle *T = RF_FACE(m, tri);
         dist = rf_v3_dot(T->n, m->rock.s.p) - T->d;
         c.tri = tri;
         c.kind = RF_FEAT_FACE;
@@ -41,7 +41,7 @@ static int place_start(rf_motion *m)
          * pushed out of the feature nearest its centre; when that leaves it in another
          * one or under the ground, it is raised on its vertical instead, until it just
          * touches the terrain */
-        const rf_triangle *T = &t->tri[tri];
+        const rf_triangle *T = RF_FACE(m, tri);
         double dp = rf_v3_dot(T->n, m->rock.s.p) - T->d;
         if (dp < m->cfg.rho)
             m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dp, T->n);
@@ -54,7 +54,7 @@ static int place_start(rf_motion *m)
              * of every feature, but below them) is not taken */
             int32_t under = rf_terrain_locate(t, m->rock.s.p.x, m->rock.s.p.y);
             if (dist < m->cfg.rho - m->cfg.tol_len || under < 0 ||
-                rf_triangle_plane_distance(&t->tri[under], m->rock.s.p) < m->cfg.rho - m->cfg.tol_len) {
+                rf_triangle_plane_distance(RF_FACE(m, under), m->rock.s.p) < m->cfg.rho - m->cfg.tol_len) {
                 m->rock.s.p = p0;
                 m->rock.s.p.z = rf_clear_height(m, p0);
                 dist = rf_closest_feature(m, m->rock.s.p, m->cfg.rho + 1.0, &c);
@@ -64,10 +64,10 @@ static int place_start(rf_motion *m)
     if (!(dist <= m->cfg.rho + RF_START_TOUCH))
         return -1; /* in the air */
     double gap;
-    if (m->cfg.point && t->tri[c.tri].n.z > 0)
-        m->rock.s.p.z = rf_triangle_z_at(&t->tri[c.tri], m->rock.s.p.x, m->rock.s.p.y);
+    if (m->cfg.point && RF_FACE(m, c.tri)->n.z > 0)
+        m->rock.s.p.z = rf_triangle_z_at(RF_FACE(m, c.tri), m->rock.s.p.x, m->rock.s.p.y);
     else if (m->cfg.centre && dist < m->cfg.rho)
-        m->rock.s.p = rf_v3_add(m->rock.s.p, rf_centre_lift_move(m, &t->tri[c.tri], &gap));
+        m->rock.s.p = rf_v3_add(m->rock.s.p, rf_centre_lift_move(m, RF_FACE(m, c.tri), &gap));
     else if (c.kind == RF_FEAT_FACE)
         m->rock.s.p = rf_v3_madd(m->rock.s.p, m->cfg.rho - dist, c.n);
     double vn = rf_v3_dot(m->rock.s.v, c.n);
@@ -104,12 +104,12 @@ static int32_t column_extreme(rf_motion *m, rf_vec3 p, double reach, int32_t tri
 {
     const rf_terrain *t = m->cfg.terrain;
     double sign = highest ? 1.0 : -1.0; /* the lowest is the highest of -z */
-    double best = tri >= 0 ? sign * offset_plane_z(m, &t->tri[tri], p) : -INFINITY;
+    double best = tri >= 0 ? sign * offset_plane_z(m, RF_TRI(t, tri), p) : -INFINITY;
     int32_t skip = tri;
     size_t n = rf_gather(m, p.x - reach, p.y - reach, p.x + reach, p.y + reach);
     for (size_t i = 0; i < n; i++) {
         int32_t k = m->ws->cand[i];
-        const rf_triangle *T = &t->tri[k];
+        const rf_triangle *T = RF_TRI(t, k);
         if (k == skip || !(T->n.z > 0))
             continue;
         double z = sign * offset_plane_z(m, T, p);
@@ -139,7 +139,7 @@ static int settle_in_lowest_column(rf_motion *m, rf_vec3 p)
     int32_t best = column_extreme(m, p, RF_SETTLE_REACH * tol, -1, 0);
     if (best < 0)
         return -1;
-    const rf_triangle *T = &t->tri[best];
+    const rf_triangle *T = RF_TRI(t, best);
     /* the least part f of the way to the centroid g that puts it inside by 2 tol: the
      * distances to the column's edges are linear along the way */
     rf_vec3 g = rf_v3((T->a.x + T->b.x + T->c.x) / 3.0, (T->a.y + T->b.y + T->c.y) / 3.0, p.z);
@@ -172,14 +172,14 @@ static rf_vec3 sphere_out(rf_motion *m)
     rf_contact c;
     double d = rf_closest_feature(m, p, m->cfg.rho + 1.0, &c);
     if (c.kind == RF_FEAT_FACE)
-        d = rf_triangle_plane_distance(&t->tri[c.tri], p);
+        d = rf_triangle_plane_distance(RF_FACE(m, c.tri), p);
     if (!(d < m->cfg.rho + m->cfg.tol_len))
         return rf_v3(0, 0, 0);
     rf_vec3 q = rf_v3_madd(p, m->cfg.rho + m->cfg.tol_len - d, c.n);
     rf_contact near;
     int32_t under = rf_terrain_locate(t, q.x, q.y);
     if (rf_closest_feature(m, q, m->cfg.rho + 1.0, &near) < m->cfg.rho - m->cfg.tol_len || under < 0 ||
-        rf_triangle_plane_distance(&t->tri[under], q) < 0) {
+        rf_triangle_plane_distance(RF_FACE(m, under), q) < 0) {
         q = p;
         q.z = rf_clear_height(m, p) + m->cfg.tol_len;
     }
@@ -198,11 +198,11 @@ static int unstall(rf_motion *m)
     rf_motion_note_energy(m);
     int32_t tri = rf_terrain_locate(t, m->rock.s.p.x, m->rock.s.p.y);
     if (tri >= 0) {
-        const rf_triangle *T = &t->tri[tri];
+        const rf_triangle *T = RF_FACE(m, tri);
         rf_vec3 n = T->n; /* the velocity into the terrain is taken along it */
         if (m->cfg.centre) {
             tri = rf_highest_column(m, tri);
-            T = &t->tri[tri];
+            T = RF_FACE(m, tri);
             n = T->n;
             double gap;
             /* onto the offset plane of the column now under the centre (Eq. 6), as a

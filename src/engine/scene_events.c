@@ -233,7 +233,7 @@ static int tree_event(rf_motion *m, int32_t *onto)
         /* on the surface: off into flight when the stem throws it up, else back onto
          * the face it was on (*onto), its velocity made tangent there */
         int32_t tri = m->rock.sup.tri[0];
-        double vn = rf_v3_dot(m->rock.s.v, m->cfg.terrain->tri[tri].n);
+        double vn = rf_v3_dot(m->rock.s.v, RF_FACE(m, tri)->n);
         m->rock.sup.n = 0;
         if (vn <= m->cfg.v_stay) {
             *onto = tri;

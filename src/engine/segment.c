@@ -49,7 +49,7 @@ rf_surface_end rf_seg_dispatch(rf_motion *m, rf_seg_event *ev, rf_vec3 acc, cons
         return RF_SURF_CONTINUE;
     case RF_EV_SLIP:
         m->rock.sup.rolling = 1;
-        rf_set_spin(m, m->cfg.terrain->tri[m->rock.sup.tri[0]].n, rf_v3(0, 0, 0));
+        rf_set_spin(m, RF_FACE(m, m->rock.sup.tri[0])->n, rf_v3(0, 0, 0));
         rf_motion_event(m);
         return RF_SURF_CONTINUE;
     case RF_EV_EXIT: {

@@ -67,6 +67,8 @@ typedef struct rf_feat_slot {
  * workspaces of all threads. */
 struct rf_terrain_tables {
     const rf_terrain *terrain;
+    /* meshes and profiles, and grids that keep their triangles; NULL for a grid that
+     * derives them, whose boxes and lengths are derived too (rf_tri_box, rf_tri_hedge) */
     float *tri_box;   /* per triangle: xmin, xmax, ymin, ymax, zmin, zmax (rounded
                          outwards) */
     double *hedge;    /* per triangle: the horizontal lengths of edges ab, bc, ca */
@@ -74,6 +76,8 @@ struct rf_terrain_tables {
                            concave: convex, nearly flat, or on the border); meshes, bit
                            RF_EDGE_BORDER << k: edge k is a border in plan (one
                            holder covers ground: no other, or only vertical ones) */
+    uint8_t *cell_live; /* grids: per cell, bits 0-2 triangle 0's edge_live bits, bits
+                           3-5 triangle 1's (rf_edge_live) */
     int has_gaps;     /* the terrain has holes: nodata triangles of a grid, or edges of
                          a mesh on its border in plan off its bounding box's sides */
     double nz_min;    /* the smallest z component of the faces' unit normals, at least
@@ -81,26 +85,79 @@ struct rf_terrain_tables {
                          above) */
 };
 
-/* One thread's scratch for the motion of its rocks, over the shared tables. */
+/* Slots of a workspace's cache of a grid's derived triangles (a power of two). */
+#define RF_FACE_CACHE 256
+
+/* contact.c: a slot of the set of triangles a flight's search has tested */
+typedef struct rf_tested_slot {
+    int32_t tri;
+    uint32_t gen;     /* slot in use when equal to rf_workspace.tested_gen */
+} rf_tested_slot;
+
+/* One thread's scratch for the motion of its rocks, over the shared tables; none of it
+ * grows with a grid (a mesh's box queries keep a stamp per triangle). */
 struct rf_workspace {
     const rf_terrain_tables *tables;
     rf_terrain_tables *own; /* the tables, when the workspace built them itself */
     int32_t *cand;    /* candidate triangles */
     size_t cap;
-    uint32_t *stamp;  /* query stamps, one per triangle */
+    uint32_t *stamp;  /* meshes: query stamps, one per triangle; NULL for a grid */
     uint32_t epoch;
     int32_t *near_hit; /* candidates of a surface segment */
     size_t near_cap;
     int32_t *pend_idx; /* triangles whose edges and vertices are still to test */
     double *pend_w0;
     size_t pend_cap;
-    uint32_t *tested; /* flights: triangles tested in the current search (== test_epoch) */
-    uint32_t test_epoch;
+    rf_tested_slot *tested; /* flights: the triangles tested in the current search, an
+                               open-addressing set of tested_cap (a power of two) slots
+                               at most half full, emptied by a new tested_gen */
+    size_t tested_cap, tested_n;
+    uint32_t tested_gen;
+    /* a grid's triangles derived lately (rf_face): face[h] is triangle face_key[h]
+       (-1: none), h its index modulo RF_FACE_CACHE */
+    int32_t face_key[RF_FACE_CACHE];
+    rf_triangle face[RF_FACE_CACHE];
+    int32_t box_key[RF_FACE_CACHE]; /* the same for the boxes of rf_tri_box */
+    float box[RF_FACE_CACHE][6];
     /* contact.c: shared edges and vertices (zeroed by calloc; no allocation) */
     uint32_t feat_gen;
     size_t feat_used; /* slots in use in the current generation */
     rf_feat_slot feat[RF_FEAT_SLOTS];
 };
+
+/* Triangle idx of terrain t as the workspace sees it: a mesh's own; a grid's copied into
+ * buf from the workspace's cache of derived triangles (rf_grid_triangle on a miss), so
+ * that the pointer stays valid while buf does, whatever is derived meanwhile. */
+static inline const rf_triangle *rf_face(rf_workspace *ws, const rf_terrain *t, int32_t idx,
+                                         rf_triangle *buf)
+{
+    if (t->tri)
+        return &t->tri[idx];
+    if (ws->tables->terrain != t) {
+        rf_grid_triangle(t, idx, buf);
+        return buf;
+    }
+    unsigned h = (unsigned)idx & (RF_FACE_CACHE - 1);
+    if (ws->face_key[h] != idx) {
+        rf_grid_triangle(t, idx, &ws->face[h]);
+        ws->face_key[h] = idx;
+    }
+    *buf = ws->face[h];
+    return buf;
+}
+
+/* rf_face for motion m into a buffer of the enclosing block (a compound literal, made
+ * only for a grid that derives its triangles). */
+#define RF_FACE(m, idx)                                                                          \
+    ((m)->cfg.terrain->tri ? &(m)->cfg.terrain->tri[idx]                                         \
+                           : rf_face((m)->ws, (m)->cfg.terrain, (idx), &(rf_triangle){.zone = 0}))
+
+/* rf_tri_corners for motion m: a full face in centre mode (which reads its normal),
+ * else only the corners. */
+#define RF_CORNERS(m, idx)                                                                       \
+    ((m)->cfg.terrain->tri ? &(m)->cfg.terrain->tri[idx]                                         \
+     : (m)->cfg.centre     ? RF_FACE(m, idx)                                                     \
+                           : rf_tri_corners((m)->cfg.terrain, (idx), &(rf_triangle){.zone = 0}))
 
 /* A measure's line the rock has just crossed (scene_events.c): the crossed segment's
  * line, through (ax, ay) with unit normal (nx, ny) in plan. */

@@ -42,7 +42,7 @@ static int wall_edge(rf_motion *m, const rf_face_dyn *f, const rf_face_edges *fe
 {
     const rf_terrain *t = m->cfg.terrain;
     int32_t from = m->rock.sup.tri[0];
-    const rf_triangle *F = &t->tri[from];
+    const rf_triangle *F = RF_FACE(m, from);
     for (int k = 0; k < 3; k++) {
         if (!rf_on_edge(m, fe, k, m->rock.s.p) ||
             rf_v3_dot(fe->m[k], m->rock.s.v) > RF_APPROACH_EPS ||
@@ -144,7 +144,7 @@ int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf
     if (!rf_on_edge(m, col, edge, m->rock.s.p))
         return -1;
     int32_t from = m->rock.sup.tri[0];
-    const rf_triangle *T = &m->cfg.terrain->tri[from];
+    const rf_triangle *T = RF_FACE(m, from);
     rf_face_dyn f;
     rf_face_setup(m, T->n, &f);
     rf_vec3 u = m->rock.sup.rolling ? rf_v3(0, 0, 0) : rf_slip_of(m, T->n);
@@ -163,7 +163,7 @@ int rf_wall_meet(rf_motion *m, const rf_face_edges *col, int edge, int *wall, rf
 static rf_surface_end face_step(rf_motion *m)
 {
     int32_t tri = m->rock.sup.tri[0];
-    const rf_triangle *T = &m->cfg.terrain->tri[tri];
+    const rf_triangle *T = RF_FACE(m, tri);
     m->rock.s.v = rf_in_plane(m->rock.s.v, T->n);
     rf_face_dyn f;
     rf_vec3 u0 = rf_v3(0, 0, 0);
@@ -216,14 +216,14 @@ static rf_surface_end crease_step(rf_motion *m)
     rf_arc arc = {m->rock.s.p, m->rock.s.v, a};
     rf_face_edges fe[2];
     for (int slot = 0; slot < 2; slot++) {
-        const rf_triangle *S = &t->tri[m->rock.sup.tri[slot]];
+        const rf_triangle *S = RF_TRI(t, m->rock.sup.tri[slot]);
         rf_face_edges_setup(m, S, &fe[slot]);
         int edge = 0;
         /* not over the edge the faces share: the contact points move along it (the
          * point mass on it), and the crease's direction, from two nearly parallel
          * normals, may stray from it by a hair (in centre mode the centre lies over
          * one face, beyond the other's column, and the crease ends there) */
-        int shared = m->cfg.centre ? -1 : rf_shared_edge(S, &t->tri[m->rock.sup.tri[1 - slot]]);
+        int shared = m->cfg.centre ? -1 : rf_shared_edge(S, RF_TRI(t, m->rock.sup.tri[1 - slot]));
         double tx = rf_exit_time(m, &fe[slot], &arc, ev.t, shared, &edge);
         if (tx < ev.t) {
             rf_seg_consider(&ev, RF_EV_EXIT, tx);

@@ -95,7 +95,7 @@ rf_vec3 rf_crease_centre(const rf_triangle *A, const rf_triangle *B, double rho,
 rf_spin_law rf_crease_roll(const rf_motion *m)
 {
     const rf_terrain *t = m->cfg.terrain;
-    rf_vec3 nm = rf_v3_unit(rf_v3_add(t->tri[m->rock.sup.tri[0]].n, t->tri[m->rock.sup.tri[1]].n));
+    rf_vec3 nm = rf_v3_unit(rf_v3_add(RF_TRI(t, m->rock.sup.tri[0])->n, RF_TRI(t, m->rock.sup.tri[1])->n));
     rf_vec3 z = rf_v3(0, 0, 0);
     return (rf_spin_law){nm, 0.0, z, z};
 }
@@ -107,7 +107,7 @@ int rf_surface_holds(const rf_motion *m)
     if (m->rock.sup.n == 1) {
         if (c < 0)
             return 0; /* a slipping sphere first rolls */
-        rf_vec3 n = t->tri[m->rock.sup.tri[0]].n;
+        rf_vec3 n = RF_TRI(t, m->rock.sup.tri[0])->n;
         double G = RF_GRAVITY * sqrt(rf_fmax(0.0, 1.0 - n.z * n.z));
         return G <= c * RF_GRAVITY * n.z;
     }
@@ -116,7 +116,7 @@ int rf_surface_holds(const rf_motion *m)
             c = m->rock.sup.mu;
         double xA = 0.0, xB = 0.0; /* crease_forces may fail before setting them */
         rf_vec3 l;
-        if (rf_crease_forces(t->tri[m->rock.sup.tri[0]].n, t->tri[m->rock.sup.tri[1]].n, &xA, &xB, &l))
+        if (rf_crease_forces(RF_TRI(t, m->rock.sup.tri[0])->n, RF_TRI(t, m->rock.sup.tri[1])->n, &xA, &xB, &l))
             return 0;
         return fabs(RF_GRAVITY * l.z) <= c * (xA + xB);
     }
@@ -128,13 +128,13 @@ int rf_support_steep(const rf_motion *m)
     const rf_terrain *t = m->cfg.terrain;
     double c = m->cfg.point ? m->rock.sup.mu : m->rock.sup.mu_r;
     if (m->rock.sup.n == 1) {
-        rf_vec3 n = t->tri[m->rock.sup.tri[0]].n;
+        rf_vec3 n = RF_TRI(t, m->rock.sup.tri[0])->n;
         return RF_GRAVITY * sqrt(rf_fmax(0.0, 1.0 - n.z * n.z)) > c * RF_GRAVITY * n.z;
     }
     if (m->rock.sup.n == 2) {
         double xA = 0.0, xB = 0.0;
         rf_vec3 l;
-        if (rf_crease_forces(t->tri[m->rock.sup.tri[0]].n, t->tri[m->rock.sup.tri[1]].n, &xA, &xB, &l))
+        if (rf_crease_forces(RF_TRI(t, m->rock.sup.tri[0])->n, RF_TRI(t, m->rock.sup.tri[1])->n, &xA, &xB, &l))
             return 0;
         return fabs(RF_GRAVITY * l.z) > c * (xA + xB);
     }

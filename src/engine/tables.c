@@ -11,40 +11,76 @@
 static inline double dmin(double a, double b) { return a < b ? a : b; }
 static inline double dmax(double a, double b) { return a > b ? a : b; }
 
+/* nextafterf(f, -INFINITY) and nextafterf(f, INFINITY) of a float f that is not NaN and
+ * not already the end of that way, by its bits (IEEE 754 binary32: the next float away
+ * from zero is the next integer of the same sign; zero steps to the smallest
+ * subnormal). */
+static inline float float_step(float f, int up)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    if ((u & 0x7fffffffu) == 0)
+        u = up ? 1u : 0x80000001u;
+    else if ((u >> 31) == (up ? 0u : 1u))
+        u++; /* away from zero */
+    else
+        u--; /* towards zero */
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
 static inline float float_down(double x)
 {
     float f = (float)x;
-    return (double)f > x ? nextafterf(f, -INFINITY) : f;
+    return (double)f > x ? float_step(f, 0) : f;
 }
 
 static inline float float_up(double x)
 {
     float f = (float)x;
-    return (double)f < x ? nextafterf(f, INFINITY) : f;
+    return (double)f < x ? float_step(f, 1) : f;
 }
 
-/* Fills box (6 per triangle: xmin, xmax, ymin, ymax, zmin, zmax, rounded outwards). */
-static void tri_box_build(const rf_terrain *t, float *box)
+/* The box of vertices P (xmin, xmax, ymin, ymax, zmin, zmax, rounded outwards). */
+static void box_of(const rf_vec3 P[3], float *box)
 {
-    for (size_t i = 0; i < t->ntri; i++, box += 6) {
-        const rf_triangle *T = &t->tri[i];
-        box[0] = float_down(dmin(T->a.x, dmin(T->b.x, T->c.x)));
-        box[1] = float_up(dmax(T->a.x, dmax(T->b.x, T->c.x)));
-        box[2] = float_down(dmin(T->a.y, dmin(T->b.y, T->c.y)));
-        box[3] = float_up(dmax(T->a.y, dmax(T->b.y, T->c.y)));
-        box[4] = float_down(dmin(T->a.z, dmin(T->b.z, T->c.z)));
-        box[5] = float_up(dmax(T->a.z, dmax(T->b.z, T->c.z)));
-    }
+    box[0] = float_down(dmin(P[0].x, dmin(P[1].x, P[2].x)));
+    box[1] = float_up(dmax(P[0].x, dmax(P[1].x, P[2].x)));
+    box[2] = float_down(dmin(P[0].y, dmin(P[1].y, P[2].y)));
+    box[3] = float_up(dmax(P[0].y, dmax(P[1].y, P[2].y)));
+    box[4] = float_down(dmin(P[0].z, dmin(P[1].z, P[2].z)));
+    box[5] = float_up(dmax(P[0].z, dmax(P[1].z, P[2].z)));
 }
 
-/* Fills hedge (3 per triangle: the horizontal lengths of edges ab, bc, ca). */
-static void hedge_build(const rf_terrain *t, double *hedge)
+/* The horizontal lengths of the edges of vertices P: ab, bc, ca. */
+static void hedge_of(const rf_vec3 P[3], double *hedge)
 {
-    for (size_t i = 0; i < t->ntri; i++, hedge += 3) {
+    for (int k = 0; k < 3; k++)
+        hedge[k] = hypot(P[(k + 1) % 3].x - P[k].x, P[(k + 1) % 3].y - P[k].y);
+}
+
+void rf_grid_box(const rf_terrain *t, int32_t idx, float box[6])
+{
+    rf_vec3 P[3];
+    rf_grid_vertices(t, idx, P);
+    box_of(P, box);
+}
+
+void rf_grid_hedge(const rf_terrain *t, int32_t idx, double hedge[3])
+{
+    rf_vec3 P[3];
+    rf_grid_vertices(t, idx, P);
+    hedge_of(P, hedge);
+}
+
+/* Fills box (6 per triangle) and hedge (3 per triangle) of a mesh. */
+static void box_hedge_build(const rf_terrain *t, float *box, double *hedge)
+{
+    for (size_t i = 0; i < t->ntri; i++, box += 6, hedge += 3) {
         const rf_triangle *T = &t->tri[i];
         rf_vec3 P[3] = {T->a, T->b, T->c};
-        for (int k = 0; k < 3; k++)
-            hedge[k] = hypot(P[(k + 1) % 3].x - P[k].x, P[(k + 1) % 3].y - P[k].y);
+        box_of(P, box);
+        hedge_of(P, hedge);
     }
 }
 
@@ -74,46 +110,107 @@ static int edge_concave(const rf_triangle *A, const rf_triangle *B, rf_vec3 va, 
     return hb > RF_CONCAVE_MIN_ANGLE * db && ha > RF_CONCAVE_MIN_ANGLE * da && db > 0 && da > 0;
 }
 
-/* Clears bit ka of triangle a's flags when its edge ka, shared with triangle b, is
- * strictly concave (b's own flag bit too, when b's flags are set). */
-static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int32_t b)
+/* 1 when edge ka of triangle A, shared with triangle B, is strictly concave (NULL: no
+ * neighbour). */
+static int pair_concave(const rf_triangle *A, int ka, const rf_triangle *B)
 {
-    if (a < 0 || b < 0)
-        return;
-    const rf_triangle *A = &t->tri[a], *B = &t->tri[b];
+    if (!A || !B)
+        return 0;
     rf_vec3 va = rf_tri_vertex(A, ka), vb = rf_tri_vertex(A, ka + 1), oa = rf_tri_vertex(A, ka + 2);
     int kb = -1;
     for (int k = 0; k < 3; k++)
         if (rf_same_feature(A, ka | 4, B, k | 4))
             kb = k;
     if (kb < 0)
-        return;
+        return 0;
     rf_vec3 ob = rf_tri_vertex(B, kb + 2);
-    if (edge_concave(A, B, va, vb, oa, ob))
+    return edge_concave(A, B, va, vb, oa, ob);
+}
+
+/* Meshes: clears bit ka of triangle a's flags when its edge ka, shared with triangle b,
+ * is strictly concave. */
+static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int32_t b)
+{
+    if (a >= 0 && b >= 0 && pair_concave(&t->tri[a], ka, &t->tri[b]))
         live[a] &= (uint8_t)~(1u << ka);
 }
 
-/* Grids: the flags of triangle idx, from its neighbours by cell arithmetic (cell (i, j)
- * holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a is SW in both). */
-static void grid_edge_live(const rf_terrain *t, uint8_t *live, int32_t idx)
+/* Grids: the triangles of cell row j (2 per cell, NULL for a hole) derived into row. */
+static void grid_row(const rf_terrain *t, size_t j, rf_triangle *row, const rf_triangle **at)
 {
-    live[idx] = 8 | 7;
-    size_t ncx = t->nx - 1, ncy = t->ny - 1;
-    size_t n = (size_t)t->grid_node[idx] >> 1, j = n / t->nx, i = n - j * t->nx;
-    const int32_t *g = t->grid_tri + 2 * (j * ncx + i);
-    if ((t->grid_node[idx] & 1) == 0) {
-        if (j > 0)
-            mark_pair(t, live, idx, 0, t->grid_tri[2 * ((j - 1) * ncx + i) + 1]); /* south */
-        if (i + 1 < ncx)
-            mark_pair(t, live, idx, 1, g[3]);                                      /* east */
-        mark_pair(t, live, idx, 2, g[1]);                                          /* diagonal */
-    } else {
-        mark_pair(t, live, idx, 0, g[0]);                                          /* diagonal */
-        if (j + 1 < ncy)
-            mark_pair(t, live, idx, 1, t->grid_tri[2 * ((j + 1) * ncx + i)]);     /* north */
-        if (i > 0)
-            mark_pair(t, live, idx, 2, g[-2]);                                     /* west */
+    size_t ncx = t->nx - 1;
+    for (size_t s = 0; s < 2 * ncx; s++) {
+        int32_t idx = rf_grid_slot(t, 2 * j * ncx + s);
+        at[s] = NULL;
+        if (idx >= 0) {
+            rf_grid_triangle(t, idx, &row[s]);
+            at[s] = &row[s];
+        }
     }
+}
+
+/* Grids: the live bits (0-2) of triangle k of cell (i, j) of row `cur`, from its
+ * neighbours in rows `south`, `cur` and `north` (NULL beyond the grid).  Cell (i, j)
+ * holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a is SW in both. */
+static unsigned grid_edge_live(size_t ncx, size_t i, int k, const rf_triangle *const *south,
+                               const rf_triangle *const *cur, const rf_triangle *const *north)
+{
+    const rf_triangle *A = cur[2 * i + (size_t)k];
+    int concave[3];
+    if (k == 0) {
+        concave[0] = south && pair_concave(A, 0, south[2 * i + 1]);         /* south */
+        concave[1] = i + 1 < ncx && pair_concave(A, 1, cur[2 * i + 3]);     /* east */
+        concave[2] = pair_concave(A, 2, cur[2 * i + 1]);                    /* diagonal */
+    } else {
+        concave[0] = pair_concave(A, 0, cur[2 * i]);                        /* diagonal */
+        concave[1] = north && pair_concave(A, 1, north[2 * i]);             /* north */
+        concave[2] = i > 0 && pair_concave(A, 2, cur[2 * i - 2]);           /* west */
+    }
+    unsigned live = 7;
+    for (int e = 0; e < 3; e++)
+        if (concave[e])
+            live &= ~(1u << e);
+    return live;
+}
+
+/* Grids: the live bits of both triangles of every cell (rf_edge_live), and the
+ * smallest n.z of the faces, three rows of derived triangles at a time; 0, or -1 out of
+ * memory. */
+static int cell_live_build(const rf_terrain *t, uint8_t *cell_live, double *nz_min)
+{
+    size_t ncx = t->nx - 1, ncy = t->ny - 1, w = 2 * ncx;
+    rf_triangle *tri = malloc(3 * w * sizeof *tri);
+    const rf_triangle **at = malloc(3 * w * sizeof *at);
+    if (!tri || !at) {
+        free(tri);
+        free(at);
+        return -1;
+    }
+    /* row j's triangles are in slot j % 3 */
+    grid_row(t, 0, tri, at);
+    for (size_t j = 0; j < ncy; j++) {
+        if (j + 1 < ncy)
+            grid_row(t, j + 1, tri + (j + 1) % 3 * w, at + (j + 1) % 3 * w);
+        const rf_triangle *const *cur = at + j % 3 * w;
+        const rf_triangle *const *south = j > 0 ? at + (j + 2) % 3 * w : NULL;
+        const rf_triangle *const *north = j + 1 < ncy ? at + (j + 1) % 3 * w : NULL;
+        for (size_t i = 0; i < ncx; i++) {
+            unsigned bits = 0;
+            for (int k = 0; k < 2; k++) {
+                const rf_triangle *A = cur[2 * i + (size_t)k];
+                if (!A) {
+                    bits |= 7u << (3 * k);
+                    continue;
+                }
+                bits |= grid_edge_live(ncx, i, k, south, cur, north) << (3 * k);
+                *nz_min = fmin(*nz_min, A->n.z);
+            }
+            cell_live[j * ncx + i] = (uint8_t)bits;
+        }
+    }
+    free(tri);
+    free(at);
+    return 0;
 }
 
 typedef struct edge_ref {
@@ -145,11 +242,6 @@ static int covers_ground(const rf_triangle *T)
  * first; RF_EDGE_BORDER << k, edge k is a border in plan); 0, or -1 out of memory. */
 static int edge_live_build(const rf_terrain *t, uint8_t *live)
 {
-    if (t->is_grid) {
-        for (size_t i = 0; i < t->ntri; i++)
-            grid_edge_live(t, live, (int32_t)i);
-        return 0;
-    }
     memset(live, 8 | 7, t->ntri ? t->ntri : 1);
     size_t n = 3 * t->ntri;
     edge_ref *r = malloc((n ? n : 1) * sizeof *r);
@@ -188,13 +280,8 @@ static int edge_live_build(const rf_terrain *t, uint8_t *live)
  * mesh (RF_EDGE_BORDER) whose ends do not both lie on one side of the bounding box. */
 static int terrain_has_gaps(const rf_terrain *t, const uint8_t *live)
 {
-    if (t->is_grid) {
-        size_t ncell = 2 * (t->nx - 1) * (t->ny - 1);
-        for (size_t i = 0; i < ncell; i++)
-            if (t->grid_tri[i] < 0)
-                return 1;
-        return 0;
-    }
+    if (t->is_grid)
+        return t->grid_hole != NULL;
     for (size_t i = 0; i < t->ntri; i++) {
         unsigned border = live[i] / RF_EDGE_BORDER;
         for (int k = 0; k < 3; k++) {
@@ -217,19 +304,34 @@ rf_terrain_tables *rf_terrain_tables_build(const rf_terrain *t)
         return NULL;
     size_t n = t->ntri ? t->ntri : 1;
     tt->terrain = t;
-    tt->edge_live = malloc(n);
-    tt->tri_box = malloc(6 * n * sizeof *tt->tri_box);
-    tt->hedge = malloc(3 * n * sizeof *tt->hedge);
-    if (!tt->edge_live || !tt->tri_box || !tt->hedge || edge_live_build(t, tt->edge_live)) {
-        rf_terrain_tables_free(tt);
-        return NULL;
-    }
-    tri_box_build(t, tt->tri_box);
-    hedge_build(t, tt->hedge);
-    tt->has_gaps = terrain_has_gaps(t, tt->edge_live);
     tt->nz_min = 1.0;
-    for (size_t k = 0; k < t->ntri; k++)
-        tt->nz_min = fmin(tt->nz_min, t->tri[k].n.z);
+    if (t->is_grid) {
+        if (!(tt->cell_live = malloc(n / 2 + 1)) || cell_live_build(t, tt->cell_live, &tt->nz_min)) {
+            rf_terrain_tables_free(tt);
+            return NULL;
+        }
+        if (t->tri) { /* a grid that keeps its triangles keeps their boxes and lengths */
+            tt->tri_box = malloc(6 * n * sizeof *tt->tri_box);
+            tt->hedge = malloc(3 * n * sizeof *tt->hedge);
+            if (!tt->tri_box || !tt->hedge) {
+                rf_terrain_tables_free(tt);
+                return NULL;
+            }
+            box_hedge_build(t, tt->tri_box, tt->hedge);
+        }
+    } else {
+        tt->edge_live = malloc(n);
+        tt->tri_box = malloc(6 * n * sizeof *tt->tri_box);
+        tt->hedge = malloc(3 * n * sizeof *tt->hedge);
+        if (!tt->edge_live || !tt->tri_box || !tt->hedge || edge_live_build(t, tt->edge_live)) {
+            rf_terrain_tables_free(tt);
+            return NULL;
+        }
+        box_hedge_build(t, tt->tri_box, tt->hedge);
+        for (size_t k = 0; k < t->ntri; k++)
+            tt->nz_min = fmin(tt->nz_min, t->tri[k].n.z);
+    }
+    tt->has_gaps = terrain_has_gaps(t, tt->edge_live);
     tt->nz_min = fmax(tt->nz_min, RF_NZ_MIN);
     return tt;
 }
@@ -241,5 +343,6 @@ void rf_terrain_tables_free(rf_terrain_tables *tt)
     free(tt->edge_live);
     free(tt->tri_box);
     free(tt->hedge);
+    free(tt->cell_live);
     free(tt);
 }

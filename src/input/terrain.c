@@ -49,15 +49,11 @@ rf_dist rf_table2_friction_dist(char slope_class)
 
 /* ---- triangle geometry ---------------------------------------------------------------- */
 
-/* Sets vertices, unit upward normal and offset; returns 0 for a triangle with no area. */
-static int triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t zone)
+/* Sets t from its vertices and cr, the cross product of its edges ab and ac, of length
+ * len > 0. */
+static inline void triangle_fill(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, rf_vec3 cr,
+                                 double len, int32_t zone)
 {
-    rf_vec3 ab = rf_v3_sub(b, a), ac = rf_v3_sub(c, a), bc = rf_v3_sub(c, b);
-    rf_vec3 cr = rf_v3_cross(ab, ac);
-    double len = rf_v3_norm(cr);
-    double e2 = fmax(rf_v3_norm2(ab), fmax(rf_v3_norm2(ac), rf_v3_norm2(bc)));
-    if (!(len > RF_DEGENERATE_REL * e2))
-        return 0;
     rf_vec3 n = rf_v3_scale(cr, 1.0 / len);
     if (n.z < 0)
         n = rf_v3_scale(n, -1.0);
@@ -69,6 +65,19 @@ static int triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t
     t->n = n;
     t->d = rf_v3_dot(n, a);
     t->zone = zone;
+}
+
+/* Sets vertices, unit upward normal, offset and zone; returns 0 for a triangle with no
+ * area (or a NaN vertex), leaving t's fields unspecified. */
+static int triangle_set(rf_triangle *t, rf_vec3 a, rf_vec3 b, rf_vec3 c, int32_t zone)
+{
+    rf_vec3 ab = rf_v3_sub(b, a), ac = rf_v3_sub(c, a), bc = rf_v3_sub(c, b);
+    rf_vec3 cr = rf_v3_cross(ab, ac);
+    double len = rf_v3_norm(cr);
+    double e2 = fmax(rf_v3_norm2(ab), fmax(rf_v3_norm2(ac), rf_v3_norm2(bc)));
+    if (!(len > RF_DEGENERATE_REL * e2))
+        return 0;
+    triangle_fill(t, a, b, c, cr, len, zone);
     return 1;
 }
 
@@ -193,10 +202,12 @@ static int32_t grid_locate_near(const rf_terrain *t, double x, double y, long ci
             if (i < 0 || j < 0 || (size_t)i + 1 >= t->nx || (size_t)j + 1 >= t->ny)
                 continue;
             for (int k = 0; k < 2; k++) {
-                int32_t idx = t->grid_tri[2 * ((size_t)j * (t->nx - 1) + (size_t)i) + (size_t)k];
+                int32_t idx = rf_grid_slot(t, 2 * ((size_t)j * (t->nx - 1) + (size_t)i) + (size_t)k);
                 double tt = 0.0, ss = 0.0;
-                if (idx >= 0 && rf_triangle_contains_xy(&t->tri[idx], x, y, RF_LOCATE_TOL, &tt, &ss)) {
-                    double zz = bary_z(&t->tri[idx], tt, ss);
+                rf_triangle buf;
+                const rf_triangle *T = idx >= 0 ? rf_tri(t, idx, &buf) : NULL;
+                if (T && rf_triangle_contains_xy(T, x, y, RF_LOCATE_TOL, &tt, &ss)) {
+                    double zz = bary_z(T, tt, ss);
                     if (zz > best_z)
                         best = idx, best_z = zz;
                 }
@@ -221,11 +232,12 @@ static int32_t grid_locate(const rf_terrain *t, double x, double y, double *z)
     size_t i = (size_t)fi, j = (size_t)fj;
     double u = fx - fi, v = fy - fj;
     int k = v <= u ? 0 : 1; /* below or above the SW-NE diagonal */
-    int32_t idx = t->grid_tri[2 * (j * (t->nx - 1) + i) + (size_t)k];
+    int32_t idx = rf_grid_slot(t, 2 * (j * (t->nx - 1) + i) + (size_t)k);
     if (idx < 0)
         return grid_locate_near(t, x, y, (long)i, (long)j, z);
     if (z) {
-        const rf_triangle *tri = &t->tri[idx];
+        rf_triangle buf;
+        const rf_triangle *tri = rf_tri(t, idx, &buf);
         double tt = 0.0, ss = 0.0;
         rf_triangle_contains_xy(tri, x, y, RF_LOCATE_TOL, &tt, &ss);
         *z = bary_z(tri, tt, ss);
@@ -287,25 +299,26 @@ int32_t rf_terrain_height(const rf_terrain *t, double x, double y, double *z)
 
 /* ---- box queries ---------------------------------------------------------------------- */
 
+static int box_overlap(rf_vec3 a, rf_vec3 b, rf_vec3 c, double xmin, double ymin, double xmax,
+                       double ymax)
+{
+    double tx0 = fmin(a.x, fmin(b.x, c.x));
+    double tx1 = fmax(a.x, fmax(b.x, c.x));
+    double ty0 = fmin(a.y, fmin(b.y, c.y));
+    double ty1 = fmax(a.y, fmax(b.y, c.y));
+    return tx0 <= xmax && tx1 >= xmin && ty0 <= ymax && ty1 >= ymin;
+}
+
 static int tri_box_overlap(const rf_triangle *tri, double xmin, double ymin, double xmax,
                            double ymax)
 {
-    double tx0 = fmin(tri->a.x, fmin(tri->b.x, tri->c.x));
-    double tx1 = fmax(tri->a.x, fmax(tri->b.x, tri->c.x));
-    double ty0 = fmin(tri->a.y, fmin(tri->b.y, tri->c.y));
-    double ty1 = fmax(tri->a.y, fmax(tri->b.y, tri->c.y));
-    return tx0 <= xmax && tx1 >= xmin && ty0 <= ymax && ty1 >= ymin;
+    return box_overlap(tri->a, tri->b, tri->c, xmin, ymin, xmax, ymax);
 }
 
 size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, double xmax,
                             double ymax, int32_t *out, size_t cap, uint32_t *stamp,
                             uint32_t *epoch)
 {
-    if (++*epoch == 0) {
-        memset(stamp, 0, t->ntri * sizeof *stamp);
-        *epoch = 1;
-    }
-    uint32_t mark = *epoch;
     size_t count = 0, i0, i1, j0, j1;
     if (t->is_grid) {
         /* Cell (i, j) spans [x0 + i cell, x0 + (i + 1) cell]: each triangle is in one
@@ -321,8 +334,12 @@ size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, doubl
         for (size_t j = j0; j <= j1; j++)
             for (size_t i = i0; i <= i1; i++)
                 for (size_t k = 0; k < 2; k++) {
-                    int32_t idx = t->grid_tri[2 * (j * (t->nx - 1) + i) + k];
-                    if (idx < 0 || !tri_box_overlap(&t->tri[idx], xmin, ymin, xmax, ymax))
+                    int32_t idx = rf_grid_slot(t, 2 * (j * (t->nx - 1) + i) + k);
+                    rf_vec3 v[3];
+                    if (idx < 0)
+                        continue;
+                    rf_grid_vertices(t, idx, v);
+                    if (!box_overlap(v[0], v[1], v[2], xmin, ymin, xmax, ymax))
                         continue;
                     if (count < cap)
                         out[count] = idx;
@@ -330,6 +347,11 @@ size_t rf_terrain_query_box(const rf_terrain *t, double xmin, double ymin, doubl
                 }
         return count;
     }
+    if (++*epoch == 0) {
+        memset(stamp, 0, t->ntri * sizeof *stamp);
+        *epoch = 1;
+    }
+    uint32_t mark = *epoch;
     if (!rf_cell_range(xmin, xmax, t->bx0, t->bsize, t->nbx, &i0, &i1) ||
         !rf_cell_range(ymin, ymax, t->by0, t->bsize, t->nby, &j0, &j1))
         return 0;
@@ -361,8 +383,10 @@ void rf_terrain_free(rf_terrain *t)
     for (size_t i = 0; i < t->nzones; i++)
         free(t->zones[i].name);
     free(t->zones);
-    free(t->grid_tri);
-    free(t->grid_node);
+    free(t->z);
+    free(t->grid_hole);
+    free(t->zone8);
+    free(t->zone16);
     free(t->bucket_start);
     free(t->bucket_items);
     memset(t, 0, sizeof *t);
@@ -390,11 +414,17 @@ static void compute_bounds(rf_terrain *t)
     t->xmin = t->ymin = t->zmin = INFINITY;
     t->xmax = t->ymax = t->zmax = -INFINITY;
     for (size_t k = 0; k < t->ntri; k++) {
-        const rf_vec3 *v[3] = {&t->tri[k].a, &t->tri[k].b, &t->tri[k].c};
+        rf_vec3 v[3];
+        if (t->is_grid && rf_grid_slot(t, k) < 0)
+            continue; /* a hole */
+        if (t->tri)
+            v[0] = t->tri[k].a, v[1] = t->tri[k].b, v[2] = t->tri[k].c;
+        else
+            rf_grid_vertices(t, (int32_t)k, v);
         for (int i = 0; i < 3; i++) {
-            t->xmin = fmin(t->xmin, v[i]->x), t->xmax = fmax(t->xmax, v[i]->x);
-            t->ymin = fmin(t->ymin, v[i]->y), t->ymax = fmax(t->ymax, v[i]->y);
-            t->zmin = fmin(t->zmin, v[i]->z), t->zmax = fmax(t->zmax, v[i]->z);
+            t->xmin = fmin(t->xmin, v[i].x), t->xmax = fmax(t->xmax, v[i].x);
+            t->ymin = fmin(t->ymin, v[i].y), t->ymax = fmax(t->ymax, v[i].y);
+            t->zmin = fmin(t->zmin, v[i].z), t->zmax = fmax(t->zmax, v[i].z);
         }
     }
 }
@@ -506,13 +536,31 @@ static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
     for (size_t z = 0; z < spec->nzones && rc == 0; z++)
         if (spec->zones[z].poly_xy)
             rc = rf_polygon_index_build(&ix[z], spec->zones[z].poly_xy, spec->zones[z].npoly);
+    if (rc == 0 && !t->tri) {
+        size_t n = t->ntri ? t->ntri : 1;
+        if (t->nzones <= 256)
+            rc = (t->zone8 = calloc(n, sizeof *t->zone8)) ? 0 : -1;
+        else
+            rc = (t->zone16 = calloc(n, sizeof *t->zone16)) ? 0 : -1;
+    }
     for (size_t k = 0; k < t->ntri && rc == 0; k++) {
-        rf_triangle *tri = &t->tri[k];
-        double cx = (tri->a.x + tri->b.x + tri->c.x) / 3.0;
-        double cy = (tri->a.y + tri->b.y + tri->c.y) / 3.0;
+        rf_vec3 v[3];
+        if (t->is_grid && rf_grid_slot(t, k) < 0)
+            continue; /* a hole */
+        if (t->tri)
+            v[0] = t->tri[k].a, v[1] = t->tri[k].b, v[2] = t->tri[k].c;
+        else
+            rf_grid_vertices(t, (int32_t)k, v);
+        double cx = (v[0].x + v[1].x + v[2].x) / 3.0;
+        double cy = (v[0].y + v[1].y + v[2].y) / 3.0;
         for (size_t z = 0; z < spec->nzones; z++) {
             if (spec->zones[z].poly_xy && rf_polygon_index_contains(&ix[z], cx, cy)) {
-                tri->zone = poly_zone[z];
+                if (t->tri)
+                    t->tri[k].zone = poly_zone[z];
+                else if (t->zone8)
+                    t->zone8[k] = (uint8_t)poly_zone[z];
+                else
+                    t->zone16[k] = (uint16_t)poly_zone[z];
                 break;
             }
         }
@@ -564,47 +612,48 @@ static int build_grid(const rf_terrain_spec *spec, rf_terrain *t, rf_error *err)
         rf_asc_free(&g);
         return rf_error_set(err, path, 0, 0, "grid too large (%zu cells)", ncell);
     }
-    t->grid_tri = malloc(2 * ncell * sizeof *t->grid_tri);
-    t->tri = malloc(2 * ncell * sizeof *t->tri);
-    t->grid_node = malloc(2 * ncell * sizeof *t->grid_node);
-    if (!t->grid_tri || !t->tri || !t->grid_node) {
-        rf_asc_free(&g);
-        return rf_error_set(err, path, 0, 0, "out of memory for a %zu x %zu grid", nx, ny);
-    }
-    size_t ntri = 0;
-    for (size_t j = 0; j + 1 < ny; j++)
-        for (size_t i = 0; i + 1 < nx; i++) {
-            double zsw = g.z[j * nx + i], zse = g.z[j * nx + i + 1];
-            double znw = g.z[(j + 1) * nx + i], zne = g.z[(j + 1) * nx + i + 1];
-            double xw = g.x0 + (double)i * g.cell, xe = g.x0 + (double)(i + 1) * g.cell;
-            double ys = g.y0 + (double)j * g.cell, yn = g.y0 + (double)(j + 1) * g.cell;
-            rf_vec3 sw = rf_v3(xw, ys, zsw), se = rf_v3(xe, ys, zse);
-            rf_vec3 nw = rf_v3(xw, yn, znw), ne = rf_v3(xe, yn, zne);
-            int hole_sw = g.has_nodata && zsw == g.nodata, hole_se = g.has_nodata && zse == g.nodata;
-            int hole_nw = g.has_nodata && znw == g.nodata, hole_ne = g.has_nodata && zne == g.nodata;
-            int32_t *cell = &t->grid_tri[2 * (j * (nx - 1) + i)];
-            cell[0] = cell[1] = -1;
-            int32_t node = (int32_t)(2 * (j * nx + i)); /* SW node, then the triangle's k */
-            if (!hole_sw && !hole_se && !hole_ne && triangle_set(&t->tri[ntri], sw, se, ne, 0)) {
-                t->grid_node[ntri] = node;
-                cell[0] = (int32_t)ntri++;
+    /* the heights are the terrain: nodata becomes NaN, whose triangles have no area */
+    t->z = g.z;
+    g.z = NULL;
+    if (g.has_nodata)
+        for (size_t k = 0; k < nx * ny; k++)
+            if (t->z[k] == g.nodata)
+                t->z[k] = NAN;
+    t->ntri = 2 * ncell;
+    size_t nvalid = 0;
+    for (size_t c = 0; c < ncell; c++)
+        for (int32_t k = 0; k < 2; k++) {
+            rf_triangle T;
+            rf_vec3 v[3];
+            rf_grid_vertices(t, (int32_t)(2 * c) + k, v);
+            if (triangle_set(&T, v[0], v[1], v[2], 0)) {
+                nvalid++;
+                continue;
             }
-            if (!hole_sw && !hole_ne && !hole_nw && triangle_set(&t->tri[ntri], sw, ne, nw, 0)) {
-                t->grid_node[ntri] = node + 1;
-                cell[1] = (int32_t)ntri++;
-            }
+            if (!t->grid_hole && !(t->grid_hole = calloc(ncell, 1)))
+                return rf_error_set(err, path, 0, 0, "out of memory for a %zu x %zu grid", nx, ny);
+            t->grid_hole[c] |= (uint8_t)(1u << k);
         }
-    rf_asc_free(&g);
-    t->ntri = ntri;
-    if (ntri == 0)
+    if (nvalid == 0)
         return rf_error_set(err, path, 0, 0, "the grid has no cell without nodata");
-    rf_triangle *shrunk = realloc(t->tri, ntri * sizeof *t->tri);
-    if (shrunk)
-        t->tri = shrunk;
-    int32_t *nodes = realloc(t->grid_node, ntri * sizeof *t->grid_node);
-    if (nodes)
-        t->grid_node = nodes;
+    if (spec->grid_derive || t->ntri > RF_GRID_KEEP_TRIANGLES)
+        return 0;
+    /* small enough to keep its triangles, derived once (holes zeroed, never read) */
+    if (!(t->tri = calloc(t->ntri, sizeof *t->tri)))
+        return rf_error_set(err, path, 0, 0, "out of memory for a %zu x %zu grid", nx, ny);
+    for (size_t k = 0; k < t->ntri; k++)
+        if (rf_grid_slot(t, k) >= 0)
+            rf_grid_triangle(t, (int32_t)k, &t->tri[k]);
     return 0;
+}
+
+void rf_grid_triangle(const rf_terrain *t, int32_t idx, rf_triangle *out)
+{
+    rf_vec3 v[3];
+    rf_grid_vertices(t, idx, v);
+    /* as triangle_set, which the build found the triangle to have an area with */
+    rf_vec3 cr = rf_v3_cross(rf_v3_sub(v[1], v[0]), rf_v3_sub(v[2], v[0]));
+    triangle_fill(out, v[0], v[1], v[2], cr, rf_v3_norm(cr), rf_tri_zone(t, idx));
 }
 
 static int set_from_list(rf_terrain *t, const rf_tri_list *l, const int32_t *zone_of)

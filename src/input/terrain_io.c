@@ -18,7 +18,25 @@ typedef struct scanner {
     const char *path;
     const char *p, *end, *line_start;
     int line;
+    const rf_mapped *map; /* the mapped file scanned, or NULL */
+    size_t released;      /* its bytes given back so far (rf_map_release) */
 } scanner;
+
+/* Bytes of a mapped file read between two releases of what was read. */
+#define SCAN_RELEASE_BYTES ((size_t)8 << 20)
+
+/* Gives back the pages of a mapped file already scanned, every SCAN_RELEASE_BYTES: a
+ * large grid's text is read through a window of that size, not held whole. */
+static void scan_release(scanner *s)
+{
+    if (!s->map)
+        return;
+    size_t at = (size_t)(s->p - s->map->data);
+    if (at - s->released >= SCAN_RELEASE_BYTES) {
+        rf_map_release(s->map, at);
+        s->released = at;
+    }
+}
 
 static void scan_init(scanner *s, const char *path, const char *buf, size_t len)
 {
@@ -26,6 +44,8 @@ static void scan_init(scanner *s, const char *path, const char *buf, size_t len)
     s->p = s->line_start = buf;
     s->end = buf + len;
     s->line = 1;
+    s->map = NULL;
+    s->released = 0;
 }
 
 static int scan_column(const scanner *s, const char *at) { return (int)(at - s->line_start) + 1; }
@@ -215,6 +235,7 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
     /* The first data row is the northernmost. */
     for (size_t r = 0; r < g->nrows; r++) {
         size_t j = g->nrows - 1 - r;
+        scan_release(s);
         for (size_t i = 0; i < g->ncols; i++) {
             if (!scan_skip(s, 1))
                 return rf_error_set(err, s->path, s->line, scan_column(s, s->p),
@@ -237,16 +258,23 @@ static int asc_parse(scanner *s, rf_asc_grid *g, rf_error *err)
     return 0;
 }
 
-int rf_asc_read_from_memory(const char *data, size_t len, const char *name, rf_asc_grid *g,
-                            rf_error *err)
+/* Parses the grid of scanner s (of file `map`, or NULL). */
+static int asc_read(scanner *s, const rf_mapped *map, rf_asc_grid *g, rf_error *err)
 {
     memset(g, 0, sizeof *g);
-    scanner s;
-    scan_init(&s, name, data, len);
-    int rc = asc_parse(&s, g, err);
+    s->map = map;
+    int rc = asc_parse(s, g, err);
     if (rc)
         rf_asc_free(g);
     return rc;
+}
+
+int rf_asc_read_from_memory(const char *data, size_t len, const char *name, rf_asc_grid *g,
+                            rf_error *err)
+{
+    scanner s;
+    scan_init(&s, name, data, len);
+    return asc_read(&s, NULL, g, err);
 }
 
 int rf_asc_read(const char *path, rf_asc_grid *g, rf_error *err)
@@ -255,7 +283,9 @@ int rf_asc_read(const char *path, rf_asc_grid *g, rf_error *err)
     rf_mapped m;
     if (rf_map_file(path, RF_TERRAIN_FILE_MAX, &m, err))
         return -1;
-    int rc = rf_asc_read_from_memory(m.data, m.len, path, g, err);
+    scanner s;
+    scan_init(&s, path, m.data, m.len);
+    int rc = asc_read(&s, &m, g, err);
     rf_unmap_file(&m);
     return rc;
 }

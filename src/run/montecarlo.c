@@ -164,7 +164,7 @@ rf_state rf_release_start_of(const rf_project *p, size_t release, long idx, cons
     double x = 0.0, y = 0.0, z = 0.0; /* start_ground sets them; the loader put every
                                         source on the terrain */
     int32_t tri = start_ground(p, rel, idx, rng, &x, &y, &z);
-    rf_vec3 n = tri >= 0 ? t->tri[tri].n : rf_v3(0, 0, 1);
+    rf_vec3 n = tri >= 0 ? RF_TRI(t, tri)->n : rf_v3(0, 0, 1);
     rf_state s;
     memset(&s, 0, sizeof s);
     /* `height` above the ground, a sphere touching the face there (its centre r off
