@@ -180,6 +180,8 @@ static void tested_clear(rf_workspace *ws)
     ws->tested_n = 0;
     if (++ws->tested_gen == 0) {
         memset(ws->tested, 0, ws->tested_cap * sizeof *ws->tested);
+        if (ws->tested_mark)
+            memset(ws->tested_mark, 0, ws->tables->terrain->ntri * sizeof *ws->tested_mark);
         ws->tested_gen = 1;
     }
 }
@@ -209,6 +211,12 @@ static int tested_grow(rf_workspace *ws)
 /* 1 when triangle tri was not in the set (it is now); 0 when it was. */
 static inline int tested_add(rf_workspace *ws, int32_t tri)
 {
+    if (ws->tested_mark) {
+        if (ws->tested_mark[tri] == ws->tested_gen)
+            return 0;
+        ws->tested_mark[tri] = ws->tested_gen;
+        return 1;
+    }
     size_t mask = ws->tested_cap - 1, h = tested_slot(tri, ws->tested_cap);
     for (; ws->tested[h].gen == ws->tested_gen; h = (h + 1) & mask)
         if (ws->tested[h].tri == tri)

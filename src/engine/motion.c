@@ -40,7 +40,8 @@ rf_workspace *rf_workspace_alloc_shared(const rf_terrain_tables *tt)
         ws->face_key[h] = ws->box_key[h] = -1;
     ws->tested_cap = 256;
     ws->tested = calloc(ws->tested_cap, sizeof *ws->tested);
-    if (!ws->cand || (!t->is_grid && !ws->stamp) || !ws->tested) {
+    ws->tested_mark = t->tri ? calloc(t->ntri ? t->ntri : 1, sizeof *ws->tested_mark) : NULL;
+    if (!ws->cand || (!t->is_grid && !ws->stamp) || !ws->tested || (t->tri && !ws->tested_mark)) {
         rf_workspace_free(ws);
         return NULL;
     }
@@ -66,6 +67,7 @@ void rf_workspace_free(rf_workspace *ws)
     free(ws->cand);
     free(ws->stamp);
     free(ws->tested);
+    free(ws->tested_mark);
     free(ws->near_hit);
     free(ws->pend_idx);
     free(ws->pend_w0);

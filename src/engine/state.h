@@ -95,7 +95,9 @@ typedef struct rf_tested_slot {
 } rf_tested_slot;
 
 /* One thread's scratch for the motion of its rocks, over the shared tables; none of it
- * grows with a grid (a mesh's box queries keep a stamp per triangle). */
+ * grows with a grid that derives its triangles (a terrain that keeps its triangles, a
+ * mesh or a grid of at most RF_GRID_KEEP_TRIANGLES, has a mark per triangle for a
+ * flight's tested set, and a mesh a stamp per triangle for its box queries). */
 struct rf_workspace {
     const rf_terrain_tables *tables;
     rf_terrain_tables *own; /* the tables, when the workspace built them itself */
@@ -113,6 +115,8 @@ struct rf_workspace {
                                at most half full, emptied by a new tested_gen */
     size_t tested_cap, tested_n;
     uint32_t tested_gen;
+    uint32_t *tested_mark; /* a terrain that keeps its triangles: the set as one mark per
+                              triangle (tested_gen: in the set), NULL otherwise */
     /* a grid's triangles derived lately (rf_face): face[h] is triangle face_key[h]
        (-1: none), h its index modulo RF_FACE_CACHE */
     int32_t face_key[RF_FACE_CACHE];
