@@ -120,11 +120,14 @@ static double bent_slope(int i, int j, void *ctx)
  * counted as an edge transition and not as an impact, and the energy it takes is in the
  * record.  Met fast - a counter-slope beyond the edge - it is an impact (n_impacts
  * counts impacts at an approach above RF_APPROACH_EPS that are not such changes of
- * face). */
+ * face).  The same with centre contact, whose centre crosses the column border above
+ * the next face's offset plane: slow, a change of face and no flight; fast, a flight
+ * onto the counter-slope and an impact there. */
 TEST(rolling_concave_grid_edge_slow_is_a_face_change_fast_an_impact)
 {
-    for (int model = 0; model < 2; model++) {
-        rf_rock_model md = model ? RF_MODEL_POINT : RF_MODEL_SPHERE;
+    for (int model = 0; model < 3; model++) {
+        /* 0: sphere, 1: point mass, 2: sphere with centre contact (Eq. 6-7) */
+        rf_rock_model md = model == 1 ? RF_MODEL_POINT : RF_MODEL_SPHERE;
         rf_body b = rf_body_make(2385.0, 2650.0, md);
         double r0 = rf_body_contact_radius(&b);
         rf_vec3 n = rf_v3_scale(rf_v3(0.6, 0.0, 1.0), 1.0 / sqrt(1.36));
@@ -134,7 +137,7 @@ TEST(rolling_concave_grid_edge_slow_is_a_face_change_fast_an_impact)
         rf_terrain t;
         mt_grid_terrain(&t, 0, 60, 20, 1.0, bent_slope, &gentle,
                         (rf_surface){{0.2, 0.0}, {0.5, 0.0}, {0.2, 0.0}});
-        rf_simulation sim = mt_sim(md, RF_CONTACT_FULL, 3.0);
+        rf_simulation sim = mt_sim(md, model == 2 ? RF_CONTACT_CENTRE : RF_CONTACT_FULL, 3.0);
         mt_run r;
         mt_simulate_opts(&t, &sim, &b, &s, 3, 0.0, &r);
         ENSURE_MSG(r.rec.stop.x > 32.5, "model %d: stops at x %.3f", model, r.rec.stop.x);
@@ -327,3 +330,66 @@ TEST(rolling_across_many_concave_grid_edges_matches_the_closed_form)
     mt_run_free(&r);
     rf_terrain_free(&t);
 }
+
+/* Centre contact (Eq. 6-7) on the same curve: the offset planes of the faces step down
+ * at each bend's column border, and the centre, crossing it on one face's offset plane,
+ * is above the next one's.  A sphere sliding down the fall line (tan theta > 3.5 mu, so
+ * the slip never vanishes and the centre accelerates by Eq. 1-2, as the point mass does)
+ * changes face at each bend: BENDS edge transitions, no impact, no flight, and its speed
+ * after T is the closed form's to 1e-12 - Eq. 1-2 on each face from the column border
+ * the centre crossed, and at each border v cos delta - mu (1 + e) v sin delta, the step
+ * down taking no time.  A rolling sphere makes the same BENDS transitions, with no impact
+ * and no flight, and gains no energy. */
+TEST(rolling_centre_contact_across_many_concave_grid_edges_matches_the_closed_form)
+{
+    const double mu = 0.15, e = 0.25, mass = 1830.0, T = 3.2, v0 = 2.0, x0 = 18.7;
+    rf_terrain t;
+    mt_grid_terrain(&t, 0, 60, 20, 1.0, bent_curve, NULL,
+                    (rf_surface){{e, 0.0}, {mu, 0.0}, {0.05, 0.0}});
+    double th0 = bend_angle(0);
+    ENSURE(tan(bend_angle(BENDS + 20)) > 3.5 * mu);
+    rf_vec3 dir = rf_v3(cos(th0), 0.0, -sin(th0)), n = rf_v3(sin(th0), 0.0, cos(th0));
+    rf_body b = rf_body_make(mass, 2650.0, RF_MODEL_SPHERE);
+    double r0 = rf_body_contact_radius(&b);
+    rf_vec3 q = rf_v3(x0, 10.0, bent_curve(18, 0, NULL) - tan(th0) * (x0 - 18.5));
+    for (int rolling = 0; rolling < 2; rolling++) {
+        rf_state s = mt_state(rf_v3(x0, 10.0, q.z + r0 / n.z), rf_v3_scale(dir, v0));
+        if (rolling)
+            s.w = rf_v3_scale(rf_v3_cross(n, s.v), 1.0 / r0);
+        rf_simulation sim = mt_sim(RF_MODEL_SPHERE, RF_CONTACT_CENTRE, T);
+        mt_run r;
+        mt_simulate_opts(&t, &sim, &b, &s, 5, 0.0, &r);
+        ENSURE_MSG(r.rec.reason == RF_END_MAX_TIME, "rolling %d: reason %d", rolling,
+                   (int)r.rec.reason);
+        ENSURE_MSG(r.rec.n_edge_transitions == BENDS && r.rec.n_impacts == 0 && r.rec.n_flights == 0,
+                   "rolling %d: %ld edge transitions, %ld impacts, %ld flights", rolling,
+                   r.rec.n_edge_transitions, r.rec.n_impacts, r.rec.n_flights);
+        ENSURE(r.rec.edge_loss_kj > 0.0 && r.energy_gain_kj <= 0.0);
+        ENSURE_MSG(mt_energy_rise(&r, mass) <= 1e-6 * mass * G, "rolling %d: energy rises", rolling);
+        ENSURE(r.last.p.x > 20.5 + BENDS);
+        if (!rolling) {
+            /* the closed form, face by face: the centre crosses node i at x = i + 0.5 */
+            double tt = 0.0, v = v0, x = x0;
+            int i = 18;
+            for (;;) {
+                double th = bend_angle(i), a = G * (sin(th) - mu * cos(th));
+                double L = (i + 1.5 - x) / cos(th);
+                double v1 = sqrt(v * v + 2.0 * a * L), t1 = (v1 - v) / a;
+                if (tt + t1 >= T) {
+                    v += a * (T - tt);
+                    break;
+                }
+                tt += t1;
+                double delta = th - bend_angle(i + 1);
+                v = delta > 0 ? v1 * cos(delta) - mu * (1.0 + e) * v1 * sin(delta) : v1;
+                x = i + 1.5;
+                i++;
+            }
+            ENSURE_MSG(i >= 20 + BENDS, "the closed form ends on face %d", i);
+            ENSURE_REL(r.last.speed_ms, v, 1e-12);
+        }
+        mt_run_free(&r);
+    }
+    rf_terrain_free(&t);
+}
+

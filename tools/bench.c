@@ -210,7 +210,10 @@ static void print_against(double now, double se, double before, double se_before
 
 /* The rolling table's statistics (st, by cell and setting) against the engine before
  * the rolling phase on grids (roll_before): within the Monte Carlo noise where the
- * differences stay within a few standard errors. */
+ * differences stay within a few standard errors.  Centre contact and the fixed step
+ * differ by design: their hops off the offset planes' steps at concave grid edges,
+ * without friction, became changes of face (docs/engine.md, "Centre contact at concave
+ * grid edges"). */
 static void roll_reference(const char *const *names, const double *cells, int ncell, int nset,
                            const stats *st)
 {

@@ -28,7 +28,8 @@ typedef struct rf_trajectory_record {
     long n_flights;
     long n_segments;
     long n_edge_transitions;
-    double edge_loss_kj;     /* kinetic energy the edge transitions took (not stored) */
+    double edge_loss_kj;     /* energy the edge transitions took: kinetic, and with
+                              * centre contact the offset planes' step down (not stored) */
     int rest_on_steep_face;  /* 1: the fixed-step engine put the rock to rest on a face
                               * steeper than its friction holds (tan theta > mu), which
                               * the exact engine would not; 0 otherwise (the exact engine

@@ -776,15 +776,20 @@ int rf_contact_search_near(rf_motion *m, const rf_arc *arc, double T, const rf_s
         const float *b = rf_tri_box(ws, idx, box);
         if (b[1] < xl || b[0] > xh || b[3] < yl || b[2] > yh || b[5] < zl || b[4] > zh)
             continue;
-        if (rf_excluded_tri(&m->rock.sup, idx))
-            continue;
+        /* the cheapest rejections first: the bound from the vertices' heights above the
+         * support planes rejects five in six of the boxes' survivors (the support's own
+         * faces among them), so the support list and the planes' comparison are left
+         * to the rest */
         if (filter) {
             /* faces in a support's plane or wholly on or below a support plane are out
              * of reach for the whole segment, and so are faces beyond the support's
              * reach bound of this arc */
             if (beyond_support_reach(&s, rb, b, RF_CORNERS(m, idx), r0 * r0) ||
+                rf_excluded_tri(&m->rock.sup, idx) ||
                 rf_coplanar_with_support(t, &m->rock.sup, RF_FACE(m, idx), m->cfg.tol_len))
                 continue;
+        } else if (rf_excluded_tri(&m->rock.sup, idx)) {
+            continue;
         }
         ws->near_hit[nhit++] = idx;
     }

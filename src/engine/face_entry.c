@@ -285,39 +285,80 @@ static void turn_resistance(rf_motion *m, int32_t to, rf_vec3 n, double jn)
                                                      1.0 / b->inertia));
 }
 
-/* The rolling phase on grids: a rock on the surface (one face, or a crease) whose
- * contact is a face in the grid's neighbourhood of its support (the next face at a
- * concave edge), met slower than v_stay along its normal, so that it stays on the
- * surface after any impact, changes face where the face's zone has Eq. 8's law
- * (docs/engine.md, "The rolling phase on grids"): the velocity is projected onto the
- * new face and the turn's tangential impulse taken (turn_resistance); no coefficient is
- * drawn and no impact counted (n_edge_transitions counts it).  The kinetic energy it takes
- * (Eq. 8 with e_n = 0 only takes energy) is added to the record's edge_loss_kj.
- * Returns 1 when the contact was such a change of face. */
-static int edge_transition(rf_motion *m, const rf_contact *c)
+/* 1 when the rolling phase on grids takes a meeting of face `to` at normal velocity vn
+ * (m/s, negative towards it) by a rock on the surface: the grid's next face in the
+ * neighbourhood of its support, met slower than v_stay along its normal (so that the
+ * rock stays on the surface after any impact), where the face's zone has Eq. 8's law
+ * (the rt law's tangential restitution is no turn's). */
+static int grid_turn_taken(const rf_motion *m, int32_t to, double vn)
 {
     const rf_terrain *t = m->cfg.terrain;
-    if (!t->is_grid || m->cfg.centre || m->rock.sup.n == 0 || c->kind != RF_FEAT_FACE)
+    if (!t->is_grid || m->rock.sup.n == 0)
         return 0;
-    int32_t z = rf_tri_zone(t, c->tri);
+    int32_t z = rf_tri_zone(t, to);
     if (t->zones[z >= 0 && (size_t)z < t->nzones ? z : 0].surface.law != RF_IMPACT_EQ8)
-        return 0; /* the rt law's tangential restitution is no turn's */
-    double vn = rf_v3_dot(m->rock.s.v, c->n);
+        return 0;
     if (!(-vn < m->cfg.v_stay))
         return 0;
     int near = 0;
     for (int k = 0; k < m->rock.sup.n; k++)
-        near |= grid_neighbours(t, m->rock.sup.tri[k], c->tri);
-    if (!near)
-        return 0;
+        near |= grid_neighbours(t, m->rock.sup.tri[k], to);
+    return near;
+}
+
+/* The change of face (docs/engine.md, "The rolling phase on grids"): the velocity is
+ * projected onto face `to` (normal n) and the turn's tangential impulse taken
+ * (turn_resistance); no coefficient is drawn and no impact counted (n_edge_transitions
+ * counts it).  The energy it takes (Eq. 8 with e_n = 0 only takes energy), with
+ * drop_j (J) of potential energy the move onto the face gave up, is added to the
+ * record's edge_loss_kj. */
+static void take_grid_turn(rf_motion *m, int32_t to, rf_vec3 n, double drop_j)
+{
     double e0 = rf_motion_energy(m);
+    double vn = rf_v3_dot(m->rock.s.v, n);
     if (vn < 0) {
-        m->rock.s.v = rf_v3_madd(m->rock.s.v, -vn, c->n);
-        turn_resistance(m, c->tri, c->n, -vn);
+        m->rock.s.v = rf_v3_madd(m->rock.s.v, -vn, n);
+        turn_resistance(m, to, n, -vn);
     }
     m->book.rec->n_edge_transitions++;
-    m->book.rec->edge_loss_kj += rf_fmax(0.0, e0 - rf_motion_energy(m)) / 1000.0;
+    m->book.rec->edge_loss_kj += (rf_fmax(0.0, e0 - rf_motion_energy(m)) + drop_j) / 1000.0;
+}
+
+/* The rolling phase on grids for a contact of full contact with face c->tri (the next
+ * face at a concave edge): a change of face where grid_turn_taken allows it.  (Centre
+ * contact changes face where its offset planes step down, rf_centre_edge_step; a centre
+ * it lifts onto a face's offset plane meets that face by an impact.)  Returns 1 when
+ * the contact was such a change of face. */
+static int edge_transition(rf_motion *m, const rf_contact *c)
+{
+    if (m->cfg.centre || c->kind != RF_FEAT_FACE ||
+        !grid_turn_taken(m, c->tri, rf_v3_dot(m->rock.s.v, c->n)))
+        return 0;
+    take_grid_turn(m, c->tri, c->n, 0.0);
     return 1;
+}
+
+int rf_centre_edge_step_taken(const rf_motion *m, int32_t to, rf_vec3 out)
+{
+    const rf_triangle *T = RF_FACE(m, to);
+    double vn = rf_v3_dot(m->rock.s.v, T->n);
+    /* moving on into the face's column, which falls that way: gravity on the face does
+     * not take the rock back over the border (along a valley line it would, at once
+     * with the fixed step's semi-implicit steps) */
+    rf_vec3 on = rf_v3_madd(m->rock.s.v, -vn, T->n);
+    return m->cfg.centre && rf_v3_dot(T->n, m->rock.s.p) - T->d - m->cfg.rho > 0 && vn < 0 &&
+           T->n.z > 0 && rf_v3_dot(on, out) > RF_APPROACH_EPS && rf_v3_dot(T->n, out) >= 0 &&
+           grid_turn_taken(m, to, vn);
+}
+
+void rf_centre_edge_step(rf_motion *m, int32_t to)
+{
+    const rf_triangle *T = RF_FACE(m, to);
+    /* vertically onto the offset plane: the centre stays over the face's column (Eq. 6) */
+    double drop = (rf_v3_dot(T->n, m->rock.s.p) - T->d - m->cfg.rho) / T->n.z;
+    m->rock.s.p.z -= drop;
+    take_grid_turn(m, to, T->n, m->cfg.body->mass * RF_GRAVITY * drop);
+    land(m, to);
 }
 
 void rf_contact_resolve(rf_motion *m, const rf_contact *c)

@@ -40,6 +40,18 @@ int rf_pay_lift(rf_motion *m, rf_vec3 move);
 /* Centre mode: 1 when face `to`'s offset plane is above the centre's reach and a rock
  * of kinetic energy ke (J) cannot pay the lift onto it: a wall. */
 int rf_wall_for(const rf_motion *m, int32_t to, double ke);
+/* Centre mode (Eq. 6-7), the rolling phase on grids: at a concave grid edge the offset
+ * planes of the two faces step down at their columns' border, so a centre that crosses
+ * it on its support's offset plane is above the next face `to`'s.  Met slower than
+ * v_stay along that face's normal, the rock changes face there as full contact does
+ * (the velocity projected, the turn's plastic tangential impulse, counted in
+ * n_edge_transitions, no impact): the centre is put on the offset plane vertically, the
+ * potential energy of the step given up.  rf_centre_edge_step_taken: 1 when the
+ * change of face applies to the current state, the centre crossing the border in the
+ * horizontal direction `out` into a face that falls that way (a rock moving along the
+ * border, or into a face that would take it back over it, makes its flight). */
+int rf_centre_edge_step_taken(const rf_motion *m, int32_t to, rf_vec3 out);
+void rf_centre_edge_step(rf_motion *m, int32_t to);
 /* Handles a contact found by the search (or a concave face change): impact (Eq. 8),
  * then flight, landing on a face or in a crease, or a roll over an edge or vertex. */
 void rf_contact_resolve(rf_motion *m, const rf_contact *c);

@@ -208,7 +208,14 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         m->rock.sup.left = from;
         return RF_SURF_CONTINUE;
     }
-    switch (next_face(m, to, acc)) {
+    next_kind next = next_face(m, to, acc);
+    if (next == RF_NEXT_AWAY && rf_centre_edge_step_taken(m, to, rf_v3_scale(fe->m[edge], -1.0))) {
+        if (rf_scene_at_once(m) >= 0)
+            return RF_SURF_STOPPED;
+        rf_centre_edge_step(m, to); /* the centre's offset planes step down at a concave edge */
+        return RF_SURF_CONTINUE;
+    }
+    switch (next) {
     case RF_NEXT_IMPACT:
         if (rf_scene_at_once(m) >= 0)
             return RF_SURF_STOPPED;
