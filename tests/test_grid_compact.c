@@ -176,6 +176,97 @@ TEST(grid_compact_zones_beyond_255_take_16_bits)
     free(sq);
 }
 
+/* More zones than 16 bits hold: a derived grid keeps their indices whole (the last zone,
+ * covering the grid, is zone 65 538 of the terrain, after the default surface and
+ * 65 536 small zones off the grid). */
+TEST(grid_compact_zones_beyond_65536_take_32_bits)
+{
+    char *text = wavy_grid_text(15, 12);
+    const char *path = rf_test_write("wavy-small.asc", text);
+    free(text);
+    enum { NZ = 65537 };
+    rf_zone_spec *zones = calloc(NZ, sizeof *zones);
+    double (*sq)[8] = calloc(NZ, sizeof *sq);
+    ENSURE(zones && sq);
+    for (int z = 0; z < NZ; z++) {
+        double x0 = z + 1 < NZ ? -1e5 - 3.0 * z : 0.0, y0 = z + 1 < NZ ? -1e5 : -1e3;
+        double w = z + 1 < NZ ? 1.0 : 2e3;
+        double q[8] = {x0, y0, x0 + w, y0, x0 + w, y0 + w, x0, y0 + w};
+        memcpy(sq[z], q, sizeof q);
+        zones[z] = (rf_zone_spec){.name = (char *)"z", .poly_xy = sq[z], .npoly = 4, .surface = SURF};
+    }
+    rf_terrain kept, der;
+    build(path, 0, zones, NZ, &kept);
+    build(path, 1, zones, NZ, &der);
+    ENSURE(der.zone32 != NULL && der.zone16 == NULL && der.zone8 == NULL && der.nzones == NZ + 1);
+    size_t n = 0;
+    for (size_t k = 0; k < der.ntri; k++)
+        if (rf_grid_slot(&der, k) >= 0) {
+            ENSURE_MSG(rf_tri_zone(&der, (int32_t)k) == NZ && kept.tri[k].zone == NZ,
+                       "triangle %zu: zone %d, kept %d", k, rf_tri_zone(&der, (int32_t)k),
+                       kept.tri[k].zone);
+            n++;
+        }
+    ENSURE(n > 50);
+    rf_terrain_free(&kept);
+    rf_terrain_free(&der);
+    free(zones);
+    free(sq);
+}
+
+/* A grid of ncols x nrows nodes of 1 m cells with its west column at x = x0: a smooth
+ * bent surface whose node (i, j) lies at x = x0 + i, at height z(x0 + i, j). */
+static char *bent_grid_text(size_t ncols, size_t nrows, size_t x0)
+{
+    size_t cap = 200 + ncols * nrows * 16, used = 0;
+    char *text = malloc(cap);
+    ENSURE(text);
+    used += (size_t)snprintf(text, cap, "ncols %zu\nnrows %zu\nxllcenter %zu\nyllcenter 0\n"
+                                         "cellsize 1\n", ncols, nrows, x0);
+    for (size_t r = 0; r < nrows; r++) {
+        size_t j = nrows - 1 - r;
+        for (size_t i = 0; i < ncols; i++) {
+            double x = (double)(x0 + i), y = (double)j;
+            double z = 0.6 * y + 0.002 * (x - 650.0) * (x - 650.0) / 10.0 + 0.8 * sin(0.37 * x) * cos(0.9 * y);
+            used += (size_t)snprintf(text + used, cap - used, "%.3f%c", z, i + 1 == ncols ? '\n' : ' ');
+        }
+    }
+    return text;
+}
+
+/* The live edges of a grid wider than the tables' strips of cells (1 024 columns): every
+ * cell of a window across the strips' border has the live bits it has in a grid of that
+ * window alone (its neighbours are the same faces), on both sides of the border. */
+TEST(grid_compact_live_edges_across_the_tables_strips)
+{
+    enum { W = 1300, H = 6, X0 = 1000, WW = 60 };
+    char *full = bent_grid_text(W, H, 0), *part = bent_grid_text(WW, H, X0);
+    const char *pf = rf_test_write("bent-full.asc", full), *pp = rf_test_write("bent-part.asc", part);
+    free(full);
+    free(part);
+    rf_terrain tf, tp;
+    build(pf, 1, NULL, 0, &tf);
+    build(pp, 1, NULL, 0, &tp);
+    rf_workspace *wf = rf_workspace_alloc(&tf), *wp = rf_workspace_alloc(&tp);
+    ENSURE(wf && wp);
+    size_t ncf = W - 1, ncp = WW - 1, concave = 0, checked = 0;
+    for (size_t j = 0; j < H - 1; j++)
+        for (size_t l = 1; l + 1 < ncp; l++) /* the window's own border cells lack neighbours */
+            for (int k = 0; k < 2; k++) {
+                int32_t a = (int32_t)(2 * (j * ncf + X0 + l) + (size_t)k);
+                int32_t b = (int32_t)(2 * (j * ncp + l) + (size_t)k);
+                ENSURE_MSG(rf_edge_live(wf, a) == rf_edge_live(wp, b), "cell (%zu, %zu) k %d: %u, %u",
+                           X0 + l, j, k, rf_edge_live(wf, a), rf_edge_live(wp, b));
+                concave += (rf_edge_live(wp, b) & 7) != 7;
+                checked++;
+            }
+    ENSURE_MSG(concave > 50 && checked > 500, "%zu of %zu with a concave edge", concave, checked);
+    rf_workspace_free(wf);
+    rf_workspace_free(wp);
+    rf_terrain_free(&tf);
+    rf_terrain_free(&tp);
+}
+
 /* ---- a large grid within a memory bound ------------------------------------------------ */
 
 #if defined(__SANITIZE_ADDRESS__)

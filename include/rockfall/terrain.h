@@ -112,8 +112,8 @@ typedef struct rf_terrain {
      * spans nodes i..i+1, j..j+1 and holds triangles 2*(j*(nx-1)+i)+k, k = 0 below the
      * SW-NE diagonal (SW,SE,NE), k = 1 above it (SW,NE,NW).  grid_hole: per cell, bit k
      * set when triangle k is a hole (a nodata vertex, or no area); NULL when none is.
-     * zone8 / zone16: per triangle its zone when polygon zones exist (uint8_t up to 255
-     * zones, uint16_t beyond); both NULL: zone 0. */
+     * zone8 / zone16 / zone32: per triangle its zone when polygon zones exist (uint8_t
+     * up to 256 zones, uint16_t up to 65 536, int32_t beyond); all NULL: zone 0. */
     int is_grid;
     size_t nx, ny;
     double x0, y0, cell;
@@ -121,6 +121,7 @@ typedef struct rf_terrain {
     uint8_t *grid_hole;
     uint8_t *zone8;
     uint16_t *zone16;
+    int32_t *zone32;
 
     /* Meshes and profiles (is_grid == 0): uniform bucket grid over the xy bounding box; the triangles whose
      * xy bounding box overlaps bucket b are bucket_items[bucket_start[b] ..
@@ -196,7 +197,10 @@ static inline int32_t rf_tri_zone(const rf_terrain *t, int32_t idx)
 {
     if (t->tri)
         return t->tri[idx].zone;
-    return t->zone8 ? t->zone8[idx] : t->zone16 ? t->zone16[idx] : 0;
+    return t->zone8    ? t->zone8[idx]
+           : t->zone16 ? t->zone16[idx]
+           : t->zone32 ? t->zone32[idx]
+                       : 0;
 }
 
 /* Builds a terrain from its spec.  Errors (missing or unreadable files, malformed

@@ -387,6 +387,7 @@ void rf_terrain_free(rf_terrain *t)
     free(t->grid_hole);
     free(t->zone8);
     free(t->zone16);
+    free(t->zone32);
     free(t->bucket_start);
     free(t->bucket_items);
     memset(t, 0, sizeof *t);
@@ -540,8 +541,10 @@ static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
         size_t n = t->ntri ? t->ntri : 1;
         if (t->nzones <= 256)
             rc = (t->zone8 = calloc(n, sizeof *t->zone8)) ? 0 : -1;
-        else
+        else if (t->nzones <= 65536)
             rc = (t->zone16 = calloc(n, sizeof *t->zone16)) ? 0 : -1;
+        else
+            rc = (t->zone32 = calloc(n, sizeof *t->zone32)) ? 0 : -1;
     }
     for (size_t k = 0; k < t->ntri && rc == 0; k++) {
         rf_vec3 v[3];
@@ -559,8 +562,10 @@ static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
                     t->tri[k].zone = poly_zone[z];
                 else if (t->zone8)
                     t->zone8[k] = (uint8_t)poly_zone[z];
-                else
+                else if (t->zone16)
                     t->zone16[k] = (uint16_t)poly_zone[z];
+                else
+                    t->zone32[k] = poly_zone[z];
                 break;
             }
         }
