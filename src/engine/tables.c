@@ -135,36 +135,41 @@ static void mark_pair(const rf_terrain *t, uint8_t *live, int32_t a, int ka, int
         live[a] &= (uint8_t)~(1u << ka);
 }
 
-/* Grids: the triangles of cell row j (2 per cell, NULL for a hole) derived into row. */
-static void grid_row(const rf_terrain *t, size_t j, rf_triangle *row, const rf_triangle **at)
+/* Grids: the triangles of the cells c0 .. c1 - 1 of cell row j (2 per cell, NULL for a
+ * hole) derived into row, at 2 (i - c0) + k. */
+static void grid_row(const rf_terrain *t, size_t j, size_t c0, size_t c1, rf_triangle *row,
+                     const rf_triangle **at)
 {
     size_t ncx = t->nx - 1;
-    for (size_t s = 0; s < 2 * ncx; s++) {
+    for (size_t s = 2 * c0; s < 2 * c1; s++) {
         int32_t idx = rf_grid_slot(t, 2 * j * ncx + s);
-        at[s] = NULL;
+        at[s - 2 * c0] = NULL;
         if (idx >= 0) {
-            rf_grid_triangle(t, idx, &row[s]);
-            at[s] = &row[s];
+            rf_grid_triangle(t, idx, &row[s - 2 * c0]);
+            at[s - 2 * c0] = &row[s - 2 * c0];
         }
     }
 }
 
 /* Grids: the live bits (0-2) of triangle k of cell (i, j) of row `cur`, from its
- * neighbours in rows `south`, `cur` and `north` (NULL beyond the grid).  Cell (i, j)
- * holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a is SW in both. */
-static unsigned grid_edge_live(size_t ncx, size_t i, int k, const rf_triangle *const *south,
-                               const rf_triangle *const *cur, const rf_triangle *const *north)
+ * neighbours in rows `south`, `cur` and `north` (NULL beyond the grid), which hold the
+ * cell's triangles at 2 l + k (l = i - the strip's first cell; the strip holds the cells
+ * beside it).  Cell (i, j) holds triangle 0 (SW, SE, NE) and triangle 1 (SW, NE, NW); a
+ * is SW in both. */
+static unsigned grid_edge_live(size_t ncx, size_t i, size_t l, int k,
+                               const rf_triangle *const *south, const rf_triangle *const *cur,
+                               const rf_triangle *const *north)
 {
-    const rf_triangle *A = cur[2 * i + (size_t)k];
+    const rf_triangle *A = cur[2 * l + (size_t)k];
     int concave[3];
     if (k == 0) {
-        concave[0] = south && pair_concave(A, 0, south[2 * i + 1]);         /* south */
-        concave[1] = i + 1 < ncx && pair_concave(A, 1, cur[2 * i + 3]);     /* east */
-        concave[2] = pair_concave(A, 2, cur[2 * i + 1]);                    /* diagonal */
+        concave[0] = south && pair_concave(A, 0, south[2 * l + 1]);     /* south */
+        concave[1] = i + 1 < ncx && pair_concave(A, 1, cur[2 * l + 3]); /* east */
+        concave[2] = pair_concave(A, 2, cur[2 * l + 1]);                /* diagonal */
     } else {
-        concave[0] = pair_concave(A, 0, cur[2 * i]);                        /* diagonal */
-        concave[1] = north && pair_concave(A, 1, north[2 * i]);             /* north */
-        concave[2] = i > 0 && pair_concave(A, 2, cur[2 * i - 2]);           /* west */
+        concave[0] = pair_concave(A, 0, cur[2 * l]);                    /* diagonal */
+        concave[1] = north && pair_concave(A, 1, north[2 * l]);         /* north */
+        concave[2] = i > 0 && pair_concave(A, 2, cur[2 * l - 2]);       /* west */
     }
     unsigned live = 7;
     for (int e = 0; e < 3; e++)
@@ -173,12 +178,17 @@ static unsigned grid_edge_live(size_t ncx, size_t i, int k, const rf_triangle *c
     return live;
 }
 
+/* Columns of cells per strip of cell_live_build: its rows of derived triangles take
+ * about 3 x 2 x (LIVE_STRIP + 2) x 120 bytes whatever the grid's width. */
+#define LIVE_STRIP 1024
+
 /* Grids: the live bits of both triangles of every cell (rf_edge_live), and the
- * smallest n.z of the faces, three rows of derived triangles at a time; 0, or -1 out of
- * memory. */
+ * smallest n.z of the faces, in strips of LIVE_STRIP columns of cells, three rows of
+ * derived triangles at a time (the strip's cells and one beyond each side); 0, or -1
+ * out of memory. */
 static int cell_live_build(const rf_terrain *t, uint8_t *cell_live, double *nz_min)
 {
-    size_t ncx = t->nx - 1, ncy = t->ny - 1, w = 2 * ncx;
+    size_t ncx = t->nx - 1, ncy = t->ny - 1, w = 2 * (LIVE_STRIP + 2);
     rf_triangle *tri = malloc(3 * w * sizeof *tri);
     const rf_triangle **at = malloc(3 * w * sizeof *at);
     if (!tri || !at) {
@@ -186,26 +196,30 @@ static int cell_live_build(const rf_terrain *t, uint8_t *cell_live, double *nz_m
         free(at);
         return -1;
     }
-    /* row j's triangles are in slot j % 3 */
-    grid_row(t, 0, tri, at);
-    for (size_t j = 0; j < ncy; j++) {
-        if (j + 1 < ncy)
-            grid_row(t, j + 1, tri + (j + 1) % 3 * w, at + (j + 1) % 3 * w);
-        const rf_triangle *const *cur = at + j % 3 * w;
-        const rf_triangle *const *south = j > 0 ? at + (j + 2) % 3 * w : NULL;
-        const rf_triangle *const *north = j + 1 < ncy ? at + (j + 1) % 3 * w : NULL;
-        for (size_t i = 0; i < ncx; i++) {
-            unsigned bits = 0;
-            for (int k = 0; k < 2; k++) {
-                const rf_triangle *A = cur[2 * i + (size_t)k];
-                if (!A) {
-                    bits |= 7u << (3 * k);
-                    continue;
+    for (size_t i0 = 0; i0 < ncx; i0 += LIVE_STRIP) {
+        size_t i1 = i0 + LIVE_STRIP < ncx ? i0 + LIVE_STRIP : ncx;
+        size_t c0 = i0 > 0 ? i0 - 1 : 0, c1 = i1 < ncx ? i1 + 1 : ncx;
+        /* row j's triangles are in slot j % 3 */
+        grid_row(t, 0, c0, c1, tri, at);
+        for (size_t j = 0; j < ncy; j++) {
+            if (j + 1 < ncy)
+                grid_row(t, j + 1, c0, c1, tri + (j + 1) % 3 * w, at + (j + 1) % 3 * w);
+            const rf_triangle *const *cur = at + j % 3 * w;
+            const rf_triangle *const *south = j > 0 ? at + (j + 2) % 3 * w : NULL;
+            const rf_triangle *const *north = j + 1 < ncy ? at + (j + 1) % 3 * w : NULL;
+            for (size_t i = i0; i < i1; i++) {
+                unsigned bits = 0;
+                for (int k = 0; k < 2; k++) {
+                    const rf_triangle *A = cur[2 * (i - c0) + (size_t)k];
+                    if (!A) {
+                        bits |= 7u << (3 * k);
+                        continue;
+                    }
+                    bits |= grid_edge_live(ncx, i, i - c0, k, south, cur, north) << (3 * k);
+                    *nz_min = fmin(*nz_min, A->n.z);
                 }
-                bits |= grid_edge_live(ncx, i, k, south, cur, north) << (3 * k);
-                *nz_min = fmin(*nz_min, A->n.z);
+                cell_live[j * ncx + i] = (uint8_t)bits;
             }
-            cell_live[j * ncx + i] = (uint8_t)bits;
         }
     }
     free(tri);
