@@ -410,18 +410,26 @@ static int add_zone(rf_terrain *t, const char *name, size_t name_len, rf_surface
     return 0;
 }
 
+/* The vertices of triangle k, kept or derived; 0 for a grid's hole (v untouched). */
+static int tri_vertices_at(const rf_terrain *t, size_t k, rf_vec3 v[3])
+{
+    if (t->is_grid && rf_grid_slot(t, k) < 0)
+        return 0;
+    if (t->tri)
+        v[0] = t->tri[k].a, v[1] = t->tri[k].b, v[2] = t->tri[k].c;
+    else
+        rf_grid_vertices(t, (int32_t)k, v);
+    return 1;
+}
+
 static void compute_bounds(rf_terrain *t)
 {
     t->xmin = t->ymin = t->zmin = INFINITY;
     t->xmax = t->ymax = t->zmax = -INFINITY;
     for (size_t k = 0; k < t->ntri; k++) {
         rf_vec3 v[3];
-        if (t->is_grid && rf_grid_slot(t, k) < 0)
+        if (!tri_vertices_at(t, k, v))
             continue; /* a hole */
-        if (t->tri)
-            v[0] = t->tri[k].a, v[1] = t->tri[k].b, v[2] = t->tri[k].c;
-        else
-            rf_grid_vertices(t, (int32_t)k, v);
         for (int i = 0; i < 3; i++) {
             t->xmin = fmin(t->xmin, v[i].x), t->xmax = fmax(t->xmax, v[i].x);
             t->ymin = fmin(t->ymin, v[i].y), t->ymax = fmax(t->ymax, v[i].y);
@@ -548,12 +556,8 @@ static int apply_polygon_zones(rf_terrain *t, const rf_terrain_spec *spec,
     }
     for (size_t k = 0; k < t->ntri && rc == 0; k++) {
         rf_vec3 v[3];
-        if (t->is_grid && rf_grid_slot(t, k) < 0)
+        if (!tri_vertices_at(t, k, v))
             continue; /* a hole */
-        if (t->tri)
-            v[0] = t->tri[k].a, v[1] = t->tri[k].b, v[2] = t->tri[k].c;
-        else
-            rf_grid_vertices(t, (int32_t)k, v);
         double cx = (v[0].x + v[1].x + v[2].x) / 3.0;
         double cy = (v[0].y + v[1].y + v[2].y) / 3.0;
         for (size_t z = 0; z < spec->nzones; z++) {
