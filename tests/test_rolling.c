@@ -259,6 +259,32 @@ static double bend_angle(int i)
     return (BEND_THETA0 - k * BEND_DEG) * PI / 180.0;
 }
 
+/* The closed form of a point (or sliding centre) on the bent curve, face by face from
+ * x0 at speed v0 at t = 0: Eq. 1-2 along face i (from node i + 0.5 to i + 1.5), and at
+ * each concave edge the turn v cos delta - mu (1 + e) v sin delta.  Its speed at time
+ * T; *face the face it ends on. */
+static double bent_closed_form(double x0, double v0, double mu, double e, double T, int *face)
+{
+    double tt = 0.0, v = v0, x = x0;
+    int i = 18;
+    for (;;) {
+        double th = bend_angle(i), a = G * (sin(th) - mu * cos(th));
+        double L = (i + 1.5 - x) / cos(th); /* to the next node along the face */
+        double v1 = sqrt(v * v + 2.0 * a * L), t1 = (v1 - v) / a;
+        if (tt + t1 >= T) {
+            v += a * (T - tt);
+            break;
+        }
+        tt += t1;
+        double delta = th - bend_angle(i + 1);
+        v = delta > 0 ? v1 * cos(delta) - mu * (1.0 + e) * v1 * sin(delta) : v1;
+        x = i + 1.5;
+        i++;
+    }
+    *face = i;
+    return v;
+}
+
 static double bent_curve(int i, int j, void *ctx)
 {
     (void)j, (void)ctx;
@@ -294,22 +320,8 @@ TEST(rolling_across_many_concave_grid_edges_matches_the_closed_form)
                "%ld edge transitions, %ld impacts, %ld flights", r.rec.n_edge_transitions,
                r.rec.n_impacts, r.rec.n_flights);
     /* the closed form, face by face: node i at x = i + 0.5, face i from node i to i + 1 */
-    double tt = 0.0, v = v0, x = x0;
-    int i = 18;
-    for (;;) {
-        double th = bend_angle(i), a = G * (sin(th) - mu * cos(th));
-        double L = (i + 1.5 - x) / cos(th); /* to the next node along the face */
-        double v1 = sqrt(v * v + 2.0 * a * L), t1 = (v1 - v) / a;
-        if (tt + t1 >= T) {
-            v += a * (T - tt);
-            break;
-        }
-        tt += t1;
-        double delta = th - bend_angle(i + 1);
-        v = delta > 0 ? v1 * cos(delta) - mu * (1.0 + e) * v1 * sin(delta) : v1;
-        x = i + 1.5;
-        i++;
-    }
+    int i;
+    double v = bent_closed_form(x0, v0, mu, e, T, &i);
     ENSURE_MSG(i >= 20 + BENDS, "the closed form ends on face %d", i);
     ENSURE_REL(r.last.speed_ms, v, 1e-12);
     mt_run_free(&r);
@@ -369,22 +381,8 @@ TEST(rolling_centre_contact_across_many_concave_grid_edges_matches_the_closed_fo
         ENSURE(r.last.p.x > 20.5 + BENDS);
         if (!rolling) {
             /* the closed form, face by face: the centre crosses node i at x = i + 0.5 */
-            double tt = 0.0, v = v0, x = x0;
-            int i = 18;
-            for (;;) {
-                double th = bend_angle(i), a = G * (sin(th) - mu * cos(th));
-                double L = (i + 1.5 - x) / cos(th);
-                double v1 = sqrt(v * v + 2.0 * a * L), t1 = (v1 - v) / a;
-                if (tt + t1 >= T) {
-                    v += a * (T - tt);
-                    break;
-                }
-                tt += t1;
-                double delta = th - bend_angle(i + 1);
-                v = delta > 0 ? v1 * cos(delta) - mu * (1.0 + e) * v1 * sin(delta) : v1;
-                x = i + 1.5;
-                i++;
-            }
+            int i;
+            double v = bent_closed_form(x0, v0, mu, e, T, &i);
             ENSURE_MSG(i >= 20 + BENDS, "the closed form ends on face %d", i);
             ENSURE_REL(r.last.speed_ms, v, 1e-12);
         }
