@@ -338,22 +338,22 @@ static int edge_transition(rf_motion *m, const rf_contact *c)
     return 1;
 }
 
-int rf_centre_edge_step_taken(const rf_motion *m, int32_t to, rf_vec3 out)
+int rf_centre_edge_step_taken(const rf_motion *m, int32_t to, const rf_triangle *T, rf_vec3 out)
 {
-    const rf_triangle *T = RF_FACE(m, to);
+    if (!m->cfg.centre)
+        return 0;
     double vn = rf_v3_dot(m->rock.s.v, T->n);
     /* moving on into the face's column, which falls that way: gravity on the face does
      * not take the rock back over the border (along a valley line it would, at once
      * with the fixed step's semi-implicit steps) */
     rf_vec3 on = rf_v3_madd(m->rock.s.v, -vn, T->n);
-    return m->cfg.centre && rf_v3_dot(T->n, m->rock.s.p) - T->d - m->cfg.rho > 0 && vn < 0 &&
+    return rf_v3_dot(T->n, m->rock.s.p) - T->d - m->cfg.rho > 0 && vn < 0 &&
            T->n.z > 0 && rf_v3_dot(on, out) > RF_APPROACH_EPS && rf_v3_dot(T->n, out) >= 0 &&
            grid_turn_taken(m, to, vn);
 }
 
-void rf_centre_edge_step(rf_motion *m, int32_t to)
+void rf_centre_edge_step(rf_motion *m, int32_t to, const rf_triangle *T)
 {
-    const rf_triangle *T = RF_FACE(m, to);
     /* vertically onto the offset plane: the centre stays over the face's column (Eq. 6) */
     double drop = (rf_v3_dot(T->n, m->rock.s.p) - T->d - m->cfg.rho) / T->n.z;
     m->rock.s.p.z -= drop;

@@ -46,12 +46,12 @@ int rf_wall_for(const rf_motion *m, int32_t to, double ke);
  * v_stay along that face's normal, the rock changes face there as full contact does
  * (the velocity projected, the turn's plastic tangential impulse, counted in
  * n_edge_transitions, no impact): the centre is put on the offset plane vertically, the
- * potential energy of the step given up.  rf_centre_edge_step_taken: 1 when the
- * change of face applies to the current state, the centre crossing the border in the
+ * potential energy of the step given up (T is face `to`, as the caller has it).
+ * rf_centre_edge_step_taken: 1 when the change of face applies to the current state, the centre crossing the border in the
  * horizontal direction `out` into a face that falls that way (a rock moving along the
  * border, or into a face that would take it back over it, makes its flight). */
-int rf_centre_edge_step_taken(const rf_motion *m, int32_t to, rf_vec3 out);
-void rf_centre_edge_step(rf_motion *m, int32_t to);
+int rf_centre_edge_step_taken(const rf_motion *m, int32_t to, const rf_triangle *T, rf_vec3 out);
+void rf_centre_edge_step(rf_motion *m, int32_t to, const rf_triangle *T);
 /* Handles a contact found by the search (or a concave face change): impact (Eq. 8),
  * then flight, landing on a face or in a crease, or a roll over an edge or vertex. */
 void rf_contact_resolve(rf_motion *m, const rf_contact *c);

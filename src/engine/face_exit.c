@@ -209,10 +209,10 @@ rf_surface_end rf_leave_face(rf_motion *m, int slot, int edge, const rf_face_edg
         return RF_SURF_CONTINUE;
     }
     next_kind next = next_face(m, to, acc);
-    if (next == RF_NEXT_AWAY && rf_centre_edge_step_taken(m, to, rf_v3_scale(fe->m[edge], -1.0))) {
+    if (next == RF_NEXT_AWAY && rf_centre_edge_step_taken(m, to, Tn, rf_v3_scale(fe->m[edge], -1.0))) {
         if (rf_scene_at_once(m) >= 0)
             return RF_SURF_STOPPED;
-        rf_centre_edge_step(m, to); /* the centre's offset planes step down at a concave edge */
+        rf_centre_edge_step(m, to, Tn); /* the centre's offset planes step down at a concave edge */
         return RF_SURF_CONTINUE;
     }
     switch (next) {
